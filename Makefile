@@ -1,0 +1,53 @@
+# make demo : whole set-up (apt engines, SPH build, .venv, package), then the drag-finishing quick run
+# make test : the same set-up, then the test suite (slow runs excluded)
+# Both are idempotent: what is already installed or built is not redone.
+SHELL := /bin/bash
+PYTHON ?= python3
+VENV := .venv
+BIN := $(VENV)/bin
+SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
+APT_PACKAGES := yade liggghts g++ cmake make pkg-config libeigen3-dev libhdf5-dev nlohmann-json3-dev \
+                python3-venv python3-dev libgl1 libxrender1 xvfb
+DEMO_CASE := cases/drag_finishing_uhlmann2015.toml
+DEMO_DIR := runs/demo
+
+.PHONY: demo test setup apt sph venv clean
+
+setup: apt sph venv
+
+apt:
+	@missing=""; for p in $(APT_PACKAGES); do \
+	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "install ok installed" || missing="$$missing $$p"; \
+	done; \
+	if [ -n "$$missing" ]; then \
+	  echo "installing:$$missing"; \
+	  $(SUDO) apt-get update -qq && DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq $$missing; \
+	fi
+
+# The SPH executable (engines/sph) is built when its sources exist.
+sph:
+	@if [ -f engines/sph/CMakeLists.txt ]; then \
+	  cmake -S engines/sph -B engines/sph/build -DCMAKE_BUILD_TYPE=Release >/dev/null && \
+	  cmake --build engines/sph/build -j2; \
+	fi
+
+venv: $(BIN)/.installed
+
+$(BIN)/.installed: pyproject.toml
+	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
+	$(BIN)/python -m pip install -q --upgrade pip
+	$(BIN)/python -m pip install -q -e '.[dev]'
+	@touch $@
+
+demo: setup $(DEMO_DIR)/run.h5
+	$(BIN)/orchestrator analyze $(DEMO_DIR)
+
+# Rerun only when the case, templates or package changed since the last run.
+$(DEMO_DIR)/run.h5: $(DEMO_CASE) $(wildcard templates/yade/*.j2) $(wildcard orchestrator/*.py orchestrator/*/*.py)
+	$(BIN)/orchestrator run $(DEMO_CASE) --preset quick --out $(DEMO_DIR) --force
+
+test: setup
+	$(BIN)/python -m pytest -q
+
+clean:
+	rm -rf $(VENV) engines/sph/build runs *.egg-info

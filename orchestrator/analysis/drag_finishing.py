@@ -1,0 +1,82 @@
+"""Drag finishing: mean +- standard deviation of the force on the rod after
+the start-up transient, next to the paper's simulated and measured values.
+
+Transient criterion: the first ``analysis.transient_time`` seconds of the
+process phase are discarded (the case file gives the value and its reason).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+PROCESS_PHASE = 3
+
+
+def force_statistics(process_time: np.ndarray, force: np.ndarray, transient_time: float) -> dict[str, float]:
+    """Mean and std (N) of the three workpiece-frame components for process_time >= transient_time (s)."""
+    keep = (process_time >= transient_time) & np.all(np.isfinite(force), axis=1)
+    stats = {"n_samples": int(keep.sum())}
+    for i, name in enumerate(("fn", "ft", "fv")):
+        values = force[keep, i]
+        stats[f"{name}_mean"] = float(values.mean()) if values.size else math.nan
+        stats[f"{name}_std"] = float(values.std(ddof=1)) if values.size > 1 else math.nan
+    return stats
+
+
+def process_series(time: np.ndarray, phase: np.ndarray, force: np.ndarray, process_start: float):
+    """(process time s, workpiece force N) of the process phase only."""
+    sel = phase == PROCESS_PHASE
+    return time[sel] - process_start, force[sel]
+
+
+def measure_drag_finishing(case, result) -> dict[str, float]:
+    """fn/ft/fv mean and std (N) after the transient, the settled bed height (m) and the sample count."""
+    out: dict[str, float] = {}
+    if "bed_height" in result.attrs:
+        out["bed_height"] = float(result.attrs["bed_height"])
+    if result.time is None or "workpiece_force" not in result.series:
+        return out
+    start = result.attrs.get("process_start_time", math.nan)
+    if start is None or not np.isfinite(start):
+        return out
+    t, f = process_series(result.time, result.series["phase"].values, result.series["workpiece_force"].values, start)
+    out.update(force_statistics(t, f, case.analysis.transient_time))
+    out["process_time_simulated"] = float(t.max()) if t.size else 0.0
+    return out
+
+
+def comparison_rows(case, measured: dict) -> list[dict]:
+    """Rows [source, F_n mean, F_n std, F_t mean, F_t std] (N) for this run and the case's references."""
+    rows = [
+        {
+            "source": "this run",
+            "fn_mean": measured.get("fn_mean", math.nan),
+            "fn_std": measured.get("fn_std", math.nan),
+            "ft_mean": measured.get("ft_mean", math.nan),
+            "ft_std": measured.get("ft_std", math.nan),
+        }
+    ]
+    for ref in case.reference:
+        rows.append({"source": ref.label, "fn_mean": ref.fn_mean, "fn_std": ref.fn_std, "ft_mean": math.nan, "ft_std": math.nan})
+    return rows
+
+
+def comparison_table(case, measured: dict) -> str:
+    """A plain-text table of this run's forces against the references, with relative differences of mean F_n."""
+    rows = comparison_rows(case, measured)
+    ours = rows[0]["fn_mean"]
+    fmt = lambda v: "   -   " if not np.isfinite(v) else f"{v:7.3f}"  # noqa: E731
+    lines = [
+        f"force on the rod after the {case.analysis.transient_time:g} s transient "
+        f"({measured.get('n_samples', 0)} samples, mean +- std, N)",
+        f"{'source':<28} {'F_n mean':>8} {'F_n std':>8} {'F_t mean':>8} {'F_t std':>8}  {'ours vs F_n':>11}",
+    ]
+    for row in rows:
+        rel = "" if row["source"] == "this run" or not np.isfinite(ours) else f"{100 * (ours - row['fn_mean']) / abs(row['fn_mean']):+10.1f}%"
+        lines.append(
+            f"{row['source']:<28} {fmt(row['fn_mean']):>8} {fmt(row['fn_std']):>8} "
+            f"{fmt(row['ft_mean']):>8} {fmt(row['ft_std']):>8}  {rel:>11}"
+        )
+    return "\n".join(lines)

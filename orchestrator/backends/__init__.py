@@ -1,0 +1,29 @@
+"""Engine backends, registered by name and imported lazily.
+
+Each backend module holds a template (the engine's file formats:
+``write_input``, ``command``, ``read_output``) and a profile (the machine:
+executable, version, threads, environment), as in ASE's calculators.
+"""
+
+from __future__ import annotations
+
+import importlib
+
+from ..errors import OrchestratorError
+
+_REGISTRY = {
+    "yade": ("orchestrator.backends.yade", "YadeBackend"),
+}
+
+
+def engine_names() -> list[str]:
+    """Names of every engine the orchestrator knows (installed or not)."""
+    return sorted(_REGISTRY)
+
+
+def get_backend(name: str, **profile_options):
+    """An instance of the backend registered under name (raises OrchestratorError if unknown)."""
+    if name not in _REGISTRY:
+        raise OrchestratorError(f"unknown engine {name!r}; allowed: {', '.join(engine_names())}")
+    module, cls = _REGISTRY[name]
+    return getattr(importlib.import_module(module), cls)(**profile_options)

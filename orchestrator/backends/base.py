@@ -1,0 +1,114 @@
+"""What every backend shares: the Result it returns and the Backend protocol."""
+
+from __future__ import annotations
+
+import abc
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+STATUSES = ("ok", "failed", "timeout", "unstable")
+
+
+@dataclass
+class Series:
+    """A time series sampled at /series/time: values (n, ...) in `units`."""
+
+    values: np.ndarray
+    units: str
+    description: str = ""
+
+
+@dataclass
+class Result:
+    """What a backend read back from its engine, before it becomes run.h5.
+
+    attrs: root attributes (n_steps, dt, ...); series: name -> Series;
+    frames / contacts: lists of (time_s, {name: array}); meshes: name ->
+    {"vertices", "faces", per-face fields}; measured: the case's measured
+    quantities (filled by the analysis).
+    """
+
+    status: str = "ok"
+    message: str = ""
+    attrs: dict[str, Any] = field(default_factory=dict)
+    time: np.ndarray | None = None
+    series: dict[str, Series] = field(default_factory=dict)
+    frames: list[tuple[float, dict[str, np.ndarray]]] = field(default_factory=list)
+    contacts: list[tuple[float, dict[str, np.ndarray]]] = field(default_factory=list)
+    meshes: dict[str, dict[str, np.ndarray]] = field(default_factory=dict)
+    measured: dict[str, float] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class Progress:
+    """A progress report parsed from an engine's log: steps done of planned."""
+
+    done: int
+    total: int
+    label: str = ""
+
+
+@dataclass(frozen=True)
+class Timing:
+    """The engine's own timing probe: estimated wall time of the whole run, s."""
+
+    seconds_per_step: float
+    planned_steps: int
+    estimate_s: float
+
+
+_PROGRESS = re.compile(r"^PROGRESS step=(\d+) of (\d+) phase=(\S+)")
+_TIMING = re.compile(r"^TIMING s_per_step=(\S+) planned_steps=(\d+) estimate_s=(\S+)")
+
+
+def parse_progress_line(line: str) -> Progress | Timing | None:
+    """Read the PROGRESS / TIMING lines our templates print (one protocol for every engine)."""
+    m = _PROGRESS.match(line)
+    if m:
+        return Progress(int(m.group(1)), int(m.group(2)), m.group(3))
+    m = _TIMING.match(line)
+    if m:
+        return Timing(float(m.group(1)), int(m.group(2)), float(m.group(3)))
+    return None
+
+
+class Backend(abc.ABC):
+    """Template + profile of one engine. Subclasses set `name` and implement the methods."""
+
+    name = "engine"
+
+    @abc.abstractmethod
+    def available(self) -> bool:
+        """True when the engine's executable is installed."""
+
+    @abc.abstractmethod
+    def version(self) -> str:
+        """The engine's version string."""
+
+    @abc.abstractmethod
+    def where(self) -> str:
+        """Path of the engine's executable."""
+
+    @abc.abstractmethod
+    def install_hint(self) -> str:
+        """What a user does to install the engine."""
+
+    @abc.abstractmethod
+    def template_files(self, kind: str) -> list[Path]:
+        """Template files used for a case kind (their hash is part of a run's identity)."""
+
+    @abc.abstractmethod
+    def write_input(self, scene, workdir: Path) -> None:
+        """Write every input file the engine needs into workdir."""
+
+    @abc.abstractmethod
+    def command(self, workdir: Path) -> tuple[list[str], dict[str, str]]:
+        """The command line and extra environment that run the engine in workdir."""
+
+    @abc.abstractmethod
+    def read_output(self, scene, workdir: Path) -> Result:
+        """Parse what the engine wrote (complete or partial) into a Result."""

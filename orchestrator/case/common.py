@@ -1,0 +1,85 @@
+"""Pieces shared by every kind of case: metadata, materials, contact pairs,
+numerics. All quantities are SI (m, kg, s, Pa, N)."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+from pydantic import BaseModel, ConfigDict, Field, field_validator
+
+Positive = Annotated[float, Field(gt=0)]
+NonNegative = Annotated[float, Field(ge=0)]
+Fraction = Annotated[float, Field(gt=0, le=1)]
+
+
+class Frozen(BaseModel):
+    """Immutable model that rejects unknown keys."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+
+class CaseMeta(Frozen):
+    """The [case] table: what the case is and which engine runs it by default."""
+
+    kind: str = Field(description="scene type, e.g. 'drag_finishing'")
+    name: str = Field(min_length=1, pattern=r"^[A-Za-z0-9_.-]+$", description="identifier used in run names")
+    description: str = ""
+    engine: str = Field("yade", description="default engine; --engine overrides it")
+    seed: int = Field(0, ge=0, description="seed of every random draw (particle cloud)")
+
+    @field_validator("engine")
+    @classmethod
+    def _known_engine(cls, value: str) -> str:
+        from ..backends import engine_names
+
+        if value not in engine_names():
+            raise ValueError(f"unknown engine; allowed: {', '.join(engine_names())}")
+        return value
+
+
+class Material(Frozen):
+    """An elastic material (one row of the paper's section 5 table)."""
+
+    density: Positive = Field(description="kg/m^3")
+    young_modulus: Positive = Field(description="Young's modulus E, Pa")
+    poisson_ratio: float = Field(ge=0, lt=0.5, description="Poisson's ratio nu, -")
+
+    @property
+    def shear_modulus(self) -> float:
+        """G = E / (2 (1 + nu)), Pa (paper eq. 6)."""
+        return self.young_modulus / (2.0 * (1.0 + self.poisson_ratio))
+
+
+class ContactPair(Frozen):
+    """Restitution and friction of one material pair (order does not matter)."""
+
+    pair: tuple[str, str] = Field(description="two material names")
+    restitution: float = Field(gt=0, le=1, description="normal coefficient of restitution e_n, -")
+    tangential_restitution: float | None = Field(
+        None, gt=0, le=1, description="e_t, -; the paper sets e_t = e_n, which is the default"
+    )
+    friction: NonNegative = Field(description="Coulomb friction coefficient mu, -")
+
+    @property
+    def e_t(self) -> float:
+        return self.restitution if self.tangential_restitution is None else self.tangential_restitution
+
+
+class Numerics(Frozen):
+    """Time stepping and the stiffness reduction commonly used to speed DEM up."""
+
+    timestep_factor: float = Field(
+        0.3, gt=0, le=1, description="time step as a fraction of the Rayleigh critical step, -"
+    )
+    stiffness_scale: float = Field(
+        1.0, gt=0, le=1, description="factor applied to every Young's modulus (1 = physical), -"
+    )
+    threads: int = Field(1, ge=1, le=256, description="engine threads (Yade -j)")
+
+
+def rayleigh_timestep(radius_m: float, material: Material, stiffness_scale: float = 1.0) -> float:
+    """Rayleigh critical time step of a sphere, s: pi R sqrt(rho/G) / (0.1631 nu + 0.8766)."""
+    import math
+
+    shear = material.shear_modulus * stiffness_scale
+    return math.pi * radius_m * math.sqrt(material.density / shear) / (0.1631 * material.poisson_ratio + 0.8766)

@@ -1,0 +1,211 @@
+"""From a TOML file (plus a preset and --set overrides) to a validated Case.
+
+Every failure becomes a CaseError whose message names the key, the bad value
+and what is allowed; no pydantic or TOML traceback reaches the user.
+"""
+
+from __future__ import annotations
+
+import copy
+import hashlib
+import json
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from pydantic import BaseModel, ValidationError
+
+from ..errors import CaseError
+from .drag_finishing import DragFinishingCase
+
+#: case.kind -> model class. Later scene kinds (impacts, SPH flows) add rows.
+CASE_KINDS: dict[str, type[BaseModel]] = {"drag_finishing": DragFinishingCase}
+
+
+@dataclass(frozen=True)
+class LoadedCase:
+    """A validated case with where it came from and its resolved TOML text."""
+
+    model: Any
+    source: Path
+    preset: str | None
+    resolved: dict
+    toml_text: str
+
+    @property
+    def name(self) -> str:
+        return self.model.case.name
+
+    @property
+    def kind(self) -> str:
+        return self.model.case.kind
+
+    @property
+    def hash(self) -> str:
+        """sha256 of the resolved parameters (sorted JSON), hex."""
+        blob = json.dumps(self.resolved, sort_keys=True, default=str).encode()
+        return hashlib.sha256(blob).hexdigest()
+
+
+def parse_override(text: str) -> tuple[list[str], Any]:
+    """Split ``a.b.c=VALUE``; VALUE is read as a TOML value, else as a plain string."""
+    if "=" not in text:
+        raise CaseError(f"--set {text!r}: expected KEY=VALUE, e.g. --set media.count=200")
+    key, raw = text.split("=", 1)
+    key = key.strip()
+    if not key or any(not part for part in key.split(".")):
+        raise CaseError(f"--set {text!r}: the key {key!r} is empty or has an empty part; e.g. media.count")
+    try:
+        value = tomllib.loads(f"v = {raw}")["v"]
+    except tomllib.TOMLDecodeError:
+        value = raw
+    return key.split("."), value
+
+
+def _set_path(data: dict, path: list[str], value: Any, origin: str) -> None:
+    node = data
+    for i, part in enumerate(path[:-1]):
+        child = node.get(part)
+        if child is None:
+            child = node[part] = {}
+        if not isinstance(child, dict):
+            raise CaseError(f"{origin}: {'.'.join(path[: i + 1])} is a value, not a table; cannot set {'.'.join(path)}")
+        node = child
+    node[path[-1]] = value
+
+
+def _merge(base: dict, patch: dict, origin: str, prefix: tuple[str, ...] = ()) -> None:
+    for key, value in patch.items():
+        if isinstance(value, dict) and isinstance(base.get(key), dict):
+            _merge(base[key], value, origin, prefix + (key,))
+        else:
+            _set_path(base, [key], copy.deepcopy(value), origin)
+
+
+def _model_at(root: type[BaseModel], loc: tuple) -> type[BaseModel] | None:
+    """The pydantic model class that holds the field at loc[-1], if any."""
+    model: Any = root
+    for part in loc[:-1]:
+        if isinstance(part, int):
+            continue
+        if not (isinstance(model, type) and issubclass(model, BaseModel)) or part not in model.model_fields:
+            if isinstance(model, type) and issubclass(model, BaseModel):
+                return None
+            continue
+        annotation = model.model_fields[part].annotation
+        model = _unwrap(annotation)
+    return model if isinstance(model, type) and issubclass(model, BaseModel) else None
+
+
+def _unwrap(annotation: Any) -> Any:
+    import typing
+
+    args = typing.get_args(annotation)
+    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+        return annotation
+    for arg in args:
+        found = _unwrap(arg)
+        if isinstance(found, type) and issubclass(found, BaseModel):
+            return found
+    return annotation
+
+
+def _key(loc: tuple) -> str:
+    out = ""
+    for part in loc:
+        out += f"[{part}]" if isinstance(part, int) else (f".{part}" if out else str(part))
+    return out
+
+
+def format_validation_error(error: ValidationError, root: type[BaseModel]) -> str:
+    """One line per problem: 'key = value: what is wrong; allowed: ...'."""
+    lines = []
+    for item in error.errors():
+        loc = tuple(p for p in item["loc"] if not (isinstance(p, str) and p.startswith("function-")))
+        msg = item["msg"].removeprefix("Value error, ").removeprefix("Assertion failed, ")
+        key = _key(loc)
+        if item["type"] == "extra_forbidden":
+            holder = _model_at(root, loc)
+            allowed = ", ".join(holder.model_fields) if holder else "see the documented keys"
+            lines.append(f"{key}: unknown key; allowed here: {allowed}")
+        elif item["type"] == "missing":
+            lines.append(f"{key}: required key is missing")
+        elif not loc:
+            lines.append(msg)
+        else:
+            value = item.get("input")
+            shown = repr(value) if not isinstance(value, dict) else "{...}"
+            if len(shown) > 60:
+                shown = shown[:57] + "..."
+            lines.append(f"{key} = {shown}: {msg}")
+    return "\n".join(lines)
+
+
+def _validate(data: dict, base_dir: Path, where: str):
+    meta = data.get("case")
+    if not isinstance(meta, dict):
+        raise CaseError(f"{where}: the [case] table is missing; it needs at least kind and name")
+    kind = meta.get("kind")
+    if kind not in CASE_KINDS:
+        raise CaseError(f"{where}: case.kind = {kind!r} is not known; allowed: {', '.join(CASE_KINDS)}")
+    model_cls = CASE_KINDS[kind]
+    try:
+        return model_cls.model_validate(data, context={"base_dir": str(base_dir)})
+    except ValidationError as exc:
+        raise CaseError(f"{where}: invalid case\n" + format_validation_error(exc, model_cls)) from None
+
+
+def to_toml(data: dict) -> str:
+    """The resolved case as TOML text (stored in run.h5 and written beside the inputs)."""
+    import tomli_w
+
+    def plain(value):
+        if isinstance(value, dict):
+            return {k: plain(v) for k, v in value.items() if v is not None}
+        if isinstance(value, (list, tuple)):
+            return [plain(v) for v in value]
+        if isinstance(value, Path):
+            return str(value)
+        return value
+
+    return tomli_w.dumps(plain(data))
+
+
+def load_case(path: str | Path, preset: str | None = None, overrides=()) -> LoadedCase:
+    """Read a TOML case file, apply ``[presets.<preset>]`` then ``--set`` overrides, validate.
+
+    Returns a LoadedCase whose ``model`` is immutable and in SI units.
+    Raises CaseError naming the key, the bad value and what is allowed.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise CaseError(f"case file not found: {path}")
+    try:
+        raw = tomllib.loads(path.read_text(encoding="utf-8"))
+    except tomllib.TOMLDecodeError as exc:
+        raise CaseError(f"{path}: malformed TOML: {exc}") from None
+    except UnicodeDecodeError:
+        raise CaseError(f"{path}: not a text file (expected UTF-8 TOML)") from None
+    presets = raw.pop("presets", {})
+    if not isinstance(presets, dict) or not all(isinstance(p, dict) for p in presets.values()):
+        raise CaseError(f"{path}: [presets] must hold tables such as [presets.quick]")
+    base_dir = path.parent.resolve()
+    _validate(copy.deepcopy(raw), base_dir, str(path))
+    for name, patch in presets.items():
+        trial = copy.deepcopy(raw)
+        _merge(trial, patch, f"preset {name!r}")
+        _validate(trial, base_dir, f"{path}, preset {name!r}")
+    data = copy.deepcopy(raw)
+    if preset is not None:
+        if preset not in presets:
+            allowed = ", ".join(presets) or "(the file defines none)"
+            raise CaseError(f"unknown preset {preset!r} for {path}; allowed: {allowed}")
+        _merge(data, presets[preset], f"preset {preset!r}")
+    for text in overrides:
+        keys, value = parse_override(text)
+        _set_path(data, keys, value, f"--set {text}")
+    where = str(path) + (f", preset {preset!r}" if preset else "") + (" with --set" if overrides else "")
+    model = _validate(data, base_dir, where)
+    resolved = model.model_dump(mode="json")
+    return LoadedCase(model=model, source=path.resolve(), preset=preset, resolved=resolved, toml_text=to_toml(resolved))

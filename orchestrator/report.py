@@ -1,0 +1,46 @@
+"""`orchestrator analyze RUN_DIR`: the comparison table with the case's
+references and the PNG plots (force series with bands, network rendering)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from .errors import ReadError
+from .runh5 import read_run
+
+
+def _loaded_case(run: dict):
+    import tomllib
+
+    from .case.loader import CASE_KINDS
+
+    data = tomllib.loads(run["case"]["attrs"]["toml"])
+    return CASE_KINDS[data["case"]["kind"]].model_validate(data)
+
+
+def analyze_run(run_dir, render: bool = True) -> dict:
+    """Print the comparison table and write forces.png (and network.png); returns {name: path}."""
+    from .analysis.drag_finishing import comparison_table
+    from .plots import plot_drag_finishing_forces
+
+    run_dir = Path(run_dir)
+    run = read_run(run_dir)
+    case = _loaded_case(run)
+    attrs = run["attrs"]
+    measured = run.get("measured", {}).get("attrs", {})
+    print(f"run {run_dir}: status {attrs['status']}, {attrs['engine']} {attrs['engine_version']}, "
+          f"{attrs['n_particles']} particles, {attrs['n_steps']} steps, {attrs['wall_time_s']:.1f} s")
+    if "bed_height" in measured:
+        print(f"settled bed height {1e3 * measured['bed_height']:.1f} mm (case: {1e3 * case.media.fill_height:.1f} mm)")
+    print(comparison_table(case, measured))
+    outputs = {}
+    if "workpiece_force" not in run.get("series", {}):
+        raise ReadError(f"{run_dir} holds no force series; the run ended before recording (status {attrs['status']})")
+    outputs["forces"] = plot_drag_finishing_forces(run, case, run_dir / "forces.png")
+    if render and run.get("contacts", {}).keys() - {"attrs"}:
+        from .plots import render_network
+
+        outputs["network"] = render_network(run, run_dir / "network.png")
+    for name, path in outputs.items():
+        print(f"{name:<8} {path}")
+    return outputs

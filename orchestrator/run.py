@@ -1,0 +1,154 @@
+"""One run: case -> scene -> backend input -> engine -> Result -> run.h5."""
+
+from __future__ import annotations
+
+import datetime as _dt
+import sys
+import time
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+from . import __version__
+from .errors import EngineFailed, EngineTimeout, OrchestratorError
+from .runh5 import RUN_FILE, write_run
+
+
+@dataclass
+class RunSummary:
+    """What `orchestrator run` prints: status, engine, times, sizes and measured quantities (SI)."""
+
+    status: str
+    engine: str
+    engine_version: str
+    case_name: str
+    wall_time_s: float
+    n_particles: int
+    n_steps: int
+    run_dir: str
+    message: str = ""
+    measured: dict = field(default_factory=dict)
+    estimate_s: float | None = None
+
+    def as_dict(self) -> dict:
+        return asdict(self)
+
+
+def default_run_dir(case_name: str, engine: str, root: Path = Path("runs")) -> Path:
+    """runs/<case>-<engine>-<UTC timestamp> (a new directory)."""
+    stamp = _dt.datetime.now(_dt.timezone.utc).strftime("%Y%m%dT%H%M%S")
+    base = root / f"{case_name}-{engine}-{stamp}"
+    path, n = base, 1
+    while path.exists():
+        n += 1
+        path = base.with_name(f"{base.name}-{n}")
+    return path
+
+
+def prepare_run_dir(out_dir: Path | None, case_name: str, engine: str, force: bool) -> Path:
+    """Create the run directory; refuse one that already holds a run unless force."""
+    run_dir = Path(out_dir) if out_dir is not None else default_run_dir(case_name, engine)
+    if (run_dir / RUN_FILE).exists() and not force:
+        raise OrchestratorError(
+            f"{run_dir} already holds a run ({RUN_FILE}); choose another --out, or pass --force to overwrite it"
+        )
+    try:
+        run_dir.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise OrchestratorError(f"cannot create the run directory {run_dir}: {exc.strerror}") from None
+    return run_dir
+
+
+def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float | None = None,
+             progress: bool = True, force: bool = False, on_timing=None) -> RunSummary:
+    """Run a LoadedCase on an engine; writes run_dir/run.h5 whatever happens and returns a RunSummary.
+
+    Raises EngineNotFound before anything runs; EngineTimeout / EngineFailed
+    after run.h5 is written (with status and what was measured before).
+    """
+    from .analysis import measure
+    from .backends import get_backend
+    from .runner import execute
+    from .scene import build_scene
+
+    case = loaded.model
+    engine = engine or case.case.engine
+    backend = get_backend(engine, threads=case.numerics.threads)
+    backend.check_available()
+    version = backend.version()
+    run_dir = prepare_run_dir(out_dir, case.case.name, engine, force)
+    (run_dir / "case.toml").write_text(loaded.toml_text)
+    started = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
+    t0 = time.monotonic()
+    try:
+        scene = build_scene(case)
+    except ValueError as exc:
+        raise OrchestratorError(f"cannot build the scene of {case.case.name}: {exc}") from None
+    backend.write_input(scene, run_dir)
+    command, env = backend.command(run_dir)
+    prep_s = time.monotonic() - t0
+    interrupted = None
+    try:
+        execution = execute(command, env, run_dir, timeout_s, progress, label=f"{engine} {case.case.name}",
+                            on_timing=on_timing)
+    except KeyboardInterrupt as exc:
+        interrupted, execution = exc, exc.execution
+    t1 = time.monotonic()
+    result = backend.read_output(scene, run_dir)
+    if interrupted is not None:
+        result.status, result.message = "failed", "interrupted by the user (Ctrl-C)"
+    elif execution.timed_out:
+        result.status = "timeout"
+        result.message = f"stopped after the {timeout_s:g} s timeout"
+    elif execution.returncode != 0 and result.status == "ok":
+        result.status = "failed"
+        result.message = f"the engine exited with code {execution.returncode}"
+    elif result.status == "failed" and execution.returncode == 0:
+        result.message = result.message or "the engine ended without finishing"
+    result.measured = measure(case, result)
+    root = {
+        "engine": engine,
+        "engine_version": version,
+        "case_name": case.case.name,
+        "case_kind": case.case.kind,
+        "case_hash": loaded.hash,
+        "case_source": str(loaded.source),
+        "preset": loaded.preset or "",
+        "wall_time_s": execution.wall_time_s,
+        "orchestrator_overhead_s": prep_s + (time.monotonic() - t1),
+        "n_particles": scene.n_particles,
+        "started": started,
+        "finished": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
+        "orchestrator_version": __version__,
+        "command": " ".join(command),
+        "template_hash": _template_hash(backend, case.case.kind),
+    }
+    result.attrs.setdefault("n_steps", 0)
+    result.attrs.setdefault("dt", scene.timestep)
+    write_run(run_dir / RUN_FILE, result, root, loaded.toml_text, loaded.resolved, execution.log_tail(200))
+    summary = RunSummary(
+        status=result.status, engine=engine, engine_version=version, case_name=case.case.name,
+        wall_time_s=round(execution.wall_time_s, 3), n_particles=scene.n_particles,
+        n_steps=int(result.attrs["n_steps"]), run_dir=str(run_dir), message=result.message,
+        measured=result.measured, estimate_s=execution.timing.estimate_s if execution.timing else None,
+    )
+    if interrupted is not None:
+        raise interrupted
+    if result.status == "timeout":
+        raise EngineTimeout(
+            f"{engine} was stopped after {timeout_s:g} s (--timeout); run.h5 in {run_dir} keeps what was measured. "
+            f"Last lines of the log:\n{execution.log_tail(15)}"
+        ).with_summary(summary)
+    if result.status == "failed":
+        raise EngineFailed(
+            f"{engine} failed: {result.message}. Input, log and run.h5 are in {run_dir}. "
+            f"Last lines of the log:\n{execution.log_tail(15)}"
+        ).with_summary(summary)
+    return summary
+
+
+def _template_hash(backend, kind: str) -> str:
+    from .templating import files_hash
+
+    return files_hash(backend.template_files(kind))
+
+

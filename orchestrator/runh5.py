@@ -1,0 +1,117 @@
+"""run.h5: one HDF5 file per run, written by the parent process only,
+atomically (a temporary name, then rename). Layout in DESIGN.md."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+
+from .backends.base import Result
+
+RUN_FILE = "run.h5"
+
+
+def write_run(path: Path, result: Result, root_attrs: dict, case_toml: str, case_params: dict, log_tail: str) -> Path:
+    """Write run.h5 at path (write to path.tmp, then rename); returns path."""
+    import h5py
+
+    path = Path(path)
+    tmp = path.with_name(path.name + ".tmp")
+    with h5py.File(tmp, "w") as h5:
+        for key, value in {**root_attrs, **result.attrs}.items():
+            h5.attrs[key] = _attr(value)
+        h5.attrs["status"] = result.status
+        h5.attrs["message"] = result.message
+        case = h5.create_group("case")
+        case.attrs["toml"] = case_toml
+        _write_params(case, case_params)
+        series = h5.create_group("series")
+        if result.time is not None:
+            series.create_dataset("time", data=result.time).attrs["units"] = "s"
+        for name, item in result.series.items():
+            ds = series.create_dataset(name, data=item.values)
+            ds.attrs["units"] = item.units
+            if item.description:
+                ds.attrs["description"] = item.description
+        for group_name, entries in (("frames", result.frames), ("contacts", result.contacts)):
+            group = h5.create_group(group_name)
+            for k, (time_s, arrays) in enumerate(entries):
+                sub = group.create_group(str(k))
+                sub.attrs["time"] = time_s
+                for name, array in arrays.items():
+                    if np.ndim(array) == 0:
+                        sub.attrs[name] = array
+                    else:
+                        sub.create_dataset(name, data=array)
+        meshes = h5.create_group("meshes")
+        for name, arrays in result.meshes.items():
+            sub = meshes.create_group(name)
+            for key, array in arrays.items():
+                sub.create_dataset(key, data=array)
+        measured = h5.create_group("measured")
+        for key, value in result.measured.items():
+            measured.attrs[key] = _attr(value)
+        h5.create_dataset("log", data=log_tail)
+    os.replace(tmp, path)
+    return path
+
+
+def _attr(value):
+    if value is None:
+        return "none"
+    if isinstance(value, (bool, np.bool_)):
+        return np.bool_(value)
+    return value
+
+
+def _write_params(group, params: dict, prefix: str = "") -> None:
+    """Flatten the resolved case into attributes 'a.b.c' (lists as arrays, tables of rows as JSON)."""
+    import json
+
+    for key, value in params.items():
+        name = f"{prefix}{key}"
+        if isinstance(value, dict):
+            _write_params(group, value, name + ".")
+        elif value is None:
+            continue
+        elif isinstance(value, (list, tuple)) and value and isinstance(value[0], (dict, list, str)):
+            group.attrs[name] = json.dumps(value)
+        elif isinstance(value, (list, tuple)):
+            group.attrs[name] = np.asarray(value, dtype=float)
+        else:
+            group.attrs[name] = value
+
+
+def read_run(path: Path) -> dict:
+    """run.h5 as nested dicts of numpy arrays and attributes (for analysis, export and tests)."""
+    import h5py
+
+    from .errors import ReadError
+
+    path = Path(path)
+    if path.is_dir():
+        path = path / RUN_FILE
+    if not path.is_file():
+        raise ReadError(f"no run.h5 at {path}; give a run directory written by 'orchestrator run'")
+
+    def load(node):
+        out = {"attrs": {k: _plain(v) for k, v in node.attrs.items()}}
+        for key, child in node.items():
+            out[key] = load(child) if isinstance(child, h5py.Group) else child[()]
+        return out
+
+    try:
+        with h5py.File(path, "r") as h5:
+            return load(h5)
+    except OSError as exc:
+        raise ReadError(f"cannot read {path}: {exc}") from None
+
+
+def _plain(value):
+    if isinstance(value, bytes):
+        return value.decode()
+    if isinstance(value, np.generic):
+        return value.item()
+    return value

@@ -1,0 +1,144 @@
+"""Start an engine as a subprocess in its run directory: log to a file, show
+progress with an ETA, enforce a timeout, never leave the engine running."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+from .backends.base import Progress, Timing, parse_progress_line
+
+LOG_NAME = "engine.log"
+
+
+@dataclass
+class Execution:
+    """How an engine process ended."""
+
+    returncode: int | None
+    timed_out: bool
+    interrupted: bool
+    wall_time_s: float
+    timing: Timing | None
+    log_path: Path
+
+    def log_tail(self, lines: int = 40) -> str:
+        """The last lines of the engine's log."""
+        return tail(self.log_path, lines)
+
+
+def tail(path: Path, lines: int = 40) -> str:
+    """Last `lines` lines of a text file ('' if it does not exist)."""
+    try:
+        with open(path, "rb") as fh:
+            fh.seek(0, os.SEEK_END)
+            size = fh.tell()
+            fh.seek(max(0, size - 64 * 1024))
+            text = fh.read().decode(errors="replace")
+    except OSError:
+        return ""
+    return "\n".join(text.splitlines()[-lines:])
+
+
+class _Bar:
+    """A tqdm bar on stderr when it is a terminal; plain lines otherwise (quiet when disabled)."""
+
+    def __init__(self, label: str, enabled: bool):
+        self.enabled = enabled
+        self.label = label
+        self.bar = None
+        self.last_plain = 0.0
+
+    def update(self, progress: Progress) -> None:
+        if not self.enabled:
+            return
+        if sys.stderr.isatty():
+            from tqdm import tqdm
+
+            if self.bar is None:
+                self.bar = tqdm(total=progress.total, desc=self.label, unit="step", unit_scale=True, dynamic_ncols=True)
+            if self.bar.total != progress.total:
+                self.bar.total = progress.total
+            self.bar.set_postfix_str(progress.label, refresh=False)
+            self.bar.n = progress.done
+            self.bar.refresh()
+        elif time.monotonic() - self.last_plain > 30.0:
+            self.last_plain = time.monotonic()
+            pct = 100.0 * progress.done / max(1, progress.total)
+            print(f"{self.label}: {pct:5.1f} % ({progress.label})", file=sys.stderr, flush=True)
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.close()
+
+
+def execute(command: list[str], env: dict[str, str], workdir: Path, timeout_s: float | None = None,
+            progress: bool = True, label: str = "engine", on_timing=None) -> Execution:
+    """Run command in workdir with env added, logging stdout+stderr to workdir/engine.log.
+
+    Progress and timing lines (see backends.base.parse_progress_line) drive a
+    progress bar; on_timing(Timing) is called once when the engine reports its
+    timing probe. The engine is killed (its whole process group) on timeout or
+    Ctrl-C; KeyboardInterrupt is re-raised after the kill with `interrupted` set
+    on the exception's `execution` attribute.
+    """
+    workdir = Path(workdir)
+    log_path = workdir / LOG_NAME
+    full_env = {**os.environ, **env}
+    start = time.monotonic()
+    bar = _Bar(label, progress)
+    timing = None
+    with open(log_path, "wb") as log:
+        proc = subprocess.Popen(command, cwd=workdir, env=full_env, stdout=log, stderr=subprocess.STDOUT,
+                                stdin=subprocess.DEVNULL, start_new_session=True)
+    timed_out = False
+    try:
+        with open(log_path, "rb") as reader:
+            pending = b""
+            while True:
+                returncode = proc.poll()
+                chunk = reader.read()
+                if chunk:
+                    pending += chunk
+                    *lines, pending = pending.split(b"\n")
+                    for raw in lines:
+                        parsed = parse_progress_line(raw.decode(errors="replace"))
+                        if isinstance(parsed, Progress):
+                            bar.update(parsed)
+                        elif isinstance(parsed, Timing) and timing is None:
+                            timing = parsed
+                            if on_timing is not None:
+                                on_timing(parsed)
+                if returncode is not None:
+                    break
+                if timeout_s is not None and time.monotonic() - start > timeout_s:
+                    timed_out = True
+                    _kill(proc)
+                    break
+                time.sleep(0.2)
+    except KeyboardInterrupt as exc:
+        _kill(proc)
+        bar.close()
+        exc.execution = Execution(proc.returncode, False, True, time.monotonic() - start, timing, log_path)
+        raise
+    bar.close()
+    return Execution(proc.returncode, timed_out, False, time.monotonic() - start, timing, log_path)
+
+
+def _kill(proc: subprocess.Popen) -> None:
+    """SIGTERM the engine's process group, then SIGKILL after 5 s."""
+    for sig, wait in ((signal.SIGTERM, 5.0), (signal.SIGKILL, 5.0)):
+        try:
+            os.killpg(proc.pid, sig)
+        except ProcessLookupError:
+            return
+        try:
+            proc.wait(wait)
+            return
+        except subprocess.TimeoutExpired:
+            continue
