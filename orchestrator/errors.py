@@ -44,3 +44,9 @@ class ReadError(OrchestratorError):
     """An engine output or a run.h5 could not be read."""
 
     exit_code = 6
+
+
+class EngineUnstable(OrchestratorError):
+    """The run blew up numerically (NaN, energy growth, particles leaving the domain)."""
+
+    exit_code = 7

@@ -9,7 +9,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 from . import __version__
-from .errors import EngineFailed, EngineTimeout, OrchestratorError
+from .errors import EngineFailed, EngineTimeout, EngineUnstable, OrchestratorError
 from .runh5 import RUN_FILE, write_run
 
 
@@ -137,6 +137,11 @@ def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float |
         raise EngineTimeout(
             f"{engine} was stopped after {timeout_s:g} s (--timeout); run.h5 in {run_dir} keeps what was measured. "
             f"Last lines of the log:\n{execution.log_tail(15)}"
+        ).with_summary(summary)
+    if result.status == "unstable":
+        raise EngineUnstable(
+            f"{engine} run became numerically unstable: {result.message}. "
+            f"run.h5 in {run_dir} keeps the data recorded before the stop"
         ).with_summary(summary)
     if result.status == "failed":
         raise EngineFailed(

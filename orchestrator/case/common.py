@@ -3,19 +3,40 @@ numerics. All quantities are SI (m, kg, s, Pa, N)."""
 
 from __future__ import annotations
 
-from typing import Annotated
+import typing
+from typing import Annotated, Any
 
-from pydantic import BaseModel, ConfigDict, Field, field_validator
+from pydantic import BaseModel, ConfigDict, Field, ValidationInfo, field_validator
 
 Positive = Annotated[float, Field(gt=0)]
 NonNegative = Annotated[float, Field(ge=0)]
 Fraction = Annotated[float, Field(gt=0, le=1)]
 
 
+def _numeric(annotation: Any) -> bool:
+    """True if the annotation is (or contains) a number type and no bool."""
+    if annotation is bool:
+        return False
+    if annotation in (int, float):
+        return True
+    args = typing.get_args(annotation)
+    return bool(args) and bool not in args and any(_numeric(a) for a in args)
+
+
 class Frozen(BaseModel):
     """Immutable model that rejects unknown keys."""
 
     model_config = ConfigDict(frozen=True, extra="forbid")
+
+    @field_validator("*", mode="before")
+    @classmethod
+    def _no_bool_for_number(cls, value: Any, info: ValidationInfo) -> Any:
+        # pydantic would read true as 1 and false as 0 (e.g. media.count = true -> 1 ball).
+        field = cls.model_fields.get(info.field_name or "")
+        items = value if isinstance(value, (list, tuple)) else (value,)
+        if field is not None and _numeric(field.annotation) and any(isinstance(v, bool) for v in items):
+            raise ValueError("expected a number, not true/false")
+        return value
 
 
 class CaseMeta(Frozen):

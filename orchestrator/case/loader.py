@@ -10,6 +10,8 @@ import copy
 import hashlib
 import json
 import tomllib
+import types
+import typing
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -87,20 +89,20 @@ def _model_at(root: type[BaseModel], loc: tuple) -> type[BaseModel] | None:
     """The pydantic model class that holds the field at loc[-1], if any."""
     model: Any = root
     for part in loc[:-1]:
-        if isinstance(part, int):
-            continue
-        if not (isinstance(model, type) and issubclass(model, BaseModel)) or part not in model.model_fields:
-            if isinstance(model, type) and issubclass(model, BaseModel):
+        if isinstance(model, type) and issubclass(model, BaseModel):
+            if part not in model.model_fields:
                 return None
-            continue
-        annotation = model.model_fields[part].annotation
-        model = _unwrap(annotation)
+            model = model.model_fields[part].annotation
+            if typing.get_origin(model) in (typing.Union, types.UnionType):
+                model = _unwrap(model)  # Optional[Model]: the next part is one of its fields
+        else:
+            # A container (dict of models, tuple of models): part is a key or an index.
+            model = _unwrap(model)
+    model = _unwrap(model)
     return model if isinstance(model, type) and issubclass(model, BaseModel) else None
 
 
 def _unwrap(annotation: Any) -> Any:
-    import typing
-
     args = typing.get_args(annotation)
     if isinstance(annotation, type) and issubclass(annotation, BaseModel):
         return annotation
@@ -131,6 +133,8 @@ def format_validation_error(error: ValidationError, root: type[BaseModel]) -> st
             lines.append(f"{key}: unknown key; allowed here: {allowed}")
         elif item["type"] == "missing":
             lines.append(f"{key}: required key is missing")
+        elif item["type"] in ("path_type", "path_parsing"):
+            lines.append(f"{key} = {item.get('input')!r}: expected a file path as text, e.g. \"rod.stl\"")
         elif not loc:
             lines.append(msg)
         else:
@@ -144,11 +148,16 @@ def format_validation_error(error: ValidationError, root: type[BaseModel]) -> st
 
 def _validate(data: dict, base_dir: Path, where: str):
     meta = data.get("case")
-    if not isinstance(meta, dict):
+    if meta is None:
         raise CaseError(f"{where}: the [case] table is missing; it needs at least kind and name")
+    if not isinstance(meta, dict):
+        raise CaseError(f"{where}: case = {meta!r} is a value, not a table; write a [case] table with kind and name")
     kind = meta.get("kind")
-    if kind not in CASE_KINDS:
-        raise CaseError(f"{where}: case.kind = {kind!r} is not known; allowed: {', '.join(CASE_KINDS)}")
+    allowed = ", ".join(CASE_KINDS)
+    if kind is None:
+        raise CaseError(f"{where}: case.kind: required key is missing; allowed: {allowed}")
+    if not isinstance(kind, str) or kind not in CASE_KINDS:
+        raise CaseError(f"{where}: case.kind = {kind!r} is not known; allowed: {allowed}")
     model_cls = CASE_KINDS[kind]
     try:
         return model_cls.model_validate(data, context={"base_dir": str(base_dir)})

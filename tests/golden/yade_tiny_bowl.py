@@ -1,0 +1,296 @@
+# Yade script for the drag-finishing scene (Uhlmann, Eulitz, Dethlefs 2015).
+# Rendered by orchestrator from templates/yade/drag_finishing.py.j2; edit the
+# case file, not this script. Runs in Yade's own python (numpy, no h5py) and
+# writes plain files into output/; the orchestrator turns them into run.h5.
+# Units: SI (m, kg, s, N, Pa).
+import json
+import math
+import os
+import sys
+import time
+
+import numpy as np
+import yade
+from yade import *  # noqa: F401,F403  (Yade's engines and O)
+from yade import utils
+from yade.minieigenHP import Vector3
+
+OUT = "output"
+os.makedirs(OUT, exist_ok=True)
+WALL_START = time.time()
+
+# ---- materials (E already multiplied by numerics.stiffness_scale = 0.001) ----
+MATERIAL_ID = {}
+MATERIAL_ID["ceramic"] = O.materials.append(FrictMat(
+    young=77000000.0, poisson=0.19, density=2656.0,
+    frictionAngle=0.3277385067805555, label="ceramic"))
+MATERIAL_ID["steel"] = O.materials.append(FrictMat(
+    young=210000000.0, poisson=0.3, density=7610.0,
+    frictionAngle=0.3277385067805555, label="steel"))
+
+
+def pair_table(rows):
+    return tuple((MATERIAL_ID[a], MATERIAL_ID[b], value) for a, b, value in rows)
+
+
+# Restitution and friction per material pair (paper section 5). Yade's
+# MindlinPhys turns en/es into its own damping coefficient; see the README.
+EN = pair_table((('ceramic', 'ceramic', 0.86), ('ceramic', 'steel', 0.68)))
+ES = pair_table((('ceramic', 'ceramic', 0.86), ('ceramic', 'steel', 0.68)))
+FRICTION_ANGLE = pair_table((('ceramic', 'ceramic', 0.3277385067805555), ('ceramic', 'steel', 0.2730087030867106)))
+
+# ---- bodies ----
+scene_data = np.load("scene.npz")
+SPHERE_IDS = [
+    O.bodies.append(utils.sphere(tuple(p), float(r), material=MATERIAL_ID["ceramic"]))
+    for p, r in zip(scene_data["positions"], scene_data["radii"])
+]
+
+
+def add_mesh(prefix, material):
+    vertices = scene_data[prefix + "_vertices"]
+    faces = scene_data[prefix + "_faces"]
+    return [
+        O.bodies.append(utils.facet([tuple(vertices[i]) for i in face], fixed=True, wire=False,
+                                    material=MATERIAL_ID[material]))
+        for face in faces
+    ]
+
+
+BOWL_IDS = add_mesh("bowl", "steel")
+ROD_IDS = add_mesh("rod", "steel")
+ROLE = {}
+ROLE.update((i, 1) for i in BOWL_IDS)
+ROLE.update((i, 2) for i in ROD_IDS)
+
+# ---- engines ----
+O.engines = [
+    ForceResetter(),
+    InsertionSortCollider([Bo1_Sphere_Aabb(), Bo1_Facet_Aabb()]),
+    InteractionLoop(
+        [Ig2_Sphere_Sphere_ScGeom(), Ig2_Facet_Sphere_ScGeom()],
+        [Ip2_FrictMat_FrictMat_MindlinPhys(
+            en=MatchMaker(matches=EN), es=MatchMaker(matches=ES),
+            frictAngle=MatchMaker(matches=FRICTION_ANGLE))],
+        [Law2_ScGeom_MindlinPhys_Mindlin()],
+    ),
+    TranslationEngine(ids=ROD_IDS, translationAxis=(0, 0, -1), velocity=0.2,
+                      dead=True, label="push"),
+    RotationEngine(ids=ROD_IDS, rotationAxis=(0, 0, 1), rotateAroundZero=True, zeroPoint=(0, 0, 0),
+                   angularVelocity=2.5, dead=True, label="drag"),
+    NewtonIntegrator(damping=0.4, gravity=(0.0, 0.0, -9.81), label="newton"),
+    PyRunner(iterPeriod=36, command="control()", label="controller"),
+    PyRunner(iterPeriod=72, command="record()", label="recorder"),
+]
+O.dt = 2.794444601978471e-05
+
+SETTLE_MAX_TIME = 1.0
+SETTLE_UNBALANCED = 0.01
+SETTLE_MAX_SPEED = 0.005
+RELAX_TIME = 0.02
+SUBMERSION_DEPTH = 0.006
+PATH_RADIUS = 0.004
+PROCESS_DURATION = 0.1
+NETWORK_TIMES = [0.05]
+BOWL_RADIUS = 0.015
+BOWL_HEIGHT = 0.05
+MEAN_RADIUS = 0.00327
+RECORD_INTERVAL = O.dt * 72
+PLANNED_STEPS = 42323
+PHASES = ("settle", "insert", "relax", "process")
+
+state = {"phase": 0, "t_phase": 0.0, "bed_height": None, "settled": None, "tip_target": None,
+         "t_process": None, "next_network": 0, "status": "ok", "message": "", "last_progress": 0.0,
+         "last_record": -1.0, "probe_done": False, "planned": PLANNED_STEPS, "probe_start": (time.time(), 0), "phase_wall": {}}
+rod_intensity = np.zeros(len(ROD_IDS))  # accumulated |F| dt per rod facet, N s
+rod_contact_count = np.zeros(len(ROD_IDS), dtype=np.int64)  # facet-samples in contact
+series = open(os.path.join(OUT, "series.csv"), "w")
+series.write("time,phase,wf_normal,wf_tangential,wf_vertical,rod_fx,rod_fy,rod_fz,"
+             "bowl_fx,bowl_fy,bowl_fz,kinetic_energy,unbalanced_force,n_contacts,rod_tip_z\n")
+
+
+def rod_tip_z():
+    return min(min(O.bodies[i].state.pos[2] + v[2] for v in O.bodies[i].shape.vertices) for i in ROD_IDS)
+
+
+def summed_force(ids):
+    f = Vector3(0, 0, 0)
+    for i in ids:
+        f += O.forces.f(i)
+    return f
+
+
+def kinetic_energy():
+    return sum(0.5 * O.bodies[i].state.mass * O.bodies[i].state.vel.squaredNorm() for i in SPHERE_IDS)
+
+
+def bed_height():
+    """Mean top (z + r) of the highest balls that would cover the floor once (a ruler on the bed), m."""
+    tops = np.sort([O.bodies[i].state.pos[2] + O.bodies[i].shape.radius for i in SPHERE_IDS])[::-1]
+    n_top = max(1, min(len(tops), int(0.6 * BOWL_RADIUS ** 2 / MEAN_RADIUS ** 2)))
+    return float(np.mean(tops[:n_top]))
+
+
+def workpiece_frame(force):
+    """Force on the rod as [along its velocity, horizontal outward, vertical], N."""
+    theta = 2.5 * (O.time - state["t_process"])  # the rod starts at angle 0 (+x)
+    ev = (-math.sin(theta), math.cos(theta))
+    er = (math.cos(theta), math.sin(theta))
+    return (force[0] * ev[0] + force[1] * ev[1], force[0] * er[0] + force[1] * er[1], force[2])
+
+
+def record():
+    if O.time <= state["last_record"]:
+        return  # already sampled at this step (a phase change records once more)
+    state["last_record"] = O.time
+    phase = state["phase"]
+    fr = summed_force(ROD_IDS)
+    fb = summed_force(BOWL_IDS)
+    wn, wt, wv = workpiece_frame(fr) if phase == 3 else (float("nan"),) * 3
+    if phase >= 1:
+        for k, i in enumerate(ROD_IDS):
+            f = O.forces.f(i).norm()
+            if f > 0:
+                rod_intensity[k] += f * RECORD_INTERVAL
+                rod_contact_count[k] += 1
+    series.write("%.9g,%d,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d,%.9g\n" % (
+        O.time, phase, wn, wt, wv, fr[0], fr[1], fr[2], fb[0], fb[1], fb[2], kinetic_energy(),
+        utils.unbalancedForce(), O.interactions.countReal(), rod_tip_z()))
+    series.flush()
+    check_stability()
+
+
+def check_stability():
+    for i in SPHERE_IDS:
+        p = O.bodies[i].state.pos
+        if not (p[0] == p[0] and p[2] == p[2]):
+            return stop("unstable", "a ball position became NaN: the time step is too large for the contact stiffness; "
+                                    "lower numerics.timestep_factor")
+        if p[2] < -0.5 * BOWL_HEIGHT or p[0] ** 2 + p[1] ** 2 > (2 * BOWL_RADIUS) ** 2:
+            return stop("unstable", "ball %d left the bowl (at %s m): contacts were too stiff for the time step or "
+                                    "a mesh let it through; lower numerics.timestep_factor" % (i, tuple(p)))
+
+
+def write_network(index):
+    id1, id2, fn, fn_vec, ft, p1, p2, role2 = [], [], [], [], [], [], [], []
+    for I in O.interactions:
+        if not I.isReal:
+            continue
+        a, b = I.id1, I.id2
+        if a in ROLE and b not in ROLE:
+            a, b = b, a
+        point_a = O.bodies[a].state.pos
+        point_b = O.bodies[b].state.pos if b not in ROLE else I.geom.contactPoint
+        sign = 1.0 if a == I.id1 else -1.0
+        id1.append(a)
+        id2.append(b)
+        fn.append(I.phys.normalForce.dot(I.geom.normal))  # > 0 in compression
+        fn_vec.append(tuple(sign * I.phys.normalForce))
+        ft.append(tuple(sign * I.phys.shearForce))
+        p1.append(tuple(point_a))
+        p2.append(tuple(point_b))
+        role2.append(ROLE.get(b, 0))
+    np.savez(os.path.join(OUT, "network_%d.npz" % index), time=O.time, process_time=O.time - state["t_process"],
+             id1=np.array(id1, dtype=np.int64), id2=np.array(id2, dtype=np.int64),
+             normal_force=np.array(fn, dtype=float), normal_force_vector=np.array(fn_vec).reshape(-1, 3),
+             tangential_force=np.array(ft).reshape(-1, 3),
+             point1=np.array(p1).reshape(-1, 3), point2=np.array(p2).reshape(-1, 3),
+             body2_role=np.array(role2, dtype=np.int8))
+    write_frame("frame_%d.npz" % index)
+
+
+def write_frame(name):
+    np.savez(os.path.join(OUT, name), time=O.time,
+             positions=np.array([tuple(O.bodies[i].state.pos) for i in SPHERE_IDS]),
+             velocities=np.array([tuple(O.bodies[i].state.vel) for i in SPHERE_IDS]),
+             radii=np.array([O.bodies[i].shape.radius for i in SPHERE_IDS]),
+             rod_vertices=np.array([[tuple(O.bodies[i].state.pos + O.bodies[i].state.ori * v)
+                                     for v in O.bodies[i].shape.vertices] for i in ROD_IDS]).reshape(-1, 3, 3),
+             rod_intensity=rod_intensity, rod_contact_count=rod_contact_count)
+
+
+def write_status():
+    with open(os.path.join(OUT, "status.json"), "w") as fh:
+        json.dump({"status": state["status"], "message": state["message"], "n_steps": O.iter, "dt": O.dt,
+                   "time": O.time, "phase": PHASES[state["phase"]], "bed_height": state["bed_height"],
+                   "settled": state["settled"], "process_start_time": state["t_process"],
+                   "wall_time_s": time.time() - WALL_START,
+                   "phase_wall_s": state["phase_wall"], "yade_version": yade.config.version}, fh, indent=1)
+
+
+def stop(status, message):
+    state["status"], state["message"] = status, message
+    print("STATUS %s %s" % (status, message), flush=True)
+    write_frame("final.npz")
+    write_status()
+    O.pause()
+
+
+def next_phase(new_phase):
+    state["phase_wall"][PHASES[state["phase"]]] = time.time() - WALL_START
+    state["phase"], state["t_phase"] = new_phase, O.time
+    print("PHASE %s t=%.6g s step=%d" % (PHASES[new_phase], O.time, O.iter), flush=True)
+
+
+def report_progress():
+    now = time.time()
+    if not state["probe_done"] and (O.iter >= 2000 or now - state["probe_start"][0] > 5.0) and O.iter > 0:
+        per_step = (now - state["probe_start"][0]) / max(1, O.iter - state["probe_start"][1])
+        print("TIMING s_per_step=%.6g planned_steps=%d estimate_s=%.6g" % (per_step, state["planned"],
+                                                                              per_step * state["planned"]), flush=True)
+        state["probe_done"] = True
+    if now - state["last_progress"] > 1.0:
+        print("PROGRESS step=%d of %d phase=%s t=%.6g" % (O.iter, state["planned"], PHASES[state["phase"]], O.time),
+              flush=True)
+        state["last_progress"] = now
+
+
+def control():
+    report_progress()
+    phase = state["phase"]
+    if phase == 0:
+        vmax = max(O.bodies[i].state.vel.norm() for i in SPHERE_IDS)
+        at_rest = O.time > 0.05 and utils.unbalancedForce() < SETTLE_UNBALANCED and vmax < SETTLE_MAX_SPEED
+        if at_rest or O.time >= SETTLE_MAX_TIME:
+            state["settled"] = bool(at_rest)
+            state["bed_height"] = bed_height()
+            record()
+            write_frame("settled.npz")
+            newton.damping = 0.0
+            # Park the rod 1 mm above the highest ball, then push it in.
+            top = max(O.bodies[i].state.pos[2] + O.bodies[i].shape.radius for i in SPHERE_IDS)
+            shift = top + 1e-3 - rod_tip_z()
+            for i in ROD_IDS:
+                O.bodies[i].state.pos += Vector3(0, 0, shift)
+            state["tip_target"] = state["bed_height"] - SUBMERSION_DEPTH
+            push.dead = False
+            travel = top + 1e-3 - state["tip_target"]
+            state["planned"] = O.iter + int((travel / 0.2 + RELAX_TIME + PROCESS_DURATION) / O.dt)
+            next_phase(1)
+    elif phase == 1:
+        if rod_tip_z() <= state["tip_target"]:
+            push.dead = True
+            for i in ROD_IDS:
+                O.bodies[i].state.vel = Vector3(0, 0, 0)
+            next_phase(2)
+    elif phase == 2:
+        if O.time - state["t_phase"] >= RELAX_TIME:
+            state["t_process"] = O.time
+            drag.dead = False
+            next_phase(3)
+    elif phase == 3:
+        t_p = O.time - state["t_process"]
+        while state["next_network"] < len(NETWORK_TIMES) and t_p >= NETWORK_TIMES[state["next_network"]] - 0.5 * O.dt:
+            write_network(state["next_network"])
+            state["next_network"] += 1
+        if t_p >= PROCESS_DURATION - 0.5 * O.dt:
+            state["phase_wall"]["process"] = time.time() - WALL_START
+            stop("ok", "")
+
+
+O.run()
+O.wait()
+series.close()
+if state["status"] == "ok" and state["phase"] != 3:
+    stop("failed", "the run ended before the process phase finished")
+sys.exit(0 if state["status"] == "ok" else 3)
