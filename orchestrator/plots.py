@@ -34,6 +34,7 @@ def plot_drag_finishing_forces(run: dict, case, path) -> Path:
     """
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
+    from matplotlib.patches import Patch
 
     from .analysis.drag_finishing import force_statistics, process_series
 
@@ -64,43 +65,51 @@ def plot_drag_finishing_forces(run: dict, case, path) -> Path:
 
     t_end = max(float(t.max()) if t.size else 0.0, transient * 1.05, 1e-9)
     for ax in (ax_n, ax_t):
-        ax.axvspan(0.0, transient, color="0.85", zorder=0, label=f"start-up transient ({transient:g} s, discarded)")
+        ax.axvspan(0.0, transient, color="0.85", lw=0, zorder=0)
         ax.axhline(0.0, color="0.6", lw=0.6, zorder=1)
         ax.grid(True, color="0.92", lw=0.6)
         ax.set_xlim(0.0, t_end)
+    columns: list[list] = [[], []]  # legend entries (handle, label): F_n side, F_t side
 
-    panels = ((ax_n, 0, "fn", r"$F_n$ along the rod velocity [N]", "C0"),
-              (ax_t, 1, "ft", r"$F_t$ horizontal, radial [N]", "C1"))
-    for ax, column, key, ylabel, color in panels:
-        ax.set_ylabel(ylabel)
+    panels = ((ax_n, 0, "fn", "F_n", "along the rod velocity", "C0"),
+              (ax_t, 1, "ft", "F_t", "horizontal, radial", "C1"))
+    for ax, column, key, symbol, meaning, color in panels:
+        ax.set_ylabel(f"${symbol}$ {meaning} [N]")
         if not t.size:
             ax.text(0.5, 0.5, "no process-phase samples in this run", transform=ax.transAxes,
                     ha="center", va="center", color="0.3")
             continue
-        name = ylabel.split("$")[1]
-        ax.plot(t, f[:, column], color=color, lw=1.0, zorder=3, label=f"${name}$ this run")
+        (line,) = ax.plot(t, f[:, column], color=color, lw=1.0, zorder=3)
+        columns[column].append((line, f"${symbol}$ of this run"))
         mean, std = stats.get(f"{key}_mean", math.nan), stats.get(f"{key}_std", math.nan)
         if np.isfinite(mean):
-            ax.hlines(mean, transient, t_end, colors="k", linestyles="--", lw=1.3, zorder=4,
-                      label=f"this run, mean after transient: {mean:.3g} N" + (f" (std {std:.2g} N)" if np.isfinite(std) else ""))
+            dashed = ax.hlines(mean, transient, t_end, colors="k", linestyles="--", lw=1.3, zorder=4)
+            columns[column].append((dashed, f"${symbol}$ mean after the transient: {_num(mean)} N"
+                                    + (f" (std {_num(std, '.2g')} N)" if np.isfinite(std) else "")))
     ax_t.set_xlabel(r"process time $t - t_0$ [s]  ($t_0$: the rod starts moving)")
 
     if t.size:
-        _reference_bands(ax_n, model.reference, f[:, 0])
-    for ax in (ax_n, ax_t):
-        ax.legend(loc="upper right", fontsize=7.5, framealpha=0.9)
+        columns[0] += _reference_bands(ax_n, model.reference, f[:, 0])
+    columns[1].append((Patch(color="0.85"), f"start-up transient ({transient:g} s), discarded"))
+    blank = (Patch(alpha=0.0), "")
+    rows = max(len(c) for c in columns)
+    entries = [e for c in columns for e in c + [blank] * (rows - len(c))]
+    fig.legend([h for h, _ in entries], [lab for _, lab in entries], loc="outside lower center", ncols=2,
+               fontsize=8, frameon=False)
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path)
     return path
 
 
-def _reference_bands(ax, references, fn: np.ndarray) -> None:
-    """Shade each reference mean +- std (N) on the F_n axis.
+def _reference_bands(ax, references, fn: np.ndarray) -> list:
+    """Shade each reference mean +- std (N) on the F_n axis; returns legend entries (handle, label).
 
     When the bands lie far from this run's values (they would squash its
     series to a flat line), the axis keeps to the run's range and each band
     off the axis is named at the edge it lies beyond, with its numbers.
     """
+    from matplotlib.patches import Patch
+
     colors = ("tab:red", "tab:green", "tab:purple", "tab:brown", "tab:olive")
     values = fn[np.isfinite(fn)]
     lo, hi = (float(values.min()), float(values.max())) if values.size else (0.0, 0.0)
@@ -112,12 +121,14 @@ def _reference_bands(ax, references, fn: np.ndarray) -> None:
     if squash:
         pad = 0.08 * span
         ax.set_ylim(lo - pad, hi + pad)
+    entries = []
     below = above = 0
     for i, ref in enumerate(references):
         color = colors[i % len(colors)]
-        label = f"{ref.label}: {ref.fn_mean:.3g} ± {ref.fn_std:.2g} N"
+        label = f"{ref.label}: {_num(ref.fn_mean)} ± {_num(ref.fn_std, '.2g')} N"
         ax.axhspan(ref.fn_mean - ref.fn_std, ref.fn_mean + ref.fn_std, color=color, alpha=0.18, lw=0, zorder=1)
-        ax.axhline(ref.fn_mean, color=color, lw=1.2, zorder=2, label=label)
+        line = ax.axhline(ref.fn_mean, color=color, lw=1.2, zorder=2)
+        entries.append(((Patch(color=color, alpha=0.18, lw=0), line), f"$F_n$ {label} (mean ± std)"))
         if squash and (ref.fn_mean + ref.fn_std < lo or ref.fn_mean - ref.fn_std > hi):
             low_side = ref.fn_mean < lo
             slot = below if low_side else above
@@ -126,6 +137,12 @@ def _reference_bands(ax, references, fn: np.ndarray) -> None:
                     transform=ax.transAxes, ha="left", va="bottom" if low_side else "top", fontsize=8, color=color,
                     bbox={"facecolor": "white", "edgecolor": color, "alpha": 0.85, "boxstyle": "round,pad=0.25"})
             below, above = below + low_side, above + (not low_side)
+    return entries
+
+
+def _num(value: float, fmt: str = ".3g") -> str:
+    """A number as the axes print it (typographic minus sign)."""
+    return format(value, fmt).replace("-", "\u2212")
 
 
 def _finite(value) -> float | None:
@@ -171,14 +188,27 @@ def render_network(run: dict, path, k: int = 0) -> Path:
     fn, p1, p2 = fn[keep], p1[keep], p2[keep]
     r_ball = _mean_ball_radius(run, snap_time)
 
-    plotter = pv.Plotter(off_screen=True, window_size=(1200, 900))
+    font = _font_file()
+    with _quiet_headless_vtk():
+        plotter = pv.Plotter(off_screen=True, window_size=(1200, 900))
+        try:
+            _draw_network(pv, plotter, run, fn, p1, p2, r_ball, snap_time, process_time, font)
+            path.parent.mkdir(parents=True, exist_ok=True)
+            plotter.screenshot(str(path))
+        finally:
+            plotter.close()
+    return path
+
+
+def _draw_network(pv, plotter, run, fn, p1, p2, r_ball, snap_time, process_time, font) -> None:
+    """Add the meshes, the tubes, the scalar bar, the caption and the camera to plotter."""
     plotter.set_background("white")
     meshes = {name: _polydata(pv, g) for name, g in run.get("meshes", {}).items() if name != "attrs"}
     if "bowl" in meshes:
-        plotter.add_mesh(meshes["bowl"], style="wireframe", color="0.45", opacity=0.35, line_width=1.0)
+        plotter.add_mesh(meshes["bowl"], style="wireframe", color="gray", opacity=0.35, line_width=1.0)
     if "rod" in meshes:
         rod = _rod_at(run, meshes["rod"], snap_time)
-        plotter.add_mesh(rod, color="lightsteelblue", smooth_shading=False, specular=0.4, opacity=1.0)
+        plotter.add_mesh(rod, color="silver", ambient=0.35, diffuse=0.7, specular=0.3)
 
     title = "interaction network"
     if process_time is not None:
@@ -198,16 +228,49 @@ def render_network(run: dict, path, k: int = 0) -> Path:
                              "position_x": 0.86, "position_y": 0.2, "height": 0.6, "width": 0.06,
                              "title_font_size": 18, "label_font_size": 15, "fmt": "%.3g"},
         )
+        if font:
+            bar = plotter.scalar_bars["normal force [N]"]
+            for prop in (bar.GetTitleTextProperty(), bar.GetLabelTextProperty()):
+                prop.SetFontFamily(4)  # VTK_FONT_FILE
+                prop.SetFontFile(font)
         title += f": {n} compressive contacts, max {fmax:.3g} N"
     else:
         title += ": no compressive contacts"
-    plotter.add_text(title, position="upper_left", font_size=12, color="black")
 
+    plotter.add_text(title, position=(16, 860), font_size=13, color="black", font_file=font)
     _camera_from_above(plotter, run, p1, p2, r_ball)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    plotter.screenshot(str(path))
-    plotter.close()
-    return path
+
+
+def _font_file() -> str | None:
+    """DejaVu Sans from matplotlib (VTK's built-in sans font draws [ ] like ( )); None if missing."""
+    try:
+        import matplotlib
+    except ImportError:
+        return None
+    path = Path(matplotlib.get_data_path()) / "fonts" / "ttf" / "DejaVuSans.ttf"
+    return str(path) if path.is_file() else None
+
+
+class _quiet_headless_vtk:
+    """Without a display VTK first tries X, warns 'bad X server connection', then renders off-screen
+    (EGL); the warning is noise for a headless run, so VTK's log is held to errors meanwhile."""
+
+    def __enter__(self):
+        import os
+
+        self.logger = None
+        if os.name == "posix" and not os.environ.get("DISPLAY") and not os.environ.get("WAYLAND_DISPLAY"):
+            from vtkmodules.vtkCommonCore import vtkLogger
+
+            self.logger = vtkLogger
+            self.saved = vtkLogger.GetCurrentVerbosityCutoff()
+            vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_ERROR)
+        return self
+
+    def __exit__(self, *exc):
+        if self.logger is not None:
+            self.logger.SetStderrVerbosity(self.saved)
+        return False
 
 
 def _polydata(pv, group: dict):

@@ -33,6 +33,11 @@ class RunSummary:
         return asdict(self)
 
 
+#: Runs planned longer than this many steps start with a timing probe (a few
+#: steps on a dense lattice) that estimates the whole run's wall time.
+PROBE_ABOVE_STEPS = 200_000
+
+
 def default_run_dir(case_name: str, engine: str, root: Path = Path("runs")) -> Path:
     """runs/<case>-<engine>-<UTC timestamp> (a new directory)."""
     stamp = _dt.datetime.now(_dt.timezone.utc).strftime("%Y%m%dT%H%M%S")
@@ -86,6 +91,15 @@ def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float |
     backend.write_input(scene, run_dir)
     command, env = backend.command(run_dir)
     prep_s = time.monotonic() - t0
+    if hasattr(backend, "probe_command") and backend.planned_steps(scene) > PROBE_ABOVE_STEPS:
+        probe_dir = run_dir / "probe"
+        probe_dir.mkdir(exist_ok=True)
+        for name in run_dir.iterdir():
+            if name.is_file() and name.suffix in (".py", ".npz", ".stl"):
+                (probe_dir / name.name).write_bytes(name.read_bytes())
+        probe_cmd, probe_env = backend.probe_command(probe_dir)
+        execute(probe_cmd, probe_env, probe_dir, timeout_s=600, progress=False, label="timing probe",
+                on_timing=on_timing)
     interrupted = None
     try:
         execution = execute(command, env, run_dir, timeout_s, progress, label=f"{engine} {case.case.name}",

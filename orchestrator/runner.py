@@ -1,5 +1,5 @@
 """Start an engine as a subprocess in its run directory: log to a file, show
-progress with an ETA, enforce a timeout, never leave the engine running."""
+progress with an ETA, report timing estimates, enforce a timeout, never leave the engine running."""
 
 from __future__ import annotations
 
@@ -110,7 +110,7 @@ def execute(command: list[str], env: dict[str, str], workdir: Path, timeout_s: f
                         parsed = parse_progress_line(raw.decode(errors="replace"))
                         if isinstance(parsed, Progress):
                             bar.update(parsed)
-                        elif isinstance(parsed, Timing) and timing is None:
+                        elif isinstance(parsed, Timing):
                             timing = parsed
                             if on_timing is not None:
                                 on_timing(parsed)

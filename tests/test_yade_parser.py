@@ -51,7 +51,7 @@ def test_series_and_workpiece_frame(scene, workdir):
     np.testing.assert_allclose(wf[sel, 2], rod[sel, 2])
     # and at the first process sample (rod at angle ~0, moving along +y) normal ~ +y, radial ~ +x
     i = np.flatnonzero(sel)[0]
-    theta = 0.01 / 0.004 * (result.time[i] - result.attrs["process_start_time"])
+    theta = 0.01 / 0.005 * (result.time[i] - result.attrs["process_start_time"])
     assert wf[i, 0] == pytest.approx(-np.sin(theta) * rod[i, 0] + np.cos(theta) * rod[i, 1], rel=1e-6, abs=1e-12)
 
 

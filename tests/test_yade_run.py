@@ -40,7 +40,7 @@ def test_summary_json(tiny_run):
     summary, run = tiny_run
     for key in ("status", "engine", "wall_time_s", "n_particles", "n_steps", "run_dir", "measured"):
         assert key in summary
-    assert summary["status"] == "ok" and summary["engine"] == "yade" and summary["n_particles"] == 40
+    assert summary["status"] == "ok" and summary["engine"] == "yade" and summary["n_particles"] == 120
     assert summary["n_steps"] == run["attrs"]["n_steps"] > 1000
     assert run["attrs"]["engine_version"] == YadeBackend().version() != "unknown"
 

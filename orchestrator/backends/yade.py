@@ -155,7 +155,6 @@ class YadeBackend(Backend):
             "network_times": repr(list(case.output.network_times)),
             "bowl_radius": repr(case.bowl.inner_radius),
             "bowl_height": repr(case.bowl.height),
-            "mean_radius": repr(case.media.radius),
             "planned_steps": int(planned),
         }
 
@@ -172,6 +171,15 @@ class YadeBackend(Backend):
 
     def command(self, workdir: Path, kind: str = "drag_finishing") -> tuple[list[str], dict[str, str]]:
         return self.profile.command(SCRIPT_NAME[kind])
+
+    def planned_steps(self, scene) -> int:
+        """Upper bound of the run's time steps (settling counted at its maximum time)."""
+        return self.render_context(scene)["planned_steps"]
+
+    def probe_command(self, workdir: Path, kind: str = "drag_finishing", steps: int = 200):
+        """Command of the timing probe: the same script on a dense lattice for a few steps."""
+        command, env = self.profile.command(SCRIPT_NAME[kind])
+        return command + ["--probe", str(steps)], env
 
     # ---- output ----
     def read_output(self, scene, workdir: Path) -> Result:

@@ -74,10 +74,10 @@ O.engines = [
             frictAngle=MatchMaker(matches=FRICTION_ANGLE))],
         [Law2_ScGeom_MindlinPhys_Mindlin()],
     ),
-    TranslationEngine(ids=ROD_IDS, translationAxis=(0, 0, -1), velocity=0.2,
+    TranslationEngine(ids=ROD_IDS, translationAxis=(0, 0, -1), velocity=0.05,
                       dead=True, label="push"),
     RotationEngine(ids=ROD_IDS, rotationAxis=(0, 0, 1), rotateAroundZero=True, zeroPoint=(0, 0, 0),
-                   angularVelocity=2.5, dead=True, label="drag"),
+                   angularVelocity=2.0, dead=True, label="drag"),
     NewtonIntegrator(damping=0.4, gravity=(0.0, 0.0, -9.81), label="newton"),
     PyRunner(iterPeriod=36, command="control()", label="controller"),
     PyRunner(iterPeriod=72, command="record()", label="recorder"),
@@ -87,21 +87,20 @@ O.dt = 2.794444601978471e-05
 SETTLE_MAX_TIME = 1.0
 SETTLE_UNBALANCED = 0.01
 SETTLE_MAX_SPEED = 0.005
-RELAX_TIME = 0.02
-SUBMERSION_DEPTH = 0.006
-PATH_RADIUS = 0.004
+RELAX_TIME = 0.1
+SUBMERSION_DEPTH = 0.008
+PATH_RADIUS = 0.005
 PROCESS_DURATION = 0.1
 NETWORK_TIMES = [0.05]
-BOWL_RADIUS = 0.015
+BOWL_RADIUS = 0.02
 BOWL_HEIGHT = 0.05
-MEAN_RADIUS = 0.00327
 RECORD_INTERVAL = O.dt * 72
-PLANNED_STEPS = 42323
+PLANNED_STEPS = 53348
 PHASES = ("settle", "insert", "relax", "process")
 
 state = {"phase": 0, "t_phase": 0.0, "bed_height": None, "settled": None, "tip_target": None,
          "t_process": None, "next_network": 0, "status": "ok", "message": "", "last_progress": 0.0,
-         "last_record": -1.0, "probe_done": False, "planned": PLANNED_STEPS, "probe_start": (time.time(), 0), "phase_wall": {}}
+         "last_record": -1.0, "probe_done": False, "planned": PLANNED_STEPS, "probe_start": None, "phase_wall": {}}
 rod_intensity = np.zeros(len(ROD_IDS))  # accumulated |F| dt per rod facet, N s
 rod_contact_count = np.zeros(len(ROD_IDS), dtype=np.int64)  # facet-samples in contact
 series = open(os.path.join(OUT, "series.csv"), "w")
@@ -125,15 +124,24 @@ def kinetic_energy():
 
 
 def bed_height():
-    """Mean top (z + r) of the highest balls that would cover the floor once (a ruler on the bed), m."""
-    tops = np.sort([O.bodies[i].state.pos[2] + O.bodies[i].shape.radius for i in SPHERE_IDS])[::-1]
-    n_top = max(1, min(len(tops), int(0.6 * BOWL_RADIUS ** 2 / MEAN_RADIUS ** 2)))
-    return float(np.mean(tops[:n_top]))
+    """Level of the bed, m: the height a flat bed of the same balls would have at the solid
+    fraction measured in the bed's core (0.2 to 0.6 of the highest ball top)."""
+    z = np.array([O.bodies[i].state.pos[2] for i in SPHERE_IDS])
+    r = np.array([O.bodies[i].shape.radius for i in SPHERE_IDS])
+    top = float(np.max(z + r))
+
+    def slab_volume(z0, z1):
+        cap = lambda u: np.pi * (r ** 2 * u - u ** 3 / 3.0)  # noqa: E731
+        return float(np.sum(cap(np.clip(z1 - z, -r, r)) - cap(np.clip(z0 - z, -r, r))))
+
+    area = math.pi * BOWL_RADIUS ** 2
+    core_fraction = slab_volume(0.2 * top, 0.6 * top) / (area * 0.4 * top)
+    return float(np.sum(4.0 / 3.0 * np.pi * r ** 3)) / (core_fraction * area)
 
 
 def workpiece_frame(force):
     """Force on the rod as [along its velocity, horizontal outward, vertical], N."""
-    theta = 2.5 * (O.time - state["t_process"])  # the rod starts at angle 0 (+x)
+    theta = 2.0 * (O.time - state["t_process"])  # the rod starts at angle 0 (+x)
     ev = (-math.sin(theta), math.cos(theta))
     er = (math.cos(theta), math.sin(theta))
     return (force[0] * ev[0] + force[1] * ev[1], force[0] * er[0] + force[1] * er[1], force[2])
@@ -234,11 +242,15 @@ def next_phase(new_phase):
 
 def report_progress():
     now = time.time()
-    if not state["probe_done"] and (O.iter >= 2000 or now - state["probe_start"][0] > 5.0) and O.iter > 0:
-        per_step = (now - state["probe_start"][0]) / max(1, O.iter - state["probe_start"][1])
-        print("TIMING s_per_step=%.6g planned_steps=%d estimate_s=%.6g" % (per_step, state["planned"],
-                                                                              per_step * state["planned"]), flush=True)
-        state["probe_done"] = True
+    if state["phase"] == 3 and not state["probe_done"]:
+        if state["probe_start"] is None:
+            state["probe_start"] = (now, O.iter)
+        elif O.iter - state["probe_start"][1] >= 500:
+            per_step = (now - state["probe_start"][0]) / (O.iter - state["probe_start"][1])
+            estimate = now - WALL_START + per_step * (state["planned"] - O.iter)
+            print("TIMING s_per_step=%.6g planned_steps=%d estimate_s=%.6g" % (per_step, state["planned"], estimate),
+                  flush=True)
+            state["probe_done"] = True
     if now - state["last_progress"] > 1.0:
         print("PROGRESS step=%d of %d phase=%s t=%.6g" % (O.iter, state["planned"], PHASES[state["phase"]], O.time),
               flush=True)
@@ -265,7 +277,7 @@ def control():
             state["tip_target"] = state["bed_height"] - SUBMERSION_DEPTH
             push.dead = False
             travel = top + 1e-3 - state["tip_target"]
-            state["planned"] = O.iter + int((travel / 0.2 + RELAX_TIME + PROCESS_DURATION) / O.dt)
+            state["planned"] = O.iter + int((travel / 0.05 + RELAX_TIME + PROCESS_DURATION) / O.dt)
             next_phase(1)
     elif phase == 1:
         if rod_tip_z() <= state["tip_target"]:
@@ -287,6 +299,33 @@ def control():
             state["phase_wall"]["process"] = time.time() - WALL_START
             stop("ok", "")
 
+
+
+
+def run_probe(steps):
+    """Timing probe: the balls on a touching simple-cubic lattice (about the coordination of a
+    settled bed), a few steps, then the estimated wall time of the whole run."""
+    r = max(O.bodies[i].shape.radius for i in SPHERE_IDS)
+    d = 2.0 * r * (1.0 - 1e-5)
+    xs = np.arange(-BOWL_RADIUS + r, BOWL_RADIUS - r, d)
+    layer = [(x, y) for x in xs for y in xs if x * x + y * y <= (BOWL_RADIUS - r) ** 2]
+    for n, i in enumerate(SPHERE_IDS):
+        x, y = layer[n % len(layer)]
+        O.bodies[i].shape.radius = r
+        O.bodies[i].state.pos = Vector3(x, y, r + d * (n // len(layer)))
+        O.bodies[i].state.vel = Vector3(0, 0, 0)
+    controller.dead = recorder.dead = True
+    O.run(50, True)
+    start = time.time()
+    O.run(steps, True)
+    per_step = (time.time() - start) / steps
+    print("TIMING s_per_step=%.6g planned_steps=%d estimate_s=%.6g" % (per_step, PLANNED_STEPS,
+                                                                      per_step * PLANNED_STEPS), flush=True)
+
+
+if "--probe" in sys.argv:
+    run_probe(int(sys.argv[sys.argv.index("--probe") + 1]))
+    sys.exit(0)
 
 O.run()
 O.wait()
