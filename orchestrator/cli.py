@@ -94,7 +94,7 @@ def _cmd_run(args) -> int:
             raise OrchestratorError(f"unknown engine {args.engine!r}; allowed: {', '.join(engine_names())}")
 
     def announce(timing):
-        print(f"timing probe: {timing.seconds_per_step * 1e3:.3g} ms per step, {timing.planned_steps} steps planned "
+        print(f"estimate: {timing.seconds_per_step * 1e3:.3g} ms per step x {timing.planned_steps} steps planned "
               f"-> the whole run takes about {_duration(timing.estimate_s)}", file=sys.stderr, flush=True)
 
     summary = run_case(loaded, engine=args.engine, out_dir=args.out, timeout_s=args.timeout,

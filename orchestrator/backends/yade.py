@@ -170,7 +170,11 @@ class YadeBackend(Backend):
         (workdir / SCRIPT_NAME[kind]).write_text(render(TEMPLATES[kind], self.render_context(scene)))
 
     def command(self, workdir: Path, kind: str = "drag_finishing") -> tuple[list[str], dict[str, str]]:
-        return self.profile.command(SCRIPT_NAME[kind])
+        command, env = self.profile.command(SCRIPT_NAME[kind])
+        # Yade makes a scratch directory per process; keep it inside the run, not in /tmp.
+        scratch = Path(workdir) / "tmp"
+        scratch.mkdir(exist_ok=True)
+        return command, {**env, "TMPDIR": str(scratch.resolve())}
 
     def planned_steps(self, scene) -> int:
         """Upper bound of the run's time steps (settling counted at its maximum time)."""
@@ -178,7 +182,7 @@ class YadeBackend(Backend):
 
     def probe_command(self, workdir: Path, kind: str = "drag_finishing", steps: int = 200):
         """Command of the timing probe: the same script on a dense lattice for a few steps."""
-        command, env = self.profile.command(SCRIPT_NAME[kind])
+        command, env = self.command(workdir, kind)
         return command + ["--probe", str(steps)], env
 
     # ---- output ----
