@@ -84,7 +84,7 @@ def test_network_and_intensity(tiny_run):
 def test_timeout_keeps_status_and_partial_data(tmp_path):
     out = tmp_path / "slow"
     proc = subprocess.run(
-        [sys.executable, "-m", "orchestrator", "run", str(TINY), "--out", str(out), "--timeout", "4",
+        [sys.executable, "-m", "orchestrator", "run", str(TINY), "--out", str(out), "--timeout", "6",
          "--set", "process.duration=100", "--no-progress"],
         capture_output=True, text=True, timeout=300,
     )

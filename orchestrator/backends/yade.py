@@ -103,7 +103,9 @@ class YadeBackend(Backend):
 
     def check_available(self) -> None:
         if not self.available():
-            raise EngineNotFound(f"Yade is not installed (no 'yade' on PATH); {self.install_hint()}")
+            where = f"ORCHESTRATOR_YADE={os.environ['ORCHESTRATOR_YADE']} does not exist" if os.environ.get(
+                "ORCHESTRATOR_YADE") else "no 'yade' on PATH"
+            raise EngineNotFound(f"Yade is not installed ({where}); {self.install_hint()}")
 
     # ---- input ----
     def render_context(self, scene) -> dict:
