@@ -61,23 +61,15 @@ def export_vtk(run_dir, out_dir=None) -> list[Path]:
     out.mkdir(parents=True, exist_ok=True)
 
     written: list[Path] = []
-    frames = []
-    for k, group in _numbered(run.get("frames", {})):
-        path = out / f"particles_{k}.vtu"
-        _particles_mesh(group, k).write(path)
-        written.append(path)
-        frames.append((float(group["attrs"].get("time", k)), path.name))
-    if frames:
-        written.append(_write_pvd(out / "particles.pvd", frames))
-
-    snapshots = []
-    for k, group in _numbered(run.get("contacts", {})):
-        path = out / f"network_{k}.vtu"
-        _network_mesh(group, k).write(path)
-        written.append(path)
-        snapshots.append((float(group["attrs"].get("time", k)), path.name))
-    if snapshots:
-        written.append(_write_pvd(out / "network.pvd", snapshots))
+    for group_name, stem, to_mesh in (("frames", "particles", _particles_mesh), ("contacts", "network", _network_mesh)):
+        series = []
+        for k, group in _numbered(run.get(group_name, {})):
+            path = out / f"{stem}_{k}.vtu"
+            to_mesh(group, k).write(path)
+            written.append(path)
+            series.append((float(group["attrs"].get("time", k)), path.name))
+        if series:
+            written.append(_write_pvd(out / f"{stem}.pvd", series))
 
     for name, group in sorted((n, g) for n, g in run.get("meshes", {}).items() if n != "attrs"):
         path = out / f"mesh_{name}.vtu"

@@ -53,6 +53,7 @@ class _Bar:
         self.label = label
         self.bar = None
         self.last_plain = 0.0
+        self.start = time.monotonic()
 
     def update(self, progress: Progress) -> None:
         if not self.enabled:
@@ -69,8 +70,12 @@ class _Bar:
             self.bar.refresh()
         elif time.monotonic() - self.last_plain > 30.0:
             self.last_plain = time.monotonic()
-            pct = 100.0 * progress.done / max(1, progress.total)
-            print(f"{self.label}: {pct:5.1f} % ({progress.label})", file=sys.stderr, flush=True)
+            fraction = progress.done / max(1, progress.total)
+            eta = ""
+            if fraction > 0:
+                remaining = (time.monotonic() - self.start) * (1.0 - fraction) / fraction
+                eta = f", ETA {remaining / 60:.1f} min" if remaining >= 60 else f", ETA {remaining:.0f} s"
+            print(f"{self.label}: {100 * fraction:5.1f} % ({progress.label}{eta})", file=sys.stderr, flush=True)
 
     def close(self) -> None:
         if self.bar is not None:
