@@ -237,7 +237,7 @@ def _draw_network(pv, plotter, run, fn, p1, p2, r_ball, snap_time, process_time,
     else:
         title += ": no compressive contacts"
 
-    plotter.add_text(title, position=(16, 860), font_size=13, color="black", font_file=font)
+    plotter.add_text(title, position="upper_left", font_size=12, color="black", font_file=font)
     _camera_from_above(plotter, run, p1, p2, r_ball)
 
 

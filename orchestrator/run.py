@@ -136,7 +136,8 @@ def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float |
         "command": " ".join(command),
         "template_hash": _template_hash(backend, case.case.kind),
     }
-    result.attrs.setdefault("n_steps", 0)
+    # A stopped engine wrote no final status: take the steps from its last progress line.
+    result.attrs.setdefault("n_steps", execution.last_progress.done if execution.last_progress else 0)
     result.attrs.setdefault("dt", scene.timestep)
     write_run(run_dir / RUN_FILE, result, root, loaded.toml_text, loaded.resolved, execution.log_tail(200))
     summary = RunSummary(

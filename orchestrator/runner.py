@@ -26,6 +26,7 @@ class Execution:
     wall_time_s: float
     timing: Timing | None
     log_path: Path
+    last_progress: Progress | None = None
 
     def log_tail(self, lines: int = 40) -> str:
         """The last lines of the engine's log."""
@@ -98,6 +99,7 @@ def execute(command: list[str], env: dict[str, str], workdir: Path, timeout_s: f
     start = time.monotonic()
     bar = _Bar(label, progress)
     timing = None
+    last_progress = None
     with open(log_path, "wb") as log:
         proc = subprocess.Popen(command, cwd=workdir, env=full_env, stdout=log, stderr=subprocess.STDOUT,
                                 stdin=subprocess.DEVNULL, start_new_session=True)
@@ -114,6 +116,7 @@ def execute(command: list[str], env: dict[str, str], workdir: Path, timeout_s: f
                     for raw in lines:
                         parsed = parse_progress_line(raw.decode(errors="replace"))
                         if isinstance(parsed, Progress):
+                            last_progress = parsed
                             bar.update(parsed)
                         elif isinstance(parsed, Timing):
                             timing = parsed
@@ -129,10 +132,11 @@ def execute(command: list[str], env: dict[str, str], workdir: Path, timeout_s: f
     except KeyboardInterrupt as exc:
         _kill(proc)
         bar.close()
-        exc.execution = Execution(proc.returncode, False, True, time.monotonic() - start, timing, log_path)
+        exc.execution = Execution(proc.returncode, False, True, time.monotonic() - start, timing, log_path,
+                                  last_progress)
         raise
     bar.close()
-    return Execution(proc.returncode, timed_out, False, time.monotonic() - start, timing, log_path)
+    return Execution(proc.returncode, timed_out, False, time.monotonic() - start, timing, log_path, last_progress)
 
 
 def _kill(proc: subprocess.Popen) -> None:
