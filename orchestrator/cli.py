@@ -71,6 +71,15 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:
         print("error: interrupted; the engine was stopped and run.h5 records what was measured", file=sys.stderr)
         return 130
+    except Exception as exc:  # a bug of ours: keep the traceback in a file, show one line
+        import tempfile
+        import traceback
+
+        with tempfile.NamedTemporaryFile("w", prefix="orchestrator-crash-", suffix=".log", delete=False) as fh:
+            traceback.print_exc(file=fh)
+        print(f"error: internal error ({type(exc).__name__}: {exc}); this is a bug in orchestrator, "
+              f"please report it with the traceback saved in {fh.name}", file=sys.stderr)
+        return 70
 
 
 def _jsonable(value):

@@ -30,6 +30,7 @@ class RunSummary:
     estimate_s: float | None = None
 
     def as_dict(self) -> dict:
+        """Plain dict (what --json prints)."""
         return asdict(self)
 
 

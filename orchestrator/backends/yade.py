@@ -102,6 +102,7 @@ class YadeBackend(Backend):
         return [template_root() / TEMPLATES[kind]]
 
     def check_available(self) -> None:
+        """Raise EngineNotFound, with what to do, when Yade is missing."""
         if not self.available():
             where = f"ORCHESTRATOR_YADE={os.environ['ORCHESTRATOR_YADE']} does not exist" if os.environ.get(
                 "ORCHESTRATOR_YADE") else "no 'yade' on PATH"

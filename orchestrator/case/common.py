@@ -83,6 +83,7 @@ class ContactPair(Frozen):
 
     @property
     def e_t(self) -> float:
+        """Tangential restitution, -: e_t if given, else e_n (the paper's choice)."""
         return self.restitution if self.tangential_restitution is None else self.tangential_restitution
 
 

@@ -37,10 +37,12 @@ class LoadedCase:
 
     @property
     def name(self) -> str:
+        """case.name."""
         return self.model.case.name
 
     @property
     def kind(self) -> str:
+        """case.kind, e.g. 'drag_finishing'."""
         return self.model.case.kind
 
     @property

@@ -42,6 +42,7 @@ class Scene:
 
     @property
     def n_particles(self) -> int:
+        """Number of balls."""
         return len(self.radii)
 
     def write_meshes(self, directory: Path) -> dict[str, Path]:
