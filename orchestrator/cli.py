@@ -43,6 +43,20 @@ def _parser() -> argparse.ArgumentParser:
     analyze.add_argument("run_dir", metavar="RUN_DIR", help="a directory written by 'orchestrator run'")
     analyze.add_argument("--no-render", action="store_true", help="skip the 3D network rendering (pyvista)")
 
+    study = sub.add_parser("study", help="run a study file: a sweep of a case over parameters and engines",
+                           description="Run every point of STUDY (a TOML study file) that is not finished yet; "
+                           "finished runs with the same identity (case, engine, engine version, template) are "
+                           "reused, so an interrupted study resumes where it stopped. Writes STUDY_DIR/index.csv.")
+    study.add_argument("study", metavar="STUDY", help="study TOML file, e.g. cases/studies/tiny.toml")
+    study.add_argument("--out", metavar="DIR", help="study directory (default: runs/studies/<name>)")
+    study.add_argument("--force", action="store_true", help="rerun every run, finished or not")
+    study.add_argument("--workers", type=int, metavar="N", help="parallel runs (default: cores / threads per run)")
+    study.add_argument("--json", action="store_true", help="print the rows as a JSON list")
+    study.add_argument("--no-progress", action="store_true", help="no progress bar")
+
+    status = sub.add_parser("status", help="table of a study's runs: parameters, engine, status, wall time, results")
+    status.add_argument("study_dir", metavar="STUDY_DIR", help="directory of a study (holds index.csv)")
+
     doctor = sub.add_parser("doctor", help="which engines are installed, their versions and paths")
     doctor.add_argument("--json", action="store_true", help="print a JSON list")
 
@@ -62,7 +76,9 @@ def main(argv=None) -> int:
         parser.print_help()
         return 2
     try:
-        return {"run": _cmd_run, "analyze": _cmd_analyze, "doctor": _cmd_doctor, "export": _cmd_export}[args.command](args)
+        commands = {"run": _cmd_run, "analyze": _cmd_analyze, "doctor": _cmd_doctor, "export": _cmd_export,
+                    "study": _cmd_study, "status": _cmd_status}
+        return commands[args.command](args)
     except OrchestratorError as exc:
         if getattr(args, "json", False) and exc.summary is not None:
             print(json.dumps(_jsonable(exc.summary.as_dict())))
@@ -161,3 +177,50 @@ def _cmd_export(args) -> int:
     for path in export_vtk(args.run_dir, args.out):
         print(path)
     return 0
+
+
+def _cmd_study(args) -> int:
+    from .study import Study
+
+    study = Study.from_file(args.study, out_dir=args.out)
+    rows = study.run(force=args.force, progress=not args.no_progress, max_workers=args.workers)
+    if args.json:
+        print(json.dumps([_jsonable(row) for row in rows]))
+    else:
+        _print_rows(rows)
+        print(f"index        {study.out_dir / 'index.csv'}")
+    return 0 if all(row["status"] == "ok" for row in rows) else 1
+
+
+def _cmd_status(args) -> int:
+    import csv
+    from pathlib import Path
+
+    from .errors import OrchestratorError
+
+    path = Path(args.study_dir) / "index.csv"
+    if not path.is_file():
+        raise OrchestratorError(f"no index.csv in {args.study_dir}; give a study directory written by 'orchestrator study'")
+    with open(path, newline="") as fh:
+        _print_rows(list(csv.DictReader(fh)))
+    return 0
+
+
+def _print_rows(rows: list[dict]) -> None:
+    """A plain table: parameters, engine, status, wall time and the main measured quantities."""
+    if not rows:
+        print("(no runs)")
+        return
+    params = [k for k in rows[0] if k.startswith("param:")]
+    results = [k for k in ("fn_mean", "fn_std", "ft_mean", "bed_height") if k in rows[0]]
+    header = [p.removeprefix("param:") for p in params] + ["engine", "status", "wall_s"] + results + ["reused"]
+    table = []
+    for row in rows:
+        cells = [row.get(p, "") for p in params] + [row.get("engine", ""), row.get("status", ""),
+                                                     row.get("wall_time_s", "")]
+        cells += [row.get(k, "") for k in results] + [row.get("reused", "")]
+        table.append([f"{c:.4g}" if isinstance(c, float) else str(c) for c in cells])
+    widths = [max(len(h), *(len(r[i]) for r in table)) for i, h in enumerate(header)]
+    print("  ".join(h.ljust(w) for h, w in zip(header, widths)))
+    for r in table:
+        print("  ".join(c.ljust(w) for c, w in zip(r, widths)))

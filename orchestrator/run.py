@@ -65,9 +65,10 @@ def prepare_run_dir(out_dir: Path | None, case_name: str, engine: str, force: bo
 
 
 def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float | None = None,
-             progress: bool = True, force: bool = False, on_timing=None) -> RunSummary:
+             progress: bool = True, force: bool = False, on_timing=None, extra_attrs=None) -> RunSummary:
     """Run a LoadedCase on an engine; writes run_dir/run.h5 whatever happens and returns a RunSummary.
 
+    extra_attrs are added to run.h5's root attributes (a study's run_id).
     Raises EngineNotFound before anything runs; EngineTimeout / EngineFailed
     after run.h5 is written (with status and what was measured before).
     """
@@ -136,6 +137,7 @@ def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float |
         "orchestrator_version": __version__,
         "command": " ".join(command),
         "template_hash": _template_hash(backend, case.case.kind),
+        **(extra_attrs or {}),
     }
     # A stopped engine wrote no final status: take the steps from its last progress line.
     result.attrs.setdefault("n_steps", execution.last_progress.done if execution.last_progress else 0)

@@ -1,0 +1,275 @@
+"""Study: a sweep of one case over parameters and engines, with cached,
+resumable runs.
+
+A run's identity is sha256(resolved case, engine, engine version, template
+hash); its directory is <study dir>/<engine>-<id[:12]>. A run whose run.h5
+has status ok and the same identity is reused; a failed, interrupted or
+changed one is run again. Runs go to any concurrent.futures.Executor (a local
+process pool by default, sized so runs never oversubscribe the cores).
+"""
+
+from __future__ import annotations
+
+import csv
+import hashlib
+import json
+import os
+import shutil
+from concurrent.futures import Executor, ProcessPoolExecutor, as_completed
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from ..errors import CaseError, OrchestratorError
+
+INDEX_NAME = "index.csv"
+
+
+@dataclass(frozen=True)
+class PlannedRun:
+    """One run of a study: engine, the sweep point's overrides, identity and directory."""
+
+    run_id: str
+    engine: str
+    point: dict[str, Any]
+    run_dir: Path
+    threads: int
+
+
+@dataclass
+class Study:
+    """A sweep of `case` over `points` (dicts of dotted case keys -> values) on `engines`.
+
+    Build one from a study file with Study.from_file, or directly::
+
+        Study("cases/drag_finishing_uhlmann2015.toml", preset="quick",
+              points=grid({"numerics.stiffness_scale": [1e-3, 1e-4]}), out_dir="runs/studies/e")
+    """
+
+    case: Path
+    points: list[dict[str, Any]]
+    engines: tuple[str, ...] = ("yade",)
+    preset: str | None = None
+    out_dir: Path | None = None
+    name: str = "study"
+    timeout_s: float | None = None
+    _planned: list[PlannedRun] = field(default_factory=list, init=False, repr=False)
+
+    def __post_init__(self):
+        self.case = Path(self.case).resolve()
+        self.out_dir = Path(self.out_dir) if self.out_dir is not None else Path("runs") / "studies" / self.name
+        if not self.points:
+            raise CaseError("the study has no runs: its sweep is empty")
+
+    @classmethod
+    def from_file(cls, path, out_dir=None) -> "Study":
+        """A Study from a study TOML file (see orchestrator.study.spec)."""
+        from .spec import load_study_spec
+
+        spec, case_path = load_study_spec(path)
+        return cls(case=case_path, points=spec.sweep.points(), engines=spec.study.engines, preset=spec.study.preset,
+                   out_dir=out_dir, name=spec.study.name, timeout_s=spec.study.timeout)
+
+    def plan(self) -> list[PlannedRun]:
+        """Validate every run's case and engine, and compute identities (raises CaseError / OrchestratorError)."""
+        from ..backends import engine_names, get_backend
+        from ..case import load_case
+        from ..templating import files_hash
+
+        planned = []
+        for engine in self.engines:
+            if engine not in engine_names():
+                raise OrchestratorError(f"study engine {engine!r} is unknown; allowed: {', '.join(engine_names())}")
+        versions = {}
+        for engine in self.engines:
+            backend = get_backend(engine)
+            backend.check_available()
+            versions[engine] = backend.version()
+        for i, point in enumerate(self.points):
+            overrides = [f"{key}={_toml_value(value)}" for key, value in point.items()]
+            try:
+                loaded = load_case(self.case, preset=self.preset, overrides=overrides)
+            except CaseError as exc:
+                raise CaseError(f"study run {i + 1} ({_describe(point)}): {exc}") from None
+            for engine in self.engines:
+                backend = get_backend(engine)
+                identity = {
+                    "case": loaded.resolved,
+                    "engine": engine,
+                    "engine_version": versions[engine],
+                    "template_hash": files_hash(backend.template_files(loaded.kind)),
+                }
+                run_id = hashlib.sha256(json.dumps(identity, sort_keys=True, default=str).encode()).hexdigest()
+                planned.append(PlannedRun(run_id, engine, dict(point), self.out_dir / f"{engine}-{run_id[:12]}",
+                                          loaded.model.numerics.threads))
+        self._planned = planned
+        return planned
+
+    def run(self, executor: Executor | None = None, force: bool = False, progress: bool = True,
+            max_workers: int | None = None) -> list[dict]:
+        """Run what is not finished yet (everything with force); returns one row per run and writes index.csv."""
+        planned = self.plan()
+        self.out_dir.mkdir(parents=True, exist_ok=True)
+        rows: dict[str, dict] = {}
+        todo = []
+        for run in planned:
+            done = None if force else finished_row(run)
+            if done is not None:
+                rows[run.run_id] = {**done, "reused": True}
+            else:
+                todo.append(run)
+        own_pool = executor is None
+        if own_pool:
+            threads = max((r.threads for r in todo), default=1)
+            workers = max_workers or max(1, (os.cpu_count() or 1) // threads)
+            executor = ProcessPoolExecutor(max_workers=min(workers, max(1, len(todo))))
+        bar = _bar(len(planned), len(rows), progress, self.name)
+        try:
+            futures = {
+                executor.submit(execute_run, str(self.case), self.preset, r.point, r.engine, str(r.run_dir),
+                                self.timeout_s, r.run_id): r
+                for r in todo
+            }
+            for future in as_completed(futures):
+                run = futures[future]
+                rows[run.run_id] = {**future.result(), "reused": False}
+                self._write_index(planned, rows)
+                if bar is not None:
+                    failed = sum(1 for row in rows.values() if row["status"] != "ok")
+                    bar.set_postfix_str(f"failed {failed}", refresh=False)
+                    bar.update(1)
+        finally:
+            if bar is not None:
+                bar.close()
+            if own_pool:
+                executor.shutdown(cancel_futures=True)
+        self._write_index(planned, rows)
+        return [rows[r.run_id] for r in planned if r.run_id in rows]
+
+    def _write_index(self, planned: list[PlannedRun], rows: dict[str, dict]) -> None:
+        ordered = [rows[r.run_id] for r in planned if r.run_id in rows]
+        write_index(self.out_dir / INDEX_NAME, ordered)
+
+    def results(self):
+        """The study's index: a pandas DataFrame when pandas is installed, else a numpy structured array."""
+        return read_index(self.out_dir, as_frame=True)
+
+
+def grid(parameters: dict[str, list]) -> list[dict]:
+    """Every combination of the given values (dotted case keys -> lists)."""
+    from .spec import Sweep
+
+    return Sweep(mode="grid", parameters=parameters).points()
+
+
+def zipped(parameters: dict[str, list]) -> list[dict]:
+    """The i-th values of each list together (lists of equal length)."""
+    from .spec import Sweep
+
+    return Sweep(mode="zip", parameters=parameters).points()
+
+
+def execute_run(case_path: str, preset: str | None, point: dict, engine: str, run_dir: str,
+                timeout_s: float | None, run_id: str) -> dict:
+    """Run one study point (in a worker process); returns its row. Never raises for a failed run."""
+    from ..case import load_case
+    from ..run import run_case
+
+    run_path = Path(run_dir)
+    if run_path.exists():
+        shutil.rmtree(run_path)  # an interrupted or changed run starts clean
+    overrides = [f"{key}={_toml_value(value)}" for key, value in point.items()]
+    base = {"run_id": run_id, "engine": engine, "run_dir": run_dir, **{f"param:{k}": v for k, v in point.items()}}
+    try:
+        loaded = load_case(case_path, preset=preset, overrides=overrides)
+        summary = run_case(loaded, engine=engine, out_dir=run_path, timeout_s=timeout_s, progress=False,
+                           force=True, extra_attrs={"run_id": run_id})
+    except OrchestratorError as exc:
+        summary = exc.summary
+        if summary is None:
+            return {**base, "status": "failed", "message": str(exc).splitlines()[0]}
+    return {**base, **_summary_row(summary)}
+
+
+def finished_row(run: PlannedRun) -> dict | None:
+    """The row of a finished run with the same identity, or None if it must run (again)."""
+    import h5py
+
+    path = run.run_dir / "run.h5"
+    if not path.is_file():
+        return None
+    try:
+        with h5py.File(path, "r") as h5:
+            attrs = dict(h5.attrs)
+            measured = dict(h5["measured"].attrs) if "measured" in h5 else {}
+    except OSError:
+        return None
+    if attrs.get("status") != "ok" or attrs.get("run_id") != run.run_id:
+        return None
+    row = {"run_id": run.run_id, "engine": run.engine, "run_dir": str(run.run_dir),
+           **{f"param:{k}": v for k, v in run.point.items()}, "status": "ok", "message": "",
+           "wall_time_s": float(attrs["wall_time_s"]), "n_steps": int(attrs["n_steps"]),
+           "n_particles": int(attrs["n_particles"])}
+    row.update({k: _plain(v) for k, v in measured.items()})
+    return row
+
+
+def _summary_row(summary) -> dict:
+    return {"status": summary.status, "message": summary.message, "wall_time_s": summary.wall_time_s,
+            "n_steps": summary.n_steps, "n_particles": summary.n_particles, **summary.measured}
+
+
+def write_index(path: Path, rows: list[dict]) -> None:
+    """One CSV row per run (written to a temporary name, then renamed)."""
+    columns: list[str] = []
+    for row in rows:
+        columns += [key for key in row if key not in columns]
+    tmp = path.with_name(path.name + ".tmp")
+    with open(tmp, "w", newline="") as fh:
+        writer = csv.DictWriter(fh, fieldnames=columns)
+        writer.writeheader()
+        writer.writerows(rows)
+    os.replace(tmp, path)
+
+
+def read_index(study_dir, as_frame: bool = True):
+    """A study's index.csv as a DataFrame (pandas installed and as_frame) or a numpy structured array."""
+    import numpy as np
+
+    path = Path(study_dir) / INDEX_NAME
+    if not path.is_file():
+        raise OrchestratorError(f"no {INDEX_NAME} in {study_dir}; run the study first (orchestrator study STUDY.toml)")
+    if as_frame:
+        try:
+            import pandas as pd
+
+            return pd.read_csv(path)
+        except ImportError:
+            pass
+    return np.genfromtxt(path, delimiter=",", names=True, dtype=None, encoding="utf-8")
+
+
+def _toml_value(value) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, str):
+        return json.dumps(value)
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_toml_value(v) for v in value) + "]"
+    return repr(value)
+
+
+def _describe(point: dict) -> str:
+    return ", ".join(f"{k}={v}" for k, v in point.items())
+
+
+def _plain(value):
+    return value.item() if hasattr(value, "item") else value
+
+
+def _bar(total: int, done: int, enabled: bool, name: str):
+    if not enabled:
+        return None
+    from tqdm import tqdm
+
+    return tqdm(total=total, initial=done, desc=f"study {name}", unit="run")

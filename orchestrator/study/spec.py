@@ -1,0 +1,110 @@
+"""A study file (TOML): one case, engines, and a sweep of case parameters.
+
+    [study]
+    name = "stiffness"
+    case = "../drag_finishing_uhlmann2015.toml"   # relative to the study file
+    preset = "quick"                              # optional
+    engines = ["yade"]
+    timeout = 3600                                # s per run, optional
+
+    [sweep]
+    mode = "grid"            # grid: every combination; zip: i-th values together; list: explicit runs
+    [sweep.parameters]
+    "numerics.stiffness_scale" = [1e-3, 1e-4]
+    "numerics.timestep_factor" = [0.1, 0.3]
+
+    # mode = "list":
+    # [[sweep.runs]]
+    # "media.count" = 500
+"""
+
+from __future__ import annotations
+
+import itertools
+import tomllib
+from pathlib import Path
+from typing import Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+
+from ..errors import CaseError
+
+
+class _Frozen(BaseModel):
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+
+class StudyMeta(_Frozen):
+    """The [study] table."""
+
+    name: str = Field(min_length=1, pattern=r"^[A-Za-z0-9_.-]+$")
+    case: Path = Field(description="case file, relative to the study file")
+    preset: str | None = None
+    engines: tuple[str, ...] = Field(("yade",), min_length=1)
+    timeout: float | None = Field(None, gt=0, description="wall-time limit per run, s")
+
+
+class Sweep(_Frozen):
+    """The [sweep] table: which case values vary, and how they combine."""
+
+    mode: Literal["grid", "zip", "list"] = "grid"
+    parameters: dict[str, list[Any]] = Field(default_factory=dict)
+    runs: list[dict[str, Any]] = Field(default_factory=list)
+
+    @model_validator(mode="after")
+    def _shape(self):
+        if self.mode == "list":
+            if not self.runs:
+                raise ValueError("sweep.runs is empty; allowed: one or more [[sweep.runs]] tables of KEY = VALUE")
+            if self.parameters:
+                raise ValueError("sweep.parameters goes with mode grid or zip, not list; use [[sweep.runs]]")
+            return self
+        if self.runs:
+            raise ValueError(f"sweep.runs goes with mode = \"list\", not {self.mode!r}")
+        if not self.parameters:
+            raise ValueError("sweep.parameters is empty; allowed: \"a.b\" = [value, ...] for each varied case value")
+        for key, values in self.parameters.items():
+            if not values:
+                raise ValueError(f"sweep.parameters.\"{key}\" is an empty list; give at least one value")
+        if self.mode == "zip":
+            lengths = {key: len(v) for key, v in self.parameters.items()}
+            if len(set(lengths.values())) > 1:
+                raise ValueError(f"mode = \"zip\" needs lists of equal length; got {lengths}")
+        return self
+
+    def points(self) -> list[dict[str, Any]]:
+        """Each run's overrides {dotted key: value}, in a stable order."""
+        if self.mode == "list":
+            return [dict(run) for run in self.runs]
+        keys = list(self.parameters)
+        if self.mode == "zip":
+            return [dict(zip(keys, values)) for values in zip(*self.parameters.values())]
+        return [dict(zip(keys, values)) for values in itertools.product(*self.parameters.values())]
+
+
+class StudySpec(_Frozen):
+    """A validated study file."""
+
+    study: StudyMeta
+    sweep: Sweep
+
+
+def load_study_spec(path: str | Path) -> tuple[StudySpec, Path]:
+    """Read and validate a study file; returns (spec, absolute case path). Raises CaseError with clear messages."""
+    from ..case.loader import format_validation_error
+
+    path = Path(path)
+    if not path.is_file():
+        raise CaseError(f"study file not found: {path}")
+    try:
+        raw = tomllib.loads(path.read_text(encoding="utf-8"))
+    except tomllib.TOMLDecodeError as exc:
+        raise CaseError(f"{path}: malformed TOML: {exc}") from None
+    try:
+        spec = StudySpec.model_validate(raw)
+    except ValidationError as exc:
+        raise CaseError(f"{path}: invalid study\n" + format_validation_error(exc, StudySpec)) from None
+    case_path = spec.study.case if spec.study.case.is_absolute() else path.parent / spec.study.case
+    if not case_path.is_file():
+        raise CaseError(f"{path}: study.case = {str(spec.study.case)!r}: case file not found at {case_path}")
+    return spec, case_path.resolve()

@@ -1,0 +1,116 @@
+"""Studies: cached runs, reruns of changed points only, resume after a kill, bad study files."""
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from orchestrator.backends.yade import YadeBackend
+from orchestrator.study import Study, grid, zipped
+
+TINY = Path(__file__).parent / "data" / "tiny_bowl.toml"
+needs_yade = pytest.mark.skipif(not YadeBackend().available(), reason="Yade is not installed (apt-get install yade)")
+
+
+def study_file(tmp_path, seeds=(7, 8), name="s.toml", extra=""):
+    path = tmp_path / name
+    path.write_text(f"""
+[study]
+name = "t"
+case = "{TINY}"
+engines = ["yade"]
+{extra}
+[sweep]
+mode = "grid"
+[sweep.parameters]
+"numerics.stiffness_scale" = [0.001, 0.002]
+"case.seed" = {list(seeds)}
+"process.duration" = [0.06]
+""")
+    return path
+
+
+def mtimes(rows):
+    return {row["run_id"]: os.path.getmtime(Path(row["run_dir"]) / "run.h5") for row in rows}
+
+
+@needs_yade
+@pytest.mark.yade
+def test_rerun_only_what_changed(tmp_path):
+    out = tmp_path / "study"
+    first = Study.from_file(study_file(tmp_path), out_dir=out).run(progress=False)
+    assert [r["status"] for r in first] == ["ok"] * 4 and not any(r["reused"] for r in first)
+    assert len({r["run_id"] for r in first}) == 4
+    second = Study.from_file(study_file(tmp_path), out_dir=out).run(progress=False)
+    assert all(r["reused"] for r in second) and mtimes(second) == mtimes(first)
+    # seed 8 -> 9: the two runs with seed 7 are reused, the two with seed 9 are new
+    third = Study.from_file(study_file(tmp_path, seeds=(7, 9)), out_dir=out).run(progress=False)
+    assert [r["reused"] for r in third if r["param:case.seed"] == 7] == [True, True]
+    assert [r["reused"] for r in third if r["param:case.seed"] == 9] == [False, False]
+    assert (out / "index.csv").is_file()
+    table = Study.from_file(study_file(tmp_path, seeds=(7, 9)), out_dir=out).results()
+    assert len(table) == 4
+
+
+@needs_yade
+@pytest.mark.yade
+def test_killed_study_resumes_without_redoing_finished_runs(tmp_path):
+    out = tmp_path / "study"
+    path = study_file(tmp_path)
+    cmd = [sys.executable, "-m", "orchestrator", "study", str(path), "--out", str(out), "--workers", "1",
+           "--no-progress"]
+    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+    deadline = time.monotonic() + 300
+    while time.monotonic() < deadline and not list(out.glob("*/run.h5")):
+        time.sleep(0.2)
+    os.killpg(proc.pid, signal.SIGKILL)  # the study and its engines die at once, as on a lost machine
+    proc.wait()
+    finished = {p.parent.name: p.stat().st_mtime for p in out.glob("*/run.h5")}
+    assert 1 <= len(finished) < 4
+    rows = Study.from_file(path, out_dir=out).run(progress=False)
+    assert [r["status"] for r in rows] == ["ok"] * 4
+    for name, mtime in finished.items():
+        assert (out / name / "run.h5").stat().st_mtime == mtime  # not redone
+    assert sum(r["reused"] for r in rows) == len(finished)
+
+
+def test_points_of_grid_zip_list():
+    assert grid({"a": [1, 2], "b": [3, 4]}) == [{"a": 1, "b": 3}, {"a": 1, "b": 4}, {"a": 2, "b": 3}, {"a": 2, "b": 4}]
+    assert zipped({"a": [1, 2], "b": [3, 4]}) == [{"a": 1, "b": 3}, {"a": 2, "b": 4}]
+
+
+BAD = {
+    "unknown-parameter": ('[study]\nname="t"\ncase="CASE"\n[sweep]\n[sweep.parameters]\n"media.colour"=[1]\n',
+                          ["media.colour", "unknown key"]),
+    "empty-sweep": ('[study]\nname="t"\ncase="CASE"\n[sweep]\n[sweep.parameters]\n', ["sweep.parameters is empty"]),
+    "empty-list": ('[study]\nname="t"\ncase="CASE"\n[sweep]\n[sweep.parameters]\n"media.count"=[]\n',
+                   ["media.count", "empty list"]),
+    "zip-lengths": ('[study]\nname="t"\ncase="CASE"\n[sweep]\nmode="zip"\n[sweep.parameters]\n'
+                    '"media.count"=[50,60]\n"case.seed"=[1]\n', ["equal length", "media.count"]),
+    "unknown-engine": ('[study]\nname="t"\ncase="CASE"\nengines=["fluent"]\n[sweep]\n[sweep.parameters]\n'
+                       '"media.count"=[50]\n', ["fluent", "allowed: yade"]),
+    "bad-value": ('[study]\nname="t"\ncase="CASE"\n[sweep]\n[sweep.parameters]\n"media.count"=[50, -3]\n',
+                  ["media.count", "-3"]),
+    "missing-case": ('[study]\nname="t"\ncase="nope.toml"\n[sweep]\n[sweep.parameters]\n"media.count"=[50]\n',
+                     ["nope.toml", "not found"]),
+    "unknown-mode": ('[study]\nname="t"\ncase="CASE"\n[sweep]\nmode="random"\n[sweep.parameters]\n"a"=[1]\n',
+                     ["sweep.mode", "random"]),
+}
+
+
+@pytest.mark.parametrize("name", sorted(BAD))
+def test_bad_study_files(tmp_path, name):
+    text, words = BAD[name]
+    path = tmp_path / "bad.toml"
+    path.write_text(text.replace("CASE", str(TINY)))
+    proc = subprocess.run([sys.executable, "-m", "orchestrator", "study", str(path), "--out", str(tmp_path / "o")],
+                          capture_output=True, text=True, timeout=120)
+    assert proc.returncode != 0
+    assert proc.stderr.startswith("error:") and "Traceback" not in proc.stderr
+    for word in words:
+        assert word in proc.stderr, (word, proc.stderr)
+    assert not list((tmp_path / "o").glob("*/run.h5"))
