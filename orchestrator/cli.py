@@ -51,6 +51,9 @@ def _parser() -> argparse.ArgumentParser:
     study.add_argument("--out", metavar="DIR", help="study directory (default: runs/studies/<name>)")
     study.add_argument("--force", action="store_true", help="rerun every run, finished or not")
     study.add_argument("--workers", type=int, metavar="N", help="parallel runs (default: cores / threads per run)")
+    study.add_argument("--dask", metavar="ADDRESS",
+                       help="run on a Dask cluster: a scheduler address (tcp://host:8786), or 'local' for a "
+                       "LocalCluster of --workers processes; run directories must be on storage the workers share")
     study.add_argument("--json", action="store_true", help="print the rows as a JSON list")
     study.add_argument("--no-progress", action="store_true", help="no progress bar")
 
@@ -182,8 +185,14 @@ def _cmd_export(args) -> int:
 def _cmd_study(args) -> int:
     from .study import Study
 
+    from .study.dask import dask_executor
+
     study = Study.from_file(args.study, out_dir=args.out)
-    rows = study.run(force=args.force, progress=not args.no_progress, max_workers=args.workers)
+    if args.dask:
+        with dask_executor(args.dask, workers=args.workers) as executor:
+            rows = study.run(executor=executor, force=args.force, progress=not args.no_progress)
+    else:
+        rows = study.run(force=args.force, progress=not args.no_progress, max_workers=args.workers)
     if args.json:
         print(json.dumps([_jsonable(row) for row in rows]))
     else:

@@ -114,3 +114,20 @@ def test_bad_study_files(tmp_path, name):
     for word in words:
         assert word in proc.stderr, (word, proc.stderr)
     assert not list((tmp_path / "o").glob("*/run.h5"))
+
+
+@needs_yade
+@pytest.mark.yade
+def test_dask_local_cluster_gives_the_same_index(tmp_path):
+    pytest.importorskip("distributed")
+    from orchestrator.study.dask import dask_executor
+
+    path = study_file(tmp_path)
+    local = Study.from_file(path, out_dir=tmp_path / "local").run(progress=False)
+    with dask_executor("local", workers=2) as executor:
+        on_dask = Study.from_file(path, out_dir=tmp_path / "dask").run(executor=executor, progress=False)
+    assert [r["run_id"] for r in on_dask] == [r["run_id"] for r in local]
+    assert [r["status"] for r in on_dask] == ["ok"] * 4
+    # same identity and same physics: Yade on one thread is deterministic
+    for a, b in zip(local, on_dask):
+        assert a["fn_mean"] == b["fn_mean"] and a["n_steps"] == b["n_steps"]
