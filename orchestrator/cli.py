@@ -60,6 +60,16 @@ def _parser() -> argparse.ArgumentParser:
     status = sub.add_parser("status", help="table of a study's runs: parameters, engine, status, wall time, results")
     status.add_argument("study_dir", metavar="STUDY_DIR", help="directory of a study (holds index.csv)")
 
+    report = sub.add_parser("report", help="HTML report of a study: table, speed against error, Pareto front",
+                            description="Write STUDY_DIR/report.html (self-contained): the runs' table, wall time "
+                            "against the relative error of a measured quantity with the Pareto front, the "
+                            "cheapest run within the tolerance, and each run's force plot.")
+    report.add_argument("study_dir", metavar="STUDY_DIR", help="directory of a study (holds index.csv)")
+    report.add_argument("--quantity", default="fn_mean", help="measured quantity (default fn_mean, N)")
+    report.add_argument("--reference", default="finest",
+                        help="'finest' (smallest time step), a run id prefix, or a number (closed form / paper)")
+    report.add_argument("--tolerance", type=float, default=0.05, help="relative error accepted (default 0.05)")
+
     doctor = sub.add_parser("doctor", help="which engines are installed, their versions and paths")
     doctor.add_argument("--json", action="store_true", help="print a JSON list")
 
@@ -80,7 +90,7 @@ def main(argv=None) -> int:
         return 2
     try:
         commands = {"run": _cmd_run, "analyze": _cmd_analyze, "doctor": _cmd_doctor, "export": _cmd_export,
-                    "study": _cmd_study, "status": _cmd_status}
+                    "study": _cmd_study, "status": _cmd_status, "report": _cmd_report}
         return commands[args.command](args)
     except OrchestratorError as exc:
         if getattr(args, "json", False) and exc.summary is not None:
@@ -233,3 +243,11 @@ def _print_rows(rows: list[dict]) -> None:
     print("  ".join(h.ljust(w) for h, w in zip(header, widths)))
     for r in table:
         print("  ".join(c.ljust(w) for c, w in zip(r, widths)))
+
+
+def _cmd_report(args) -> int:
+    from .study.report import write_study_report
+
+    print(write_study_report(args.study_dir, quantity=args.quantity, reference=args.reference,
+                             tolerance=args.tolerance))
+    return 0

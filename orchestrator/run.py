@@ -28,6 +28,7 @@ class RunSummary:
     message: str = ""
     measured: dict = field(default_factory=dict)
     estimate_s: float | None = None
+    dt: float | None = None
 
     def as_dict(self) -> dict:
         """Plain dict (what --json prints)."""
@@ -148,6 +149,7 @@ def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float |
         wall_time_s=round(execution.wall_time_s, 3), n_particles=scene.n_particles,
         n_steps=int(result.attrs["n_steps"]), run_dir=str(run_dir), message=result.message,
         measured=result.measured, estimate_s=execution.timing.estimate_s if execution.timing else None,
+        dt=float(result.attrs["dt"]),
     )
     if interrupted is not None:
         raise interrupted

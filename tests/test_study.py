@@ -131,3 +131,38 @@ def test_dask_local_cluster_gives_the_same_index(tmp_path):
     # same identity and same physics: Yade on one thread is deterministic
     for a, b in zip(local, on_dask):
         assert a["fn_mean"] == b["fn_mean"] and a["n_steps"] == b["n_steps"]
+
+
+def test_pareto_front_and_errors():
+    from orchestrator.study.report import pareto_front, relative_errors
+
+    # (wall, error): (1, .5) (2, .1) (3, .2) (4, .0) -> (3, .2) is beaten by (2, .1)
+    assert pareto_front([1, 2, 3, 4], [0.5, 0.1, 0.2, 0.0]) == [True, True, False, True]
+    assert relative_errors([-2.0, -1.8], -2.0) == pytest.approx([0.0, 0.1])
+
+
+def test_report_from_an_index(tmp_path):
+    import csv
+
+    from orchestrator.study.report import write_study_report
+
+    rows = [  # a stiffness sweep: stiffer = finer step = slower; fn_mean converges to -2.0
+        {"run_id": "a" * 64, "engine": "yade", "run_dir": str(tmp_path / "a"), "param:numerics.stiffness_scale": 1.0,
+         "status": "ok", "wall_time_s": 1000.0, "dt": 1e-7, "fn_mean": -2.0},
+        {"run_id": "b" * 64, "engine": "yade", "run_dir": str(tmp_path / "b"), "param:numerics.stiffness_scale": 0.1,
+         "status": "ok", "wall_time_s": 300.0, "dt": 3e-7, "fn_mean": -1.95},
+        {"run_id": "c" * 64, "engine": "yade", "run_dir": str(tmp_path / "c"), "param:numerics.stiffness_scale": 0.01,
+         "status": "ok", "wall_time_s": 100.0, "dt": 1e-6, "fn_mean": -1.7},
+        {"run_id": "d" * 64, "engine": "yade", "run_dir": str(tmp_path / "d"), "param:numerics.stiffness_scale": 0.001,
+         "status": "failed", "wall_time_s": 5.0, "dt": 3e-6, "fn_mean": ""},
+    ]
+    with open(tmp_path / "index.csv", "w", newline="") as fh:
+        writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+    html = write_study_report(tmp_path, quantity="fn_mean", tolerance=0.05).read_text()
+    # the finest run is the reference; 0.1 is the cheapest within 5 % (error 0.025); 0.01 is 15 % off
+    assert "run aaaaaaaaaaaa" in html
+    assert "numerics.stiffness_scale = 0.1 on yade" in html
+    assert "0.025" in html and "0.15" in html and "failed" in html
+    assert "data:image/png;base64," in html

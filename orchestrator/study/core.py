@@ -209,14 +209,14 @@ def finished_row(run: PlannedRun) -> dict | None:
     row = {"run_id": run.run_id, "engine": run.engine, "run_dir": str(run.run_dir),
            **{f"param:{k}": v for k, v in run.point.items()}, "status": "ok", "message": "",
            "wall_time_s": float(attrs["wall_time_s"]), "n_steps": int(attrs["n_steps"]),
-           "n_particles": int(attrs["n_particles"])}
+           "n_particles": int(attrs["n_particles"]), "dt": float(attrs["dt"])}
     row.update({k: _plain(v) for k, v in measured.items()})
     return row
 
 
 def _summary_row(summary) -> dict:
     return {"status": summary.status, "message": summary.message, "wall_time_s": summary.wall_time_s,
-            "n_steps": summary.n_steps, "n_particles": summary.n_particles, **summary.measured}
+            "n_steps": summary.n_steps, "n_particles": summary.n_particles, "dt": summary.dt, **summary.measured}
 
 
 def write_index(path: Path, rows: list[dict]) -> None:

@@ -1,0 +1,151 @@
+"""`orchestrator report STUDY_DIR`: a self-contained HTML page (images
+embedded as data URIs) with the study's table, wall time against error with
+the Pareto front marked, and each run's force plot."""
+
+from __future__ import annotations
+
+import base64
+import csv
+import io
+import math
+from pathlib import Path
+
+from ..errors import OrchestratorError
+from .core import INDEX_NAME
+
+
+def pareto_front(costs: list[float], errors: list[float]) -> list[bool]:
+    """True for points no other point beats in both cost and error (ties count as not beaten)."""
+    flags = []
+    for i, (c, e) in enumerate(zip(costs, errors)):
+        dominated = any(
+            (c2 <= c and e2 <= e) and (c2 < c or e2 < e) for j, (c2, e2) in enumerate(zip(costs, errors)) if j != i
+        )
+        flags.append(not dominated)
+    return flags
+
+
+def relative_errors(values: list[float], reference: float) -> list[float]:
+    """|v - ref| / |ref| for each value (nan where a value is missing)."""
+    return [abs(v - reference) / abs(reference) if math.isfinite(v) else math.nan for v in values]
+
+
+def _float(value) -> float:
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        return math.nan
+
+
+def _png(fig) -> str:
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format="png", dpi=110)
+    return base64.b64encode(buffer.getvalue()).decode()
+
+
+def write_study_report(study_dir, quantity: str = "fn_mean", reference: str = "finest", tolerance: float = 0.05,
+                       path=None) -> Path:
+    """Write STUDY_DIR/report.html; returns its path.
+
+    quantity: a measured column of index.csv (e.g. fn_mean, N). reference:
+    'finest' (the ok run with the smallest time step, then the longest wall
+    time), a run_id prefix, or a number (a closed form or a paper's value).
+    The recommendation is the cheapest run whose error is within `tolerance`.
+    """
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    from .. import __version__
+    from ..templating import render
+
+    study_dir = Path(study_dir)
+    index = study_dir / INDEX_NAME
+    if not index.is_file():
+        raise OrchestratorError(f"no {INDEX_NAME} in {study_dir}; run the study first (orchestrator study STUDY.toml)")
+    with open(index, newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    ok = [r for r in rows if r.get("status") == "ok" and math.isfinite(_float(r.get(quantity)))]
+    if not ok:
+        raise OrchestratorError(f"{study_dir}: no finished run has the quantity {quantity!r}")
+    ref_row = None
+    try:
+        ref_value, reference_label = float(reference), f"the value {reference}"
+    except ValueError:
+        if reference == "finest":
+            ref_row = min(ok, key=lambda r: (_float(r.get("dt")), -_float(r.get("wall_time_s"))))
+        else:
+            matches = [r for r in ok if r["run_id"].startswith(reference)]
+            if not matches:
+                raise OrchestratorError(f"no finished run's id starts with {reference!r}; use 'finest', an id or a number")
+            ref_row = matches[0]
+        ref_value = _float(ref_row[quantity])
+        reference_label = f"run {ref_row['run_id'][:12]} ({quantity} = {ref_value:.4g})"
+    walls = [_float(r["wall_time_s"]) for r in ok]
+    errors = relative_errors([_float(r[quantity]) for r in ok], ref_value)
+    front = pareto_front(walls, errors)
+
+    fig = Figure(figsize=(7, 4.5), layout="constrained")
+    FigureCanvasAgg(fig)
+    ax = fig.subplots()
+    ax.scatter(walls, [max(e, 1e-6) for e in errors], c=["tab:green" if f else "tab:gray" for f in front])
+    pts = sorted((w, max(e, 1e-6)) for w, e, f in zip(walls, errors, front) if f)
+    ax.step([p[0] for p in pts], [p[1] for p in pts], where="post", color="tab:green", label="Pareto front")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("wall time [s]")
+    ax.set_ylabel(f"relative error of {quantity} [-]")
+    ax.axhline(tolerance, color="tab:red", ls="--", label=f"tolerance {tolerance:g}")
+    ax.legend()
+    pareto_png = _png(fig)
+
+    candidates = [(w, r) for w, e, r in zip(walls, errors, ok) if e <= tolerance and r is not ref_row]
+    recommendation = ""
+    if candidates:
+        wall, best = min(candidates, key=lambda item: item[0])
+        params = ", ".join(f"{k.removeprefix('param:')} = {v}" for k, v in best.items() if k.startswith("param:"))
+        recommendation = (f"{params} on {best['engine']}: {quantity} within {100 * tolerance:g} % of the reference "
+                          f"in {wall:.1f} s")
+    params = [k for k in rows[0] if k.startswith("param:")]
+    header = [p.removeprefix("param:") for p in params] + ["engine", "status", "wall time [s]", quantity,
+                                                           "rel. error", "run"]
+    by_id = {r["run_id"]: (e, f) for r, e, f in zip(ok, errors, front)}
+    table = []
+    for r in rows:
+        err, on_front = by_id.get(r["run_id"], (math.nan, False))
+        cells = [r.get(p, "") for p in params] + [r.get("engine", ""), r.get("status", ""),
+                                                  f"{_float(r.get('wall_time_s')):.1f}", f"{_float(r.get(quantity)):.4g}",
+                                                  "" if math.isnan(err) else f"{err:.3g}", r["run_id"][:12]]
+        table.append({"cells": cells, "pareto": on_front})
+    run_plots = _run_plots(rows)
+    html = render("report/study.html.j2", {
+        "name": study_dir.name, "runs": rows, "quantity": quantity, "reference_label": reference_label,
+        "version": __version__, "index_path": str(index), "recommendation": recommendation,
+        "pareto_png": pareto_png, "header": header, "table": table, "run_plots": run_plots,
+    })
+    out = Path(path) if path is not None else study_dir / "report.html"
+    out.write_text(html)
+    return out
+
+
+def _run_plots(rows: list[dict]) -> list[dict]:
+    """Each finished drag-finishing run's force plot, as base64 PNG."""
+    import tempfile
+
+    from ..report import _loaded_case
+    from ..runh5 import read_run
+    from ..plots import plot_drag_finishing_forces
+
+    plots = []
+    for r in rows:
+        h5 = Path(r["run_dir"]) / "run.h5"
+        if r.get("status") != "ok" or not h5.is_file():
+            continue
+        run = read_run(h5)
+        if "workpiece_force" not in run.get("series", {}):
+            continue
+        with tempfile.TemporaryDirectory() as tmp:
+            png = plot_drag_finishing_forces(run, _loaded_case(run), Path(tmp) / "f.png")
+            data = base64.b64encode(png.read_bytes()).decode()
+        title = ", ".join(f"{k.removeprefix('param:')} = {v}" for k, v in r.items() if k.startswith("param:"))
+        plots.append({"title": f"{title} ({r['engine']})", "png": data})
+    return plots
