@@ -1,0 +1,50 @@
+"""CLI behaviour that needs no engine: missing engine, doctor, help speed, export/analyze of a non-run."""
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+TINY = Path(__file__).parent / "data" / "tiny_bowl.toml"
+
+
+def cli(*args, env=None, cwd=None):
+    return subprocess.run([sys.executable, "-m", "orchestrator", *args], capture_output=True, text=True,
+                          timeout=120, env={**os.environ, **(env or {})}, cwd=cwd)
+
+
+def test_missing_engine_is_named_with_what_to_do(tmp_path):
+    proc = cli("run", str(TINY), "--out", str(tmp_path / "r"), env={"ORCHESTRATOR_YADE": "/nonexistent/yade"})
+    assert proc.returncode == 3
+    assert proc.stderr.startswith("error: Yade is not installed") and "apt-get install yade" in proc.stderr
+    assert "Traceback" not in proc.stderr
+    assert not (tmp_path / "r" / "run.h5").exists()
+
+
+def test_doctor_reports_missing_engine(tmp_path):
+    proc = cli("doctor", "--json", env={"ORCHESTRATOR_YADE": "/nonexistent/yade"})
+    rows = {row["engine"]: row for row in json.loads(proc.stdout)}
+    assert rows["yade"]["found"] is False and "apt-get install yade" in rows["yade"]["hint"]
+
+
+def test_existing_run_is_not_overwritten_without_force(tmp_path):
+    run_dir = tmp_path / "r"
+    run_dir.mkdir()
+    (run_dir / "run.h5").write_bytes(b"x")
+    proc = cli("run", str(TINY), "--out", str(run_dir))
+    assert proc.returncode == 2 and "--force" in proc.stderr
+    assert (run_dir / "run.h5").read_bytes() == b"x"
+
+
+def test_export_and_analyze_need_a_run(tmp_path):
+    for command in ("export", "analyze"):
+        proc = cli(command, str(tmp_path))
+        assert proc.returncode == 6 and proc.stderr.startswith("error:") and "run.h5" in proc.stderr
+        assert "Traceback" not in proc.stderr
+
+
+def test_help_lists_every_command():
+    proc = cli("--help")
+    for command in ("run", "analyze", "doctor", "export", "study", "status", "report"):
+        assert command in proc.stdout
