@@ -5,10 +5,7 @@ contact law of orchestrator.reference.contact. SI units (m, kg, s, N, Pa).
 - Hertz impact with Tsuji damping (eq. 9): restitution, peak force and
   duration depend on alpha alone; we integrate the dimensionless equation
   with scipy at tight tolerances (and invert it for alpha(e_n)).
-- Oblique impact of a sphere on an immovable plane with Coulomb friction:
-  Walton's rigid-body theory (sticking with a tangential restitution, or
-  sliding throughout), and the tangential restitution that the Mindlin
-  no-slip spring with c_t = c_n produces (integrated like the normal part).
+- (Oblique impacts with friction are in orchestrator.reference.oblique.)
 - Ballistic bounce sequence of a dropped sphere.
 
 The dimensionless impact: overlap delta = d* x, time t = T tau with
@@ -27,13 +24,14 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import brentq, minimize_scalar
 from scipy.special import beta as beta_function
 
-from .contact import SOLID_SPHERE_GYRATION
+from .contact import damping_alpha
+
 
 #: t_c = HERTZ_DURATION_FACTOR * delta_max / v: 2 int_0^1 dx / sqrt(1 - x^(5/2)) = (4/5) B(2/5, 1/2).
 HERTZ_DURATION_FACTOR = 0.8 * float(beta_function(0.4, 0.5))  # 2.943275...
 #: Maximum dimensionless overlap of the undamped impact, (5/4)^(2/5).
 _UNDAMPED_PEAK_OVERLAP = 1.25**0.4
-_TOLERANCES = dict(rtol=1e-11, atol=1e-13, method="DOP853")
+TOLERANCES = dict(rtol=1e-11, atol=1e-13, method="DOP853")
 
 
 def hertz_max_overlap(effective_m, effective_rad, effective_young, impact_speed):
@@ -76,72 +74,44 @@ class DampedHertzImpact:
     peak_force_ratio: float
     peak_overlap_ratio: float
     duration_ratio: float
-    tangential_restitution: float = float("nan")
 
 
-def _dimensionless_force(x, y, alpha):
+def dimensionless_normal_force(x, y, alpha):
     """F_n / (k_n d*^(3/2)) before clipping."""
     xp = max(x, 0.0)
     return xp**1.5 + alpha * xp**0.25 * y
 
 
 @lru_cache(maxsize=256)
-def damped_hertz_impact(alpha: float, no_tension: bool = True, stiffness_ratio: float | None = None,
-                        gyration: float = SOLID_SPHERE_GYRATION) -> DampedHertzImpact:
-    """Integrate the dimensionless damped Hertz impact (alpha >= 0, dimensionless).
-
-    With stiffness_ratio = k_t0 / k_n (see contact.mindlin_stiffness_coefficient;
-    3(1-nu)/(2-nu) for a sphere on a wall of its own material) the no-slip
-    tangential motion of a sphere on an immovable wall is integrated too
-    (state: contact-point velocity s and elastic tangential force phi):
-    phi' = -lambda x^(1/2) s, s' = (1 + 1/k)(phi - alpha x^(1/4) s), where k
-    is I / (m R^2). The tangential force ends when the normal force reaches
-    zero (any finite Coulomb limit mu F_n is zero there), so beta_0 is the
-    limit mu -> inf of the law with its Coulomb limit.
-    """
+def damped_hertz_impact(alpha: float, no_tension: bool = True) -> DampedHertzImpact:
+    """Integrate the dimensionless damped Hertz impact (alpha >= 0, dimensionless)."""
     if alpha < 0:
         raise ValueError(f"damping alpha must be >= 0, got {alpha}")
-    ratio = 0.0 if stiffness_ratio is None else float(stiffness_ratio)
-    spin_factor = 1.0 + 1.0 / gyration
 
     def rhs(_, state):
-        x, y, s, phi = state
-        force = _dimensionless_force(x, y, alpha)
-        if no_tension:
-            force = max(force, 0.0)
-        root_x = math.sqrt(max(x, 0.0))
-        return [y, -force, spin_factor * (phi - alpha * math.sqrt(root_x) * s), -ratio * root_x * s]
-
-    def normal_force_zero(_, state):
-        # F_n = x^(1/4) (x^(5/4) + alpha x'): its sign is that of the bracket
-        # (signed power so that alpha = 0 crosses zero at separation).
-        return math.copysign(abs(state[0]) ** 1.25, state[0]) + alpha * state[1]
-
-    normal_force_zero.terminal, normal_force_zero.direction = True, -1
-
-    def deepest(_, state):
-        return state[1]
+        force = dimensionless_normal_force(state[0], state[1], alpha)
+        return [state[1], -max(force, 0.0) if no_tension else -force]
 
     x0 = 1e-14  # the equation is singular in x^(1/4) at 0; start a hair inside
-    solution = solve_ivp(rhs, (0.0, 100.0), [x0, 1.0, 1.0, 0.0], events=[normal_force_zero, deepest],
-                         dense_output=True, **_TOLERANCES)
+    solution = solve_ivp(rhs, (0.0, 100.0), [x0, 1.0], events=[normal_force_zero_event(alpha), _deepest],
+                         dense_output=True, **TOLERANCES)
     if solution.status != 1:
         raise RuntimeError(f"damped Hertz impact with alpha={alpha} did not end: {solution.message}")
     tau_end = solution.t_events[0][0]
-    x_end, y_end, s_end, _ = solution.y_events[0][0]
+    x_end, y_end = solution.y_events[0][0]
     peak_overlap = solution.y_events[1][0][0] if len(solution.t_events[1]) else x_end
 
     if no_tension or x_end <= 0.0:
         # no force acts after F_n = 0: the bodies fly apart at the speed they have
         rebound_speed, tau_sep = -y_end, tau_end + max(x_end, 0.0) / max(-y_end, 1e-300)
     else:
-        rebound_speed, tau_sep = _finish_with_tension(alpha, tau_end, x_end, y_end)
+        rebound_speed, tau_sep = finish_with_tension(alpha, tau_end, x_end, y_end)
 
     grid = np.linspace(0.0, tau_end, 4001)
-    forces = np.array([_dimensionless_force(x, y, alpha) for x, y in solution.sol(grid)[:2].T])
+    forces = np.array([dimensionless_normal_force(x, y, alpha) for x, y in solution.sol(grid).T])
     k = int(np.argmax(forces))
     lo, hi = grid[max(k - 1, 0)], grid[min(k + 1, len(grid) - 1)]
-    best = minimize_scalar(lambda t: -_dimensionless_force(*solution.sol(t)[:2], alpha), bounds=(lo, hi),
+    best = minimize_scalar(lambda t: -dimensionless_normal_force(*solution.sol(t), alpha), bounds=(lo, hi),
                            method="bounded", options={"xatol": 1e-13})
     peak_force = max(-best.fun, forces[k])
 
@@ -152,21 +122,36 @@ def damped_hertz_impact(alpha: float, no_tension: bool = True, stiffness_ratio: 
         peak_force_ratio=float(peak_force / undamped_force),
         peak_overlap_ratio=float(peak_overlap / _UNDAMPED_PEAK_OVERLAP),
         duration_ratio=float((tau_sep + x0) / undamped_duration),
-        tangential_restitution=float(-s_end) if stiffness_ratio is not None else float("nan"),
     )
 
 
-def _finish_with_tension(alpha, tau_start, x_start, y_start):
+def normal_force_zero_event(alpha):
+    """solve_ivp event (terminal, falling) at F_n = 0 for a state starting (x, x', ...)."""
+
+    def event(_, state):
+        # F_n = x^(1/4) (x^(5/4) + alpha x'): its sign is that of the bracket
+        # (signed power so that alpha = 0 crosses zero at separation).
+        return math.copysign(abs(state[0]) ** 1.25, state[0]) + alpha * state[1]
+
+    event.terminal, event.direction = True, -1
+    return event
+
+
+def _deepest(_, state):
+    return state[1]
+
+
+def finish_with_tension(alpha, tau_start, x_start, y_start):
     """Carry on past F_n = 0 with the viscous term pulling, until the overlap is zero."""
 
     def rhs(_, state):
-        return [state[1], -_dimensionless_force(state[0], state[1], alpha)]
+        return [state[1], -dimensionless_normal_force(state[0], state[1], alpha)]
 
     def separated(_, state):
         return state[0]
 
     separated.terminal, separated.direction = True, -1
-    solution = solve_ivp(rhs, (tau_start, tau_start + 100.0), [x_start, y_start], events=separated, **_TOLERANCES)
+    solution = solve_ivp(rhs, (tau_start, tau_start + 100.0), [x_start, y_start], events=separated, **TOLERANCES)
     return -solution.y_events[0][0][1], solution.t_events[0][0]
 
 
@@ -182,73 +167,27 @@ def alpha_from_restitution(restitution: float, no_tension: bool = True) -> float
 
     Use it instead of eq. 10 when the normal force is clipped at zero (the
     default): eq. 10 then overshoots the rebound (e.g. 0.70 for e_n = 0.68).
+    Without the clip eq. 10 is exact, and so is this root.
     """
     if not 0.0 < restitution <= 1.0:
         raise ValueError(f"restitution must be in (0, 1], got {restitution}")
     if restitution == 1.0:
         return 0.0
-    upper = 1.0
+    # eq. 10 gives this rebound exactly when the dash-pot may pull; clipping the pull
+    # only raises the rebound, so the root lies at or above eq. 10's alpha
+    lower = 0.999 * float(damping_alpha(restitution))
+    upper = 1.2 * lower
     while restitution_from_alpha(upper, no_tension) > restitution:
-        upper *= 2.0
+        lower, upper = upper, 1.5 * upper
         if upper > 1e4:
             raise ValueError(f"restitution {restitution} is too small to reach with Tsuji damping")
-    return brentq(lambda a: restitution_from_alpha(a, no_tension) - restitution, 0.0, upper, xtol=1e-13, rtol=1e-13)
+    return brentq(lambda a: restitution_from_alpha(a, no_tension) - restitution, lower, upper, xtol=1e-12, rtol=1e-12)
 
 
 def damped_hertz_peak_force(effective_m, effective_rad, effective_young, impact_speed, alpha, no_tension=True):
     """Peak normal force, N, of a Tsuji-damped Hertz impact at impact_speed (m/s)."""
     ratio = damped_hertz_impact(float(alpha), bool(no_tension)).peak_force_ratio
     return ratio * hertz_max_force(effective_m, effective_rad, effective_young, impact_speed)
-
-
-@dataclass(frozen=True)
-class ObliqueRebound:
-    """Rebound of a sphere from an immovable plane (rigid-body theory).
-
-    tangential_velocity: of the centre, m/s; spin: rad/s, positive when it
-    rolls along +tangential (contact-point velocity u = v_t - R omega);
-    contact_point_velocity: u, m/s; sliding: True if the sphere slid
-    throughout the impact.
-    """
-
-    tangential_velocity: float
-    spin: float
-    contact_point_velocity: float
-    sliding: bool
-
-
-def oblique_impact_rebound(normal_speed, tangential_speed, radius, friction, restitution,
-                           tangential_restitution=0.0, spin=0.0, gyration=SOLID_SPHERE_GYRATION):
-    """Walton's rigid-body theory of an oblique impact with Coulomb friction.
-
-    normal_speed: impact speed towards the plane, m/s (> 0);
-    tangential_speed: of the centre, m/s; radius: m; friction: mu, -;
-    restitution: e_n, -; tangential_restitution: beta_0, - (0 = the sphere
-    ends rolling; see damped_hertz_impact for the beta_0 of the Mindlin
-    spring); spin: initial, rad/s (sign as in ObliqueRebound); gyration:
-    I / (m R^2), - (2/5 for a solid sphere).
-
-    With u = v_t - R omega and k = 1 + 1/gyration, the tangential impulse per
-    unit mass is J = (1 + beta_0) u / k if that is below mu (1 + e_n) v_n
-    (sticking), else mu (1 + e_n) v_n sign(u) (sliding throughout); then
-    v_t' = v_t - J, omega' = omega + J / (gyration R), u' = u - k J.
-    """
-    slip = tangential_speed - radius * spin
-    spin_factor = 1.0 + 1.0 / gyration
-    sticking_impulse = (1.0 + tangential_restitution) * slip / spin_factor
-    sliding_impulse = friction * (1.0 + restitution) * normal_speed * math.copysign(1.0, slip)
-    sliding = abs(sticking_impulse) > abs(sliding_impulse)
-    impulse = sliding_impulse if sliding else sticking_impulse
-    new_tangential = tangential_speed - impulse
-    new_spin = spin + impulse / (gyration * radius)
-    return ObliqueRebound(new_tangential, new_spin, new_tangential - radius * new_spin, sliding)
-
-
-def sliding_incidence_threshold(friction, restitution, tangential_restitution=0.0, gyration=SOLID_SPHERE_GYRATION):
-    """tan(theta) above which a non-spinning sphere slides throughout (theta from the normal):
-    (1 + 1/gyration) mu (1 + e_n) / (1 + beta_0). With the Mindlin spring the contact
-    point reverses before the end unless tan(theta) > (1 + 1/gyration) mu (1 + e_n)."""
-    return (1.0 + 1.0 / gyration) * friction * (1.0 + restitution) / (1.0 + tangential_restitution)
 
 
 def bounce_sequence(drop_height, restitution, gravity=9.81, impacts=3):

@@ -7,9 +7,9 @@ Conventions per contact: the normal n points from the sphere (body 1) to the
 other body; the branch from the sphere's centre to the contact point is
 (R - delta/2) n, as in Yade (the middle of the overlap). A wall (plane or
 triangle) is immovable or translates at a set velocity, has infinite mass
-and, for a plane or a face, infinite radius, so R_eq = R_sphere and
-m_eq = m_sphere; its Young's modulus and Poisson ratio enter E_eq (eq. 3)
-and k_t (eq. 5) like a sphere's.
+and infinite radius (faces, edges and vertices alike), so R_eq = R_sphere
+and m_eq = m_sphere; its Young's modulus and Poisson ratio enter E_eq
+(eq. 3) and k_t (eq. 5) like a sphere's.
 """
 
 from __future__ import annotations
@@ -70,14 +70,17 @@ def _scatter(index, values, length):
 class ContactLaw:
     """Forces from contacts, with the tangential elastic force and the life record of each contact."""
 
-    def __init__(self, law: PairLaw, radii, masses, sphere_material, n_walls, no_tension=True):
+    def __init__(self, law: PairLaw, radii, masses, sphere_material, n_walls, no_tension=True,
+                 coulomb_limit="total"):
         self.law, self.radii, self.masses = law, radii, masses
-        self.sphere_material, self.n_walls, self.no_tension = sphere_material, n_walls, no_tension
+        self.sphere_material, self.n_walls = sphere_material, n_walls
+        self.no_tension, self.coulomb_limit = no_tension, coulomb_limit
         self.keys = np.zeros(0, np.int64)
         self.elastic = np.zeros((0, 3))
         self.life = {name: np.zeros(0) for name in EVENT_FIELDS}
         self.last = {"time": np.zeros(0), "overlap": np.zeros(0), "rate": np.zeros(0)}
         self.closed: list[dict] = []
+        self._new = np.zeros(0, bool)  # which contacts of the current step are new
 
     @property
     def active_count(self) -> int:
@@ -119,7 +122,7 @@ class ContactLaw:
         previous = self._carry_history(batch, time)
         elastic, f_t, _ = contact.tangential_force_update(
             previous, tangential_velocity, dt, contact.mindlin_tangential_stiffness(k_t0, delta),
-            contact.damping_coefficient(alpha, m_eq, k_n, delta), f_n, friction)
+            contact.damping_coefficient(alpha, m_eq, k_n, delta), f_n, friction, self.coulomb_limit)
         self.elastic = elastic
         self._update_life(time, f_n, delta, approach_rate)
 
@@ -146,7 +149,8 @@ class ContactLaw:
             n = batch.normal[found]
             turned = old - np.einsum("ij,ij->i", old, n)[:, None] * n
             size_old, size_new = np.linalg.norm(old, axis=1), np.linalg.norm(turned, axis=1)
-            previous[found] = turned * np.where(size_new > 0, size_old / np.where(size_new > 0, size_new, 1.0), 0.0)[:, None]
+            stretch = np.where(size_new > 0, size_old / np.where(size_new > 0, size_new, 1.0), 0.0)
+            previous[found] = turned * stretch[:, None]
         ended = ~np.isin(self.keys, batch.key, assume_unique=True)
         self._close(ended)
         kept = {name: values[position[found]] for name, values in self.life.items()}

@@ -102,24 +102,73 @@ def closest_points_on_triangles(points, a, b, c):
 
 
 class TriangleSearch:
-    """Candidate triangles near each sphere for one rigidly translating mesh."""
+    """Candidate triangles near each sphere for one rigidly translating mesh.
+
+    A uniform grid of cells (at least 2 R_max wide) lists the triangles whose
+    bounding box, widened by R_max, reaches into each cell; a sphere's
+    candidates are the triangles listed in the cell of its centre. A k-d tree
+    of the centroids serves the free-flight gap bound (nearest_gaps).
+    """
 
     def __init__(self, vertices, faces):
         self.corners = np.asarray(vertices, float)[np.asarray(faces)]  # (T,3,3) at t = 0
         centroids = self.corners.mean(axis=1)
         self.reach = float(np.linalg.norm(self.corners - centroids[:, None, :], axis=2).max())
         self.tree = cKDTree(centroids)
+        normals = np.cross(self.corners[:, 1] - self.corners[:, 0], self.corners[:, 2] - self.corners[:, 0])
+        self.normals = normals / np.linalg.norm(normals, axis=1)[:, None]
+        self.box_low, self.box_high = self.corners.min(axis=1), self.corners.max(axis=1)
+        self._grid = None  # built on first use, when the largest sphere radius is known
+
+    def _build_grid(self, largest_radius):
+        extent = float((self.box_high.max(axis=0) - self.box_low.min(axis=0)).max())
+        size = max(2.0 * largest_radius, extent / 100.0)
+        origin = self.box_low.min(axis=0) - largest_radius - size
+        low = np.floor((self.box_low - largest_radius - origin) / size).astype(np.int64)
+        high = np.floor((self.box_high + largest_radius - origin) / size).astype(np.int64)
+        shape = high.max(axis=0) + 2
+        cells, triangles = [], []
+        for t, (lo, hi) in enumerate(zip(low, high)):
+            block = np.stack(np.meshgrid(*[np.arange(a, b + 1) for a, b in zip(lo, hi)], indexing="ij"), -1)
+            ids = np.ravel_multi_index(block.reshape(-1, 3).T, shape)
+            cells.append(ids)
+            triangles.append(np.full(len(ids), t))
+        cells, triangles = np.concatenate(cells), np.concatenate(triangles)
+        order = np.argsort(cells, kind="stable")
+        cells, triangles = cells[order], triangles[order]
+        occupied, starts = np.unique(cells, return_index=True)
+        ends = np.append(starts[1:], len(cells))
+        self._grid = (origin, size, shape, occupied, starts, ends, triangles, largest_radius)
+
+    def _candidates(self, local, radii):
+        """(sphere, triangle) pairs whose widened box holds the sphere's centre cell."""
+        if self._grid is None or self._grid[-1] < radii.max():
+            self._build_grid(float(radii.max()))
+        origin, size, shape, occupied, starts, ends, triangles, _ = self._grid
+        index = np.floor((local - origin) / size).astype(np.int64)
+        inside = np.all((index >= 0) & (index < shape), axis=1)
+        sphere = np.nonzero(inside)[0]
+        ids = np.ravel_multi_index(index[inside].T, shape)
+        slot = np.minimum(np.searchsorted(occupied, ids), len(occupied) - 1)
+        listed = occupied[slot] == ids
+        sphere, slot = sphere[listed], slot[listed]
+        counts = ends[slot] - starts[slot]
+        first = np.repeat(starts[slot], counts)
+        rank = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
+        return np.repeat(sphere, counts), triangles[first + rank]
 
     def contacts(self, positions, radii, shift) -> tuple[Detected, np.ndarray]:
         """Spheres overlapping this mesh displaced by shift (3,), m; returns the batch
         (other = triangle index in the mesh) and the closest-point feature per contact."""
         local = positions - shift
-        lists = self.tree.query_ball_point(local, radii + self.reach)
-        counts = np.fromiter((len(x) for x in lists), int, len(lists))
-        if counts.sum() == 0:
+        sphere, triangle = self._candidates(local, radii)
+        # cheap cuts before the exact test: the triangle's plane and its box, widened by R
+        centre, radius = local[sphere], radii[sphere][:, None]
+        near = np.abs(_rowdot(centre - self.corners[triangle, 0], self.normals[triangle])) < radius[:, 0]
+        near &= np.all((centre > self.box_low[triangle] - radius) & (centre < self.box_high[triangle] + radius), axis=1)
+        sphere, triangle = sphere[near], triangle[near]
+        if len(sphere) == 0:
             return Detected.empty(), np.zeros(0, int)
-        sphere = np.repeat(np.arange(len(positions)), counts)
-        triangle = np.concatenate([np.asarray(x, int) for x in lists if len(x)])
         corners = self.corners[triangle]
         closest, feature = closest_points_on_triangles(local[sphere], corners[:, 0], corners[:, 1], corners[:, 2])
         branch = closest - local[sphere]
@@ -156,7 +205,7 @@ def _one_contact_per_feature(sphere, feature, closest, overlap, radii) -> np.nda
                 break
             if np.linalg.norm(closest[a] - closest[b]) < 1e-6 * radii[sphere[a]]:
                 dropped.add(b)
-    return np.array([k for k in order[keep] if k not in dropped], int)
+    return order[keep & ~np.isin(order, list(dropped))]
 
 
 def nearest_gaps(positions, radii, plane_points, plane_normals, searches, shifts):

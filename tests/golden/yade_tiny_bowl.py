@@ -68,7 +68,9 @@ O.engines = [
     ForceResetter(),
     InsertionSortCollider([Bo1_Sphere_Aabb(), Bo1_Facet_Aabb()]),
     InteractionLoop(
-        [Ig2_Sphere_Sphere_ScGeom(), Ig2_Facet_Sphere_ScGeom()],
+        # hertzian=True: a ball on a facet is Hertz's sphere on a flat (R_eq = R); Yade's default
+        # treats the facet as a sphere of radius 2R (R_eq = 2R/3, an 18 % softer contact).
+        [Ig2_Sphere_Sphere_ScGeom(), Ig2_Facet_Sphere_ScGeom(hertzian=True)],
         [Ip2_FrictMat_FrictMat_MindlinPhys(
             en=MatchMaker(matches=EN), es=MatchMaker(matches=ES),
             frictAngle=MatchMaker(matches=FRICTION_ANGLE))],

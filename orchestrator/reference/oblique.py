@@ -1,0 +1,252 @@
+"""Oblique impact of a sphere on an immovable plane with Coulomb friction.
+
+Two references:
+
+- oblique_impact_rebound: Walton's rigid-body theory. The sphere either
+  sticks (its contact point leaves with u' = -beta_0 u, beta_0 the
+  tangential restitution) or slides throughout (tangential impulse
+  mu (1 + e_n) m v_n).
+- oblique_impact_mindlin: the impact under the paper's law itself (Hertz,
+  Tsuji damping, Mindlin no-slip spring with c_t = c_n, incremental, with
+  the Coulomb limit on the total tangential force, contact.tangential_force_update),
+  integrated in dimensionless form with scipy, stick and slip phases joined
+  at events. It covers the mixed regime (stick, then slip near the end of
+  the contact, Maw et al. 1976) that rigid-body theory cannot, and gives the
+  beta_0 of this law (no_slip_tangential_restitution). It follows the DEM's
+  default coulomb_limit="total", not Yade's "elastic".
+
+Sign convention: the sphere moves along +t; its spin omega is positive when
+it rolls along +t, so the contact-point velocity is u = v_t - R omega.
+Velocities in m/s; in the dimensionless functions they are in units of the
+normal impact speed v_n (and R omega / v_n for the spin).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+
+from scipy.integrate import solve_ivp
+
+from .closed_form import TOLERANCES, dimensionless_normal_force, finish_with_tension, normal_force_zero_event
+from .contact import SOLID_SPHERE_GYRATION
+
+
+@dataclass(frozen=True)
+class ObliqueRebound:
+    """Rebound from the plane: tangential_velocity of the centre (m/s), spin (rad/s),
+    contact_point_velocity u' (m/s); sliding: True if the sphere slid throughout."""
+
+    tangential_velocity: float
+    spin: float
+    contact_point_velocity: float
+    sliding: bool
+
+
+def oblique_impact_rebound(normal_speed, tangential_speed, radius, friction, restitution,
+                           tangential_restitution=0.0, spin=0.0, gyration=SOLID_SPHERE_GYRATION):
+    """Walton's rigid-body theory of an oblique impact with Coulomb friction.
+
+    normal_speed: impact speed towards the plane, m/s (> 0);
+    tangential_speed: of the centre, m/s; radius: m; friction: mu, -;
+    restitution: e_n, -; tangential_restitution: beta_0, - (0: the sphere
+    leaves rolling; no_slip_tangential_restitution gives this law's);
+    spin: initial, rad/s; gyration: I / (m R^2), - (2/5 solid sphere).
+
+    With u = v_t - R omega and k = 1 + 1/gyration, the tangential impulse per
+    unit mass is J = (1 + beta_0) u / k if that is below mu (1 + e_n) v_n
+    (sticking), else mu (1 + e_n) v_n sign(u) (sliding throughout); then
+    v_t' = v_t - J, omega' = omega + J / (gyration R), u' = u - k J.
+    """
+    slip = tangential_speed - radius * spin
+    spin_factor = 1.0 + 1.0 / gyration
+    sticking_impulse = (1.0 + tangential_restitution) * slip / spin_factor
+    sliding_impulse = friction * (1.0 + restitution) * normal_speed * math.copysign(1.0, slip)
+    sliding = abs(sticking_impulse) > abs(sliding_impulse)
+    impulse = sliding_impulse if sliding else sticking_impulse
+    new_tangential = tangential_speed - impulse
+    new_spin = spin + impulse / (gyration * radius)
+    return ObliqueRebound(new_tangential, new_spin, new_tangential - radius * new_spin, sliding)
+
+
+def sliding_incidence_threshold(friction, restitution, tangential_restitution=0.0, gyration=SOLID_SPHERE_GYRATION):
+    """tan(theta), theta from the normal, above which a non-spinning sphere slides throughout
+    in rigid-body theory: (1 + 1/gyration) mu (1 + e_n) / (1 + beta_0).
+
+    Under the Mindlin spring the contact point only slides throughout when
+    tan(theta) > (1 + 1/gyration) mu (1 + e_n) (i.e. beta_0 = 0 here): it
+    would otherwise stop slipping before the end of the contact.
+    """
+    return (1.0 + 1.0 / gyration) * friction * (1.0 + restitution) / (1.0 + tangential_restitution)
+
+
+#: |s| (over v_n) below which a contact point at the limit is treated as pinned to it:
+#: the discrete law's slide-one-step-then-stick cycles there have a vanishing period.
+_PINNED_SPEED = 1e-6
+_MAX_SWITCHES = 20000
+
+
+@dataclass(frozen=True)
+class MindlinObliqueImpact:
+    """Dimensionless rebound under the paper's law (velocities over the normal impact speed).
+
+    restitution: e_n; tangential_velocity: v_t' / v_n; spin: R omega' / v_n;
+    contact_point_velocity: u' / v_n; slid: the contact slipped at some time.
+    """
+
+    restitution: float
+    tangential_velocity: float
+    spin: float
+    contact_point_velocity: float
+    slid: bool
+
+
+@lru_cache(maxsize=512)
+def oblique_impact_mindlin(tangent_of_incidence: float, friction: float, stiffness_ratio: float, alpha: float,
+                           no_tension: bool = True, gyration: float = SOLID_SPHERE_GYRATION, spin: float = 0.0,
+                           overlap_over_radius: float = 0.0) -> MindlinObliqueImpact:
+    """Integrate one oblique impact under the paper's law (dimensionless).
+
+    tangent_of_incidence: v_t / v_n of the centre; friction: mu (inf for no
+    slip); stiffness_ratio: k_t0 / k_n (contact.mindlin_stiffness_coefficient
+    over contact.hertz_stiffness; 3 (1 - nu) / (2 - nu) on a wall of the
+    sphere's material); alpha: damping constant; spin: R omega / v_n before;
+    overlap_over_radius: d*/R with d* = (m v_n^2 / k_n)^(2/5). The contact
+    point sits at R (1 - (d*/R) x / 2) from the centre, as in Yade and our
+    DEM (the middle of the overlap); 0 puts it at R, as rigid-body theory does.
+
+    State (x, x', v, w, phi): overlap and its rate as in closed_form, centre
+    tangential velocity v, spin w = R omega (both over v_n), elastic
+    tangential force phi (unit m v_n / T). With the arm b = 1 - eps x / 2,
+    the contact-point velocity is s = v - b w; v' = f, w' = -b f / gyration.
+    Three phases, joined at events, follow contact.tangential_force_update
+    ("total") in the limit of small steps:
+
+    - stick: phi' = -lambda sqrt(x) s, f = phi - alpha x^(1/4) s, while |f| <= mu F_n;
+    - slip (f opposes s): f = -mu F_n sign(s), stored as phi, until s is zero
+      (without damping also until the limit grows faster than the spring loads);
+    - pinned (f along s, at s ~ 0 while F_n falls): the spring unloads slower
+      than the limit drops, so f rides on mu F_n until sticking keeps up or
+      s is off zero. From then on, each time |f| reaches the limit the
+      discrete law slides one step (phi set to the limit) and sticks again
+      because the dash-pot lowers |f|; we do that step as a jump.
+
+    The tangential force ends with F_n (mu F_n = 0); the normal motion does
+    not feel it.
+    """
+    lam, mu, eps = float(stiffness_ratio), float(friction), float(overlap_over_radius)
+    stick, slip, pinned = "stick", "slip", "pinned"
+
+    def normal(x, y):
+        force = dimensionless_normal_force(x, y, alpha)
+        return max(force, 0.0) if no_tension else force
+
+    def viscous(x, s):
+        return alpha * max(x, 0.0) ** 0.25 * s
+
+    def arm(x):
+        return 1.0 - 0.5 * eps * x
+
+    def contact_point(q):
+        return q[2] - arm(q[0]) * q[3]
+
+    def motion(q, f):
+        return [q[1], -normal(q[0], q[1]), f, -arm(q[0]) * f / gyration]
+
+    def stick_rhs(_, q):
+        s = contact_point(q)
+        return motion(q, q[4] - viscous(q[0], s)) + [-lam * math.sqrt(max(q[0], 0.0)) * s]
+
+    def limited_rhs(_, q):
+        return motion(q, direction * mu * max(normal(q[0], q[1]), 0.0)) + [0.0]
+
+    def starts_slipping(_, q):
+        return abs(q[4] - viscous(q[0], contact_point(q))) - mu * max(normal(q[0], q[1]), 0.0)
+
+    def contact_point_stops(_, q):
+        return contact_point(q)
+
+    def contact_point_moves(_, q):
+        return abs(contact_point(q)) - _PINNED_SPEED
+
+    def limit_outgrows_spring(_, q):
+        # undamped: a step slides while lambda sqrt(x) |s| > mu dF_n/dtau = 1.5 mu sqrt(x) x'
+        return lam * abs(contact_point(q)) - 1.5 * mu * q[1]
+
+    def sticking_keeps_up(_, q):
+        # d|f|/dtau if it stuck now, minus d(mu F_n)/dtau: sticking resumes when this is >= 0
+        x, y, s = max(q[0], 1e-300), q[1], abs(contact_point(q))
+        force = max(normal(x, y), 0.0)
+        spin_factor = 1.0 + arm(x) ** 2 / gyration
+        d_force = 1.5 * math.sqrt(x) * y + alpha * (0.25 * x**-0.75 * y * y - x**0.25 * force)
+        d_margin = lam * math.sqrt(x) * s + alpha * (0.25 * x**-0.75 * y * s + x**0.25 * spin_factor * mu * force)
+        return d_margin + mu * d_force
+
+    starts_slipping.terminal, starts_slipping.direction = True, 1
+    contact_point_stops.terminal = True
+    contact_point_moves.terminal, contact_point_moves.direction = True, 1
+    limit_outgrows_spring.terminal, limit_outgrows_spring.direction = True, -1
+    sticking_keeps_up.terminal, sticking_keeps_up.direction = True, 1
+    end = normal_force_zero_event(alpha)
+    phase_events = {
+        stick: [starts_slipping] if math.isfinite(mu) else [],
+        slip: [contact_point_stops] + ([] if alpha > 0 else [limit_outgrows_spring]),
+        pinned: [sticking_keeps_up, contact_point_moves],
+    }
+
+    q = [1e-14, 1.0, float(tangent_of_incidence), float(spin), 0.0]
+    slip0 = contact_point(q)
+    # first instant: F_n ~ alpha x^(1/4), f ~ alpha x^(1/4) s (or, undamped, both ~ x^(3/2))
+    initial_demand = abs(slip0) if alpha > 0 else 2.0 / 3.0 * lam * abs(slip0)
+    phase, direction = (slip, -math.copysign(1.0, slip0)) if initial_demand > mu else (stick, 0.0)
+    tau, slid = 0.0, phase == slip
+    for _ in range(_MAX_SWITCHES):
+        rhs = stick_rhs if phase == stick else limited_rhs
+        solution = solve_ivp(rhs, (tau, tau + 100.0), q, events=[end] + phase_events[phase], **TOLERANCES)
+        fired = [i for i, times in enumerate(solution.t_events) if len(times)]
+        if solution.status != 1 or not fired:
+            raise RuntimeError(f"oblique impact did not end: {solution.message}")
+        which = min(fired, key=lambda i: solution.t_events[i][0])
+        tau, q = solution.t_events[which][0], list(solution.y_events[which][0])
+        if which == 0:
+            break
+        limit, s = mu * max(normal(q[0], q[1]), 0.0), contact_point(q)
+        if phase == stick:
+            slid = True
+            direction = math.copysign(1.0, q[4] - viscous(q[0], s))
+            if direction * s < -_PINNED_SPEED:  # at s ~ 0 the force itself sets where s goes: along f
+                phase = slip
+            elif alpha > 0 and abs(s) >= _PINNED_SPEED:
+                q[4] = direction * limit  # one sliding step, then the dash-pot keeps |f| below the limit
+            else:
+                phase = pinned
+        else:
+            # back to sticking: from slip, or from pinned once sticking keeps up, with f
+            # continuous (phi = f + alpha x^(1/4) s); from pinned once s is off zero, as
+            # after a sliding step (phi = f, so the dash-pot now lowers |f| below the limit)
+            keeps_up = phase == pinned and which == 1
+            q[4] = direction * limit + (viscous(q[0], s) if keeps_up else 0.0)
+            if phase == slip and alpha > 0 and sticking_keeps_up(tau, q) < 0:
+                # s = 0 with f at a falling limit: sticking cannot hold it, so ride the limit
+                phase = pinned
+            else:
+                phase, direction = stick, 0.0
+        tau += 1e-15  # step off the event so it does not fire again at once
+    else:
+        raise RuntimeError(f"oblique impact switched between stick and slip more than {_MAX_SWITCHES} times")
+
+    x_end, y_end, v_end, w_end, _ = q
+    if no_tension or x_end <= 0.0:
+        restitution = -y_end
+    else:
+        restitution = finish_with_tension(alpha, tau, x_end, y_end)[0]
+    return MindlinObliqueImpact(restitution=float(restitution), tangential_velocity=float(v_end),
+                                spin=float(w_end), contact_point_velocity=float(v_end - w_end), slid=slid)
+
+
+def no_slip_tangential_restitution(stiffness_ratio, alpha, no_tension=True, gyration=SOLID_SPHERE_GYRATION):
+    """beta_0 = -u'/u of the paper's law without slip (mu = inf), -; a function of
+    k_t0 / k_n, alpha and the gyration only. Use it in oblique_impact_rebound."""
+    impact = oblique_impact_mindlin(1.0, math.inf, float(stiffness_ratio), float(alpha), bool(no_tension), gyration)
+    return -impact.contact_point_velocity
