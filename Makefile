@@ -47,6 +47,7 @@ $(DEMO_DIR)/run.h5: $(DEMO_CASE) $(wildcard templates/yade/*.j2) $(wildcard orch
 	$(BIN)/orchestrator run $(DEMO_CASE) --preset quick --out $(DEMO_DIR) --force
 
 test: setup
+	@if [ -f engines/sph/CMakeLists.txt ]; then ctest --test-dir engines/sph/build --output-on-failure; fi
 	$(BIN)/python -m pytest -q
 
 clean:

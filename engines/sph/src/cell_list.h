@@ -1,0 +1,209 @@
+// Cell-list neighbour search with periodic axes.
+//
+// Cells are at least support/reach wide (reach = 1 or 2), so all neighbours
+// of a point lie within `reach` cells of its own: (2 reach + 1)^D cells.
+// Along a periodic axis the box [lo, hi) is split into n >= 1 equal cells and
+// a neighbour cell across the box edge is visited with a shift of +-L, so the
+// pair vector is
+// x_a - (x_b + shift). Along other axes the grid spans the particles' bounding
+// box, recomputed at every build.
+#pragma once
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <vector>
+
+#include "vec.h"
+
+namespace sph {
+
+template <int D>
+struct PeriodicBox {
+  std::array<bool, D> periodic{};
+  Vec<D> lo = Vec<D>::Zero(), hi = Vec<D>::Zero();
+  bool any() const { return std::find(periodic.begin(), periodic.end(), true) != periodic.end(); }
+  // Map a position into [lo, hi) along the periodic axes.
+  void wrap(Vec<D>& x) const {
+    for (int d = 0; d < D; ++d) {
+      if (!periodic[d]) continue;
+      const double L = hi[d] - lo[d];
+      if (x[d] >= hi[d] || x[d] < lo[d]) x[d] -= L * std::floor((x[d] - lo[d]) / L);
+      if (x[d] >= hi[d]) x[d] = lo[d];  // rounding at the upper edge
+    }
+  }
+};
+
+template <int D>
+class CellList {
+ public:
+  // Cells are at least support / reach wide; a point's neighbours lie within
+  // `reach` cells of its own along each axis.
+  void configure(double support, int reach, const PeriodicBox<D>& box, std::size_t max_cells) {
+    reach_ = reach;
+    min_cell_ = support / reach;
+    box_ = box;
+    max_cells_ = max_cells;
+  }
+
+  void reserve(std::size_t n) {
+    cell_of_.reserve(n);
+    items_.reserve(n);
+  }
+
+  // Bin positions x[0..n) (counting sort). Afterwards items() lists particle
+  // indices cell by cell. Returns false when the particles spread over more
+  // than max_cells cells (a blown-up run).
+  bool build(const std::vector<Vec<D>>& x, std::size_t n) {
+    Vec<D> lo = Vec<D>::Constant(std::numeric_limits<double>::infinity());
+    Vec<D> hi = -lo;
+    for (std::size_t i = 0; i < n; ++i) {
+      lo = lo.cwiseMin(x[i]);
+      hi = hi.cwiseMax(x[i]);
+    }
+    double cells = 1.0;
+    for (int d = 0; d < D; ++d) {
+      if (box_.periodic[d]) {
+        const double L = box_.hi[d] - box_.lo[d];
+        dims_[d] = std::max(1, static_cast<int>(std::floor(L / min_cell_)));
+        lo_[d] = box_.lo[d];
+        width_[d] = L / dims_[d];
+        length_[d] = L;
+      } else {
+        const double span = n ? hi[d] - lo[d] : 0.0;
+        if (!std::isfinite(span)) return false;
+        const double count = std::floor(span / min_cell_) + 1.0;
+        if (count > static_cast<double>(max_cells_)) return false;
+        dims_[d] = static_cast<int>(count);
+        lo_[d] = n ? lo[d] : 0.0;
+        width_[d] = min_cell_;
+        length_[d] = 0.0;
+      }
+      cells *= dims_[d];
+    }
+    if (cells > static_cast<double>(max_cells_)) return false;
+    const std::size_t ncell = static_cast<std::size_t>(cells);
+    start_.assign(ncell + 1, 0);
+    cell_of_.resize(n);
+    items_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const int c = linear(coords(x[i]));
+      cell_of_[i] = c;
+      ++start_[c + 1];
+    }
+    for (std::size_t c = 0; c < ncell; ++c) start_[c + 1] += start_[c];
+    fill_.assign(start_.begin(), start_.end() - 1);
+    for (std::size_t i = 0; i < n; ++i) items_[fill_[cell_of_[i]]++] = static_cast<int>(i);
+    return true;
+  }
+
+  const std::vector<int>& items() const { return items_; }
+  // After the particle arrays were reordered by items(): particle k is items()[k].
+  void mark_sorted() {
+    for (std::size_t k = 0; k < items_.size(); ++k) items_[k] = static_cast<int>(k);
+  }
+
+  // Call f(b, shift) for every particle b in the cells around point xa, where
+  // the image of b is x_b + shift. xa must be wrapped into the periodic box.
+  template <class F>
+  void for_each_neighbour(const Vec<D>& xa, F&& f) const {
+    std::array<int, D> c = coords_unclamped(xa);
+    std::array<int, D> o{};
+    for (int d = 0; d < D; ++d) o[d] = -reach_;
+    o[0] = 0;
+    // Axis 0 is swept as up to three contiguous runs; the others by offsets.
+    while (true) {
+      std::array<int, D> cc{};
+      Vec<D> shift = Vec<D>::Zero();
+      bool inside = true;
+      for (int d = 1; d < D && inside; ++d) inside = neighbour_index(c[d] + o[d], d, cc[d], shift[d]);
+      if (inside) sweep_axis0(c[0], cc, shift, f);
+      int d = 1;
+      for (; d < D; ++d) {
+        if (++o[d] <= reach_) break;
+        o[d] = -reach_;
+      }
+      if (d == D) break;
+    }
+  }
+
+  const std::array<int, D>& dims() const { return dims_; }
+
+ private:
+  // Cells c0 - reach .. c0 + reach along axis 0 (others fixed in cc) are
+  // contiguous in memory: visit them as at most three runs (below the
+  // periodic edge, inside, above it), each with its own shift.
+  template <class F>
+  void sweep_axis0(int c0, std::array<int, D>& cc, Vec<D>& shift, F& f) const {
+    const int n0 = dims_[0];
+    const int first = c0 - reach_, last = c0 + reach_;
+    auto run = [&](int from, int to, double s) {  // cells from..to (inside 0..n0-1)
+      if (from > to) return;
+      cc[0] = from;
+      const int begin = start_[linear(cc)];
+      cc[0] = to;
+      const int end = start_[linear(cc) + 1];
+      shift[0] = s;
+      for (int k = begin; k < end; ++k) f(items_[k], shift);
+    };
+    if (!box_.periodic[0]) {
+      run(std::max(first, 0), std::min(last, n0 - 1), 0.0);
+    } else if (2 * reach_ + 1 <= n0) {
+      run(std::max(first, 0), std::min(last, n0 - 1), 0.0);
+      if (first < 0) run(first + n0, n0 - 1, -length_[0]);
+      if (last >= n0) run(0, last - n0, length_[0]);
+    } else {  // fewer cells than the stencil: every offset is its own image
+      for (int off = -reach_; off <= reach_; ++off) {
+        int c = 0;
+        double s = 0.0;
+        neighbour_index(c0 + off, 0, c, s);
+        run(c, c, s);
+      }
+    }
+  }
+
+  bool neighbour_index(int c, int d, int& out, double& shift) const {
+    const int n = dims_[d];
+    if (c >= 0 && c < n) {
+      out = c;
+      shift = 0.0;
+      return true;
+    }
+    if (!box_.periodic[d]) return false;
+    const int wraps = c < 0 ? -((-c + n - 1) / n) : c / n;  // floor(c / n)
+    out = c - wraps * n;
+    shift = wraps * length_[d];
+    return true;
+  }
+
+  std::array<int, D> coords_unclamped(const Vec<D>& x) const {
+    std::array<int, D> c{};
+    for (int d = 0; d < D; ++d) {
+      const double t = std::floor((x[d] - lo_[d]) / width_[d]);
+      c[d] = static_cast<int>(std::clamp(t, -1.0 - reach_, static_cast<double>(dims_[d] + reach_)));
+      if (box_.periodic[d]) c[d] = std::clamp(c[d], 0, dims_[d] - 1);
+    }
+    return c;
+  }
+  std::array<int, D> coords(const Vec<D>& x) const {
+    std::array<int, D> c = coords_unclamped(x);
+    for (int d = 0; d < D; ++d) c[d] = std::clamp(c[d], 0, dims_[d] - 1);
+    return c;
+  }
+  int linear(const std::array<int, D>& c) const {
+    int lin = c[D - 1];
+    for (int d = D - 2; d >= 0; --d) lin = lin * dims_[d] + c[d];
+    return lin;
+  }
+
+  double min_cell_ = 1.0;
+  int reach_ = 1;
+  std::size_t max_cells_ = 0;
+  PeriodicBox<D> box_;
+  std::array<int, D> dims_{};
+  Vec<D> lo_ = Vec<D>::Zero(), width_ = Vec<D>::Ones(), length_ = Vec<D>::Zero();
+  std::vector<int> start_, cell_of_, items_, fill_;
+};
+
+}  // namespace sph

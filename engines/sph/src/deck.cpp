@@ -1,0 +1,371 @@
+#include "deck.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "physics_terms.h"
+
+namespace sph {
+namespace {
+
+using nlohmann::json;
+
+std::string join(const std::vector<std::string>& items) {
+  std::string out;
+  for (const auto& s : items) out += (out.empty() ? "" : ", ") + s;
+  return out;
+}
+
+std::string where(const std::string& path, const std::string& key) { return path.empty() ? key : path + "." + key; }
+
+[[noreturn]] void fail(const std::string& msg) { throw InputError(msg); }
+
+void check_keys(const json& j, const std::string& path, const std::vector<std::string>& allowed) {
+  if (!j.is_object()) fail("'" + (path.empty() ? std::string("deck") : path) + "' must be a JSON object");
+  for (const auto& item : j.items())
+    if (std::find(allowed.begin(), allowed.end(), item.key()) == allowed.end())
+      fail("unknown key '" + where(path, item.key()) + "'; allowed keys: " + join(allowed));
+}
+
+const json& need(const json& j, const std::string& path, const std::string& key) {
+  if (!j.contains(key)) fail("missing key '" + where(path, key) + "'");
+  return j.at(key);
+}
+
+double number(const json& v, const std::string& name) {
+  if (!v.is_number()) fail("'" + name + "' must be a number, got " + v.dump());
+  const double x = v.get<double>();
+  if (!std::isfinite(x)) fail("'" + name + "' must be finite");
+  return x;
+}
+
+double positive(const json& j, const std::string& path, const std::string& key) {
+  const double x = number(need(j, path, key), where(path, key));
+  if (!(x > 0)) fail("'" + where(path, key) + "' must be > 0, got " + std::to_string(x));
+  return x;
+}
+
+double non_negative(const json& j, const std::string& path, const std::string& key, double fallback) {
+  if (!j.contains(key)) return fallback;
+  const double x = number(j.at(key), where(path, key));
+  if (x < 0) fail("'" + where(path, key) + "' must be >= 0, got " + std::to_string(x));
+  return x;
+}
+
+std::string text(const json& v, const std::string& name) {
+  if (!v.is_string() || v.get<std::string>().empty()) fail("'" + name + "' must be a non-empty string");
+  return v.get<std::string>();
+}
+
+std::vector<double> vector_of(const json& v, const std::string& name, std::size_t size) {
+  if (!v.is_array() || v.size() != size)
+    fail("'" + name + "' must be a list of " + std::to_string(size) + " numbers, got " + v.dump());
+  std::vector<double> out;
+  for (std::size_t i = 0; i < size; ++i) out.push_back(number(v[i], name + "[" + std::to_string(i) + "]"));
+  return out;
+}
+
+std::string unique_name(const json& j, const std::string& path, std::set<std::string>& seen) {
+  const std::string name = text(need(j, path, "name"), where(path, "name"));
+  if (name.find_first_of("/ \t") != std::string::npos) fail("'" + where(path, "name") + "' must not contain '/' or spaces");
+  if (!seen.insert(name).second) fail("duplicate name '" + name + "' in '" + path + "'");
+  return name;
+}
+
+unsigned parse_physics(const json& v) {
+  std::vector<std::string> names;
+  for (const auto& t : term::optional) names.push_back(t.name);
+  if (!v.is_array()) fail("'physics' must be a list of term names from: " + join(names));
+  unsigned bits = 0;
+  for (const auto& item : v) {
+    if (!item.is_string()) fail("'physics' entries must be strings from: " + join(names));
+    const auto s = item.get<std::string>();
+    const auto* t = std::find_if(std::begin(term::optional), std::end(term::optional),
+                                 [&](const term::Named& n) { return s == n.name; });
+    if (t == std::end(term::optional))
+      fail("unknown physics term '" + s + "'; allowed: " + join(names) +
+           " (continuity, Tait EOS and pressure gradient are always on)");
+    bits |= t->bit;
+  }
+  return bits;
+}
+
+// A key that belongs to a term must be present exactly when the term is on.
+void require_with_term(const json& j, const Deck& d, unsigned bit, const std::string& key, const std::string& term) {
+  const bool on = d.terms & bit;
+  if (on && !j.contains(key)) fail("physics term '" + term + "' is on but key '" + key + "' is missing");
+  if (!on && j.contains(key)) fail("key '" + key + "' is given but physics term '" + term + "' is not in 'physics'");
+}
+
+void parse_meshes(const json& j, Deck& d) {
+  if (!j.is_array() || j.empty()) fail("'meshes' must be a non-empty list");
+  std::set<std::string> seen;
+  for (std::size_t i = 0; i < j.size(); ++i) {
+    const std::string path = "meshes[" + std::to_string(i) + "]";
+    check_keys(j[i], path, {"name", "file", "group", "vertices", "faces"});
+    MeshSpec m;
+    m.name = unique_name(j[i], path, seen);
+    if (j[i].contains("file")) {
+      if (j[i].contains("vertices") || j[i].contains("faces"))
+        fail("'" + path + "' has both 'file' and inline 'vertices'/'faces'; give one");
+      m.file = d.resolve(text(j[i]["file"], where(path, "file")));
+      if (!std::filesystem::exists(m.file)) fail("mesh file '" + m.file + "' (" + path + ".file) does not exist");
+      m.group = j[i].contains("group") ? text(j[i]["group"], where(path, "group")) : "/";
+    } else {
+      const auto& v = need(j[i], path, "vertices");
+      const auto& f = need(j[i], path, "faces");
+      if (!v.is_array() || v.empty() || !f.is_array() || f.empty())
+        fail("'" + path + ".vertices' and '.faces' must be non-empty lists");
+      for (std::size_t k = 0; k < v.size(); ++k)
+        m.vertices.push_back(vector_of(v[k], path + ".vertices[" + std::to_string(k) + "]", d.dimension));
+      for (std::size_t k = 0; k < f.size(); ++k) {
+        const auto name = path + ".faces[" + std::to_string(k) + "]";
+        if (!f[k].is_array() || f[k].size() != static_cast<std::size_t>(d.dimension))
+          fail("'" + name + "' must list " + std::to_string(d.dimension) + " vertex indices");
+        std::vector<long> face;
+        for (const auto& x : f[k]) {
+          if (!x.is_number_integer()) fail("'" + name + "' must hold integers");
+          face.push_back(x.get<long>());
+        }
+        m.faces.push_back(face);
+      }
+    }
+    d.meshes.push_back(std::move(m));
+  }
+}
+
+PlanePatch parse_patch(const json& e, const std::string& path, int dim, std::set<std::string>& seen) {
+  PlanePatch f;
+  f.name = unique_name(e, path, seen);
+  f.center = vector_of(need(e, path, "center"), path + ".center", dim);
+  f.normal = vector_of(need(e, path, "normal"), path + ".normal", dim);
+  double norm = 0;
+  for (double x : f.normal) norm += x * x;
+  if (!(norm > 0)) fail("'" + path + ".normal' must not be zero");
+  for (double& x : f.normal) x /= std::sqrt(norm);
+  const bool disc = e.contains("radius"), rect = e.contains("half_extents");
+  if (disc == rect) fail("'" + path + "' needs exactly one of 'radius' (disc) or 'half_extents' (rectangle)");
+  if (disc) {
+    f.radius = positive(e, path, "radius");
+    if (e.contains("u")) fail("'" + path + ".u' is only for rectangles (with 'half_extents')");
+    return f;
+  }
+  f.half_extents = vector_of(e["half_extents"], path + ".half_extents", dim == 3 ? 2 : 1);
+  for (double x : f.half_extents)
+    if (!(x > 0)) fail("'" + path + ".half_extents' must be > 0");
+  if (dim == 2) {
+    if (e.contains("u")) fail("'" + path + ".u' is not used in 2D (the segment is normal to 'normal')");
+    return f;
+  }
+  f.u = vector_of(need(e, path, "u"), path + ".u", 3);
+  double along = 0, uu = 0;
+  for (int k = 0; k < 3; ++k) along += f.u[k] * f.normal[k], uu += f.u[k] * f.u[k];
+  if (!(uu - along * along > 1e-12 * uu)) fail("'" + path + ".u' must not be parallel to 'normal'");
+  return f;
+}
+
+int buffer_layers(const json& e, const std::string& path, const Deck& d) {
+  int layers = 3;
+  if (e.contains("layers")) {
+    if (!e["layers"].is_number_integer() || e["layers"].get<int>() < 1)
+      fail("'" + path + ".layers' must be a positive integer, got " + e["layers"].dump());
+    layers = e["layers"].get<int>();
+  }
+  if (layers * d.dx < 2.0 * d.h)
+    fail("'" + path + ".layers' x dx must cover the kernel support 2h (" + std::to_string(layers) + " layers of " +
+         std::to_string(d.dx) + " m < " + std::to_string(2.0 * d.h) + " m)");
+  return layers;
+}
+
+void parse_open_boundaries(const json& j, Deck& d) {
+  std::set<std::string> seen;
+  for (const char* key : {"inlets", "outlets"}) {
+    if (!j.contains(key)) continue;
+    const bool inlet = std::string(key) == "inlets";
+    if (!j[key].is_array()) fail("'" + std::string(key) + "' must be a list");
+    for (std::size_t i = 0; i < j[key].size(); ++i) {
+      const std::string path = std::string(key) + "[" + std::to_string(i) + "]";
+      const auto& e = j[key][i];
+      if (inlet) check_keys(e, path, {"name", "center", "normal", "radius", "u", "half_extents", "velocity", "layers"});
+      else check_keys(e, path, {"name", "center", "normal", "radius", "u", "half_extents", "layers"});
+      PlanePatch patch = parse_patch(e, path, d.dimension, seen);
+      const int layers = buffer_layers(e, path, d);
+      if (!inlet) {
+        d.outlets.push_back({std::move(patch), layers});
+        continue;
+      }
+      const double v = positive(e, path, "velocity");
+      if (v > d.v_max) fail("'" + path + ".velocity' = " + std::to_string(v) + " m/s exceeds v_max");
+      d.inlets.push_back({std::move(patch), v, layers});
+    }
+  }
+}
+
+void parse_output(const json& j, Deck& d) {
+  const std::string p = "output";
+  check_keys(j, p, {"file", "frame_interval", "series_interval", "probes", "flow_planes", "progress_interval"});
+  if (j.contains("file")) d.output_file = d.resolve(text(j["file"], "output.file"));
+  else d.output_file = d.resolve(d.output_file);
+  d.frame_interval = positive(j, p, "frame_interval");
+  d.series_interval = j.contains("series_interval") ? positive(j, p, "series_interval") : d.frame_interval;
+  if (j.contains("progress_interval")) d.progress_interval = positive(j, p, "progress_interval");
+  std::set<std::string> seen;
+  if (j.contains("probes")) {
+    if (!j["probes"].is_array()) fail("'output.probes' must be a list");
+    for (std::size_t i = 0; i < j["probes"].size(); ++i) {
+      const std::string path = "output.probes[" + std::to_string(i) + "]";
+      const auto& e = j["probes"][i];
+      check_keys(e, path, {"name", "point"});
+      d.probes.push_back({unique_name(e, path, seen), vector_of(need(e, path, "point"), path + ".point", d.dimension)});
+    }
+  }
+  seen.clear();
+  if (j.contains("flow_planes")) {
+    if (!j["flow_planes"].is_array()) fail("'output.flow_planes' must be a list");
+    for (std::size_t i = 0; i < j["flow_planes"].size(); ++i) {
+      const std::string path = "output.flow_planes[" + std::to_string(i) + "]";
+      const auto& e = j["flow_planes"][i];
+      check_keys(e, path, {"name", "center", "normal", "radius", "u", "half_extents"});
+      d.flow_planes.push_back(parse_patch(e, path, d.dimension, seen));
+    }
+  }
+}
+
+}  // namespace
+
+std::string Deck::resolve(const std::string& path) const {
+  const std::filesystem::path p(path);
+  return p.is_absolute() || deck_dir.empty() ? p.string() : (std::filesystem::path(deck_dir) / p).string();
+}
+
+std::string Deck::terms_string() const {
+  std::string out = "continuity,tait_eos,pressure_gradient";
+  for (const auto& t : term::optional)
+    if (terms & t.bit) out += std::string(",") + t.name;
+  return out;
+}
+
+Deck parse_deck(const json& j, const std::string& deck_dir) {
+  check_keys(j, "", {"dimension", "particles_file", "physics", "rho0", "c0", "gamma", "background_pressure", "v_max",
+                     "viscosity", "alpha", "beta", "h", "dx", "body_force", "meshes", "wall", "periodic", "inlets",
+                     "outlets", "dt", "time_step", "t_end", "max_steps", "stability", "output", "threads"});
+  Deck d;
+  d.deck_dir = deck_dir;
+  const auto& dim = need(j, "", "dimension");
+  if (!dim.is_number_integer() || (dim.get<int>() != 2 && dim.get<int>() != 3))
+    fail("'dimension' must be 2 or 3, got " + dim.dump());
+  d.dimension = dim.get<int>();
+  d.particles_file = d.resolve(text(need(j, "", "particles_file"), "particles_file"));
+  if (!std::filesystem::exists(d.particles_file))
+    fail("particles_file '" + d.particles_file + "' does not exist");
+  d.terms = parse_physics(need(j, "", "physics"));
+
+  d.rho0 = positive(j, "", "rho0");
+  d.c0 = positive(j, "", "c0");
+  if (j.contains("gamma")) {
+    d.gamma = number(j["gamma"], "gamma");
+    if (!(d.gamma >= 1)) fail("'gamma' must be >= 1, got " + std::to_string(d.gamma));
+  }
+  if (j.contains("background_pressure")) d.background_pressure = number(j["background_pressure"], "background_pressure");
+  d.v_max = positive(j, "", "v_max");
+  if (d.c0 < 10.0 * d.v_max)
+    fail("c0 = " + std::to_string(d.c0) + " m/s is too small for v_max = " + std::to_string(d.v_max) +
+         " m/s; weakly compressible SPH needs c0 >= 10 v_max (density error < 1 %)");
+  d.h = positive(j, "", "h");
+  d.dx = positive(j, "", "dx");
+
+  require_with_term(j, d, term::morris_viscosity, "viscosity", "morris_viscosity");
+  if (j.contains("viscosity")) d.viscosity = positive(j, "", "viscosity");
+  require_with_term(j, d, term::artificial_viscosity, "alpha", "artificial_viscosity");
+  if (j.contains("alpha")) d.alpha = non_negative(j, "", "alpha", 0.0);
+  if (j.contains("beta") && !(d.terms & term::artificial_viscosity))
+    fail("key 'beta' is given but physics term 'artificial_viscosity' is not in 'physics'");
+  d.beta = non_negative(j, "", "beta", 0.0);
+  require_with_term(j, d, term::body_force, "body_force", "body_force");
+  if (j.contains("body_force")) d.body_force = vector_of(j["body_force"], "body_force", d.dimension);
+
+  require_with_term(j, d, term::wall_penalty, "meshes", "wall_penalty");
+  require_with_term(j, d, term::wall_penalty, "wall", "wall_penalty");
+  if (j.contains("meshes")) parse_meshes(j["meshes"], d);
+  if (j.contains("wall")) {
+    check_keys(j["wall"], "wall", {"range", "s", "psi"});
+    d.wall_range = positive(j["wall"], "wall", "range");
+    d.wall_s = positive(j["wall"], "wall", "s");
+    d.wall_psi = non_negative(j["wall"], "wall", "psi", 0.0);
+    if (!j["wall"].contains("psi")) fail("missing key 'wall.psi'");
+    if (!(d.wall_s < d.wall_range)) fail("'wall.s' must be smaller than 'wall.range' (R), got s >= R");
+  }
+
+  if (j.contains("periodic")) {
+    const auto& p = j["periodic"];
+    check_keys(p, "periodic", {"axes", "lo", "hi"});
+    const auto& axes = need(p, "periodic", "axes");
+    if (!axes.is_array() || axes.empty() || axes.size() > static_cast<std::size_t>(d.dimension))
+      fail("'periodic.axes' must be a non-empty list of axis indices (0..dimension-1)");
+    for (const auto& a : axes) {
+      if (!a.is_number_integer() || a.get<int>() < 0 || a.get<int>() >= d.dimension)
+        fail("'periodic.axes' entries must be integers in 0.." + std::to_string(d.dimension - 1) + ", got " + a.dump());
+      if (std::count(d.periodic_axes.begin(), d.periodic_axes.end(), a.get<int>()))
+        fail("'periodic.axes' lists axis " + a.dump() + " twice");
+      d.periodic_axes.push_back(a.get<int>());
+    }
+    d.periodic_lo = vector_of(need(p, "periodic", "lo"), "periodic.lo", axes.size());
+    d.periodic_hi = vector_of(need(p, "periodic", "hi"), "periodic.hi", axes.size());
+    for (std::size_t i = 0; i < axes.size(); ++i)
+      if (!(d.periodic_hi[i] - d.periodic_lo[i] >= 2.0 * d.h))
+        fail("periodic box along axis " + std::to_string(d.periodic_axes[i]) +
+             " must be at least the kernel support 2h long (periodic.hi - periodic.lo >= 2h)");
+  }
+
+  parse_open_boundaries(j, d);
+
+  if (j.contains("dt") && j.contains("time_step"))
+    fail("give either 'dt' (fixed step) or 'time_step' (adaptive factors), not both");
+  if (j.contains("dt")) d.dt = positive(j, "", "dt");
+  if (j.contains("time_step")) {
+    const auto& t = j["time_step"];
+    check_keys(t, "time_step", {"cfl", "viscous", "force"});
+    if (t.contains("cfl")) d.cfl = positive(t, "time_step", "cfl");
+    if (t.contains("viscous")) d.viscous_factor = positive(t, "time_step", "viscous");
+    if (t.contains("force")) d.force_factor = positive(t, "time_step", "force");
+  }
+  d.t_end = positive(j, "", "t_end");
+  if (j.contains("max_steps")) {
+    if (!j["max_steps"].is_number_integer() || j["max_steps"].get<long>() < 1)
+      fail("'max_steps' must be a positive integer, got " + j["max_steps"].dump());
+    d.max_steps = j["max_steps"].get<long>();
+  }
+  if (j.contains("stability")) {
+    check_keys(j["stability"], "stability", {"max_density_deviation"});
+    if (j["stability"].contains("max_density_deviation"))
+      d.max_density_deviation = positive(j["stability"], "stability", "max_density_deviation");
+  }
+  parse_output(need(j, "", "output"), d);
+  if (j.contains("threads")) {
+    if (!j["threads"].is_number_integer() || j["threads"].get<int>() < 1)
+      fail("'threads' must be a positive integer, got " + j["threads"].dump());
+    d.threads = j["threads"].get<int>();
+  }
+  return d;
+}
+
+Deck load_deck(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) fail("cannot open deck '" + path + "'");
+  json j;
+  try {
+    in >> j;
+  } catch (const json::parse_error& e) {
+    std::string msg = e.what();
+    fail("deck '" + path + "' is not valid JSON: " + msg);
+  }
+  return parse_deck(j, std::filesystem::absolute(path).parent_path().string());
+}
+
+}  // namespace sph

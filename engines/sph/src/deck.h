@@ -1,0 +1,100 @@
+// The run deck (JSON): every setting of a run in SI units, validated on load.
+#pragma once
+#include <array>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+namespace sph {
+
+// Bad input: the message names the key, the value and what is allowed.
+struct InputError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct MeshSpec {
+  std::string name;
+  std::string file, group;                   // HDF5 source (group holds vertices, faces) ...
+  std::vector<std::vector<double>> vertices;  // ... or inline data
+  std::vector<std::vector<long>> faces;
+};
+
+struct ProbeSpec {
+  std::string name;
+  std::vector<double> point;  // m
+};
+
+// A named patch of a plane: a disc (radius) or a rectangle (u, half_extents).
+// In 2D it is a segment of half-length `radius` (or half_extents[0]).
+struct PlanePatch {
+  std::string name;
+  std::vector<double> center, normal;  // m, unit vector
+  double radius = 0.0;                 // m (disc)
+  std::vector<double> u;               // in-plane direction (rectangle, 3D)
+  std::vector<double> half_extents;    // m (rectangle)
+};
+using FlowPlaneSpec = PlanePatch;  // volume flux through it is measured
+
+// Velocity inlet: fluid enters through the patch along `normal` at `velocity`,
+// fed by `layers` layers of buffer particles behind the patch.
+struct InletSpec {
+  PlanePatch patch;
+  double velocity = 0.0;  // m/s
+  int layers = 3;
+};
+
+// Outlet: fluid leaving through the patch along `normal` keeps its velocity
+// in a buffer `layers` dx deep and is then removed.
+struct OutletSpec {
+  PlanePatch patch;
+  int layers = 3;
+};
+
+struct Deck {
+  std::string deck_dir;  // files are resolved relative to it
+  int dimension = 3;
+  std::string particles_file;
+  unsigned terms = 0;  // bit set of term:: flags
+  // fluid
+  double rho0 = 0, c0 = 0, gamma = 7, background_pressure = 0;  // kg/m^3, m/s, -, Pa
+  double v_max = 0;                                             // expected max speed, m/s
+  double viscosity = 0;                                         // kinematic, m^2/s
+  double alpha = 0, beta = 0;                                   // artificial viscosity
+  double h = 0, dx = 0;                                         // m
+  std::vector<double> body_force;                               // m/s^2
+  // walls
+  std::vector<MeshSpec> meshes;
+  double wall_range = 0, wall_s = 0, wall_psi = 0;  // R m, s m, psi N
+  // periodic boundaries
+  std::vector<int> periodic_axes;
+  std::vector<double> periodic_lo, periodic_hi;  // m, one per axis
+  // open boundaries
+  std::vector<InletSpec> inlets;
+  std::vector<OutletSpec> outlets;
+  // time
+  std::optional<double> dt;                                  // fixed step, s
+  double cfl = 0.25, viscous_factor = 0.125, force_factor = 0.25;
+  double t_end = 0;                                          // s
+  long max_steps = 0;                                        // 0: no limit
+  // stability
+  double max_density_deviation = 0.1;  // |rho/rho0 - 1| allowed
+  // output
+  std::string output_file = "out.h5";
+  double frame_interval = 0, series_interval = 0;  // s
+  std::vector<ProbeSpec> probes;
+  std::vector<FlowPlaneSpec> flow_planes;
+  double progress_interval = 1.0;  // s of wall time
+  int threads = 0;                 // 0: OpenMP default
+
+  std::string resolve(const std::string& path) const;
+  std::string terms_string() const;
+};
+
+// Parse and validate a deck; throws InputError.
+Deck parse_deck(const nlohmann::json& j, const std::string& deck_dir);
+Deck load_deck(const std::string& path);
+
+}  // namespace sph

@@ -1,0 +1,28 @@
+// Reading the particle and mesh input files (HDF5).
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace sph {
+
+// Rows of the particle file: positions (n,D) m, velocities (n,D) m/s,
+// masses (n) kg, densities (n) kg/m^3, kind (n) 0 fluid / 1 boundary.
+struct ParticleInput {
+  std::size_t n = 0;
+  int dimension = 0;
+  std::vector<double> positions, velocities, masses, densities;  // row-major
+  std::vector<std::int8_t> kind;
+};
+
+// A mesh group: vertices (nv,D) m, faces (nf,D) vertex indices (triangles in 3D, segments in 2D).
+struct MeshInput {
+  std::vector<double> vertices;
+  std::vector<long> faces;
+};
+
+// Throw InputError naming the file and dataset when something is missing or malformed.
+ParticleInput read_particles(const std::string& path, int dimension);
+MeshInput read_mesh(const std::string& path, const std::string& group, int dimension);
+
+}  // namespace sph

@@ -1,0 +1,152 @@
+// The physics terms of the executable, each compiled in only when the deck asks for it.
+//
+// A term is a small struct with a per-pair `add(pair, rates)` (summed over a
+// particle's neighbours) or a per-particle `add(...)`. `FluidModel<D, Terms>`
+// composes them; the bit set `Terms` is a compile-time constant, so a term the
+// deck does not switch on is removed from the inner loop by `if constexpr`.
+// New terms (PTT viscoelastic stress, Johnson-Cook solid stress, rigid grains)
+// get a bit here, a struct, and a line in FluidModel::pair.
+#pragma once
+#include <cstdint>
+
+#include "vec.h"
+
+namespace sph {
+
+namespace term {
+// Always on: continuity density (eq. 7), Tait EOS (eq. 6), pressure gradient (eq. 9).
+constexpr unsigned morris_viscosity = 1u << 0;      // eq. 10
+constexpr unsigned artificial_viscosity = 1u << 1;  // eqs. 11-12
+constexpr unsigned body_force = 1u << 2;            // f in eq. 4
+constexpr unsigned wall_penalty = 1u << 3;          // eq. 14
+constexpr unsigned count = 4;
+constexpr unsigned all = (1u << count) - 1;
+
+struct Named {
+  const char* name;
+  unsigned bit;
+};
+inline constexpr Named optional[count] = {{"morris_viscosity", morris_viscosity},
+                                          {"artificial_viscosity", artificial_viscosity},
+                                          {"body_force", body_force},
+                                          {"wall_penalty", wall_penalty}};
+}  // namespace term
+
+// fluid: moved by the forces; boundary: fixed, carries density and pressure;
+// inlet / outlet: buffer particles of an open boundary, carried at a fixed
+// velocity, carrying density and pressure like boundary particles.
+enum class Kind : std::int8_t { fluid = 0, boundary = 1, inlet = 2, outlet = 3 };
+
+// Everything a pair term may read about particles a and b.
+template <int D>
+struct Pair {
+  Vec<D> r_ab;     // x_a - x_b, m
+  double r2;       // |r_ab|^2, m^2
+  Vec<D> grad_w;   // grad_a W_ab, 1/m^(D+1)
+  Vec<D> v_ab;     // v_a - v_b, m/s
+  Vec<D> v_ab_noslip;  // v_a - (no-slip velocity of b: mirrored for boundary particles), m/s
+  double m_b;      // kg
+  double vol_b;    // m_b / rho_b, m^D
+  double rho_a, rho_b;        // kg/m^3
+  double p_a, p_b;            // Pa
+  double p_rho2_a, p_rho2_b;  // p / rho^2, m^5/(kg s^2)
+  double inv_rho_a;           // 1 / rho_a
+  double c_a, c_b;            // sound speeds, m/s
+};
+
+template <int D>
+struct PairRates {
+  Vec<D> acc = Vec<D>::Zero();  // dv_a/dt, m/s^2
+  double drho = 0.0;            // drho_a/dt, kg/m^3/s
+};
+
+// Eq. 7 with the sign of d rho/dt = -rho div v: drho_a/dt = rho_a sum_b m_b/rho_b v_ab . grad_a W_ab
+// (the paper prints a leading minus, which would make approaching particles lighter).
+struct Continuity {
+  template <int D>
+  void add(const Pair<D>& p, PairRates<D>& out) const {
+    out.drho += p.rho_a * p.vol_b * p.v_ab.dot(p.grad_w);
+  }
+};
+
+// For particles that do not move with the fluid (boundary, inlet, outlet):
+// drho_a/dt = sum_b m_b v_ab . grad_a W_ab, the exact rate of the summation
+// density sum_b m_b W_ab, so particles an inlet adds or an outlet removes can
+// be booked in and out (Simulation::boundary_density_event) without drift.
+struct SummationContinuity {
+  template <int D>
+  void add(const Pair<D>& p, PairRates<D>& out) const {
+    out.drho += p.m_b * p.v_ab.dot(p.grad_w);
+  }
+};
+
+// Eq. 9 divided by rho_a: -grad p_a / rho_a = -sum_b m_b (p_a/rho_a^2 + p_b/rho_b^2) grad_a W_ab
+struct PressureGradient {
+  template <int D>
+  void add(const Pair<D>& p, PairRates<D>& out) const {
+    const double s = p.m_b * (p.p_rho2_a + p.p_rho2_b);
+    out.acc.noalias() -= s * p.grad_w;
+  }
+};
+
+// Eq. 10 divided by rho_a with mu_a = mu_b = mu (= rho0 nu):
+// sum_b m_b (mu_a + mu_b) r_ab . grad_a W_ab / (rho_a rho_b (r_ab^2 + 0.01 h^2)) v_ab
+// where a boundary particle b enters with its no-slip velocity (see Simulation::no_slip_velocities).
+struct MorrisViscosity {
+  double mu = 0.0;    // dynamic viscosity, Pa s
+  double eta2 = 0.0;  // 0.01 h^2, m^2
+  template <int D>
+  void add(const Pair<D>& p, PairRates<D>& out) const {
+    const double s = 2.0 * mu * p.vol_b * p.inv_rho_a * p.r_ab.dot(p.grad_w) / (p.r2 + eta2);
+    out.acc.noalias() += s * p.v_ab_noslip;
+  }
+};
+
+// Eqs. 11-12: Pi_ab = (-alpha c_ab mu_ab + beta mu_ab^2) / rho_ab for v_ab . r_ab < 0,
+// mu_ab = h v_ab . r_ab / (r_ab^2 + 0.01 h^2); dv_a/dt -= sum_b m_b Pi_ab grad_a W_ab.
+struct ArtificialViscosity {
+  double alpha = 0.0, beta = 0.0;
+  double h = 0.0, eta2 = 0.0;
+  template <int D>
+  void add(const Pair<D>& p, PairRates<D>& out) const {
+    const double vr = p.v_ab.dot(p.r_ab);
+    if (vr >= 0.0) return;
+    const double d = p.r2 + eta2, rho_ab = 0.5 * (p.rho_a + p.rho_b);
+    const double inv = 1.0 / (d * rho_ab);  // one division for 1/d and 1/rho_ab
+    const double mu_ab = h * vr * inv * rho_ab;
+    const double c_ab = 0.5 * (p.c_a + p.c_b);
+    const double pi_ab = (-alpha * c_ab * mu_ab + beta * mu_ab * mu_ab) * inv * d;
+    out.acc.noalias() -= p.m_b * pi_ab * p.grad_w;
+  }
+};
+
+// Per-particle body force per unit mass (gravity), m/s^2.
+template <int D>
+struct BodyForce {
+  Vec<D> g = Vec<D>::Zero();
+  void add(Vec<D>& acc) const { acc += g; }
+};
+
+// The compile-time selection of pair terms for one particle a.
+template <int D, unsigned Terms>
+struct FluidModel {
+  static constexpr bool has(unsigned t) { return (Terms & t) != 0; }
+  Continuity continuity;
+  SummationContinuity boundary_continuity;
+  PressureGradient pressure;
+  MorrisViscosity morris;
+  ArtificialViscosity artificial;
+  BodyForce<D> body;
+
+  // Pair terms acting on a moving (fluid) particle a.
+  void pair(const Pair<D>& p, PairRates<D>& out) const {
+    continuity.add(p, out);
+    pressure.add(p, out);
+    if constexpr (has(term::morris_viscosity)) morris.add(p, out);
+    if constexpr (has(term::artificial_viscosity)) artificial.add(p, out);
+  }
+  // A fixed boundary particle carries density (and so pressure) but does not move.
+  void boundary_pair(const Pair<D>& p, PairRates<D>& out) const { boundary_continuity.add(p, out); }
+};
+
+}  // namespace sph

@@ -1,0 +1,142 @@
+// What a run writes: frames (rows ordered by particle id) and the time series
+// of probes, flow planes, inflow/outflow, wall forces, kinetic energy and
+// density deviation.
+#pragma once
+#include <algorithm>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "deck.h"
+#include "open_boundaries.h"
+#include "output_h5.h"
+#include "probes.h"
+#include "simulation.h"
+
+namespace sph {
+
+template <int D, unsigned Terms>
+class Recorder {
+ public:
+  Recorder(const Deck& deck, Simulation<D, Terms>& sim, OpenBoundaries<D>& open, OutputFile& out)
+      : sim_(sim), open_(open), out_(out) {
+    out.attr("engine", std::string("sph"));
+    out.attr("engine_version", std::string(SPH_VERSION));
+    out.attr("dimension", static_cast<long>(D));
+    out.attr("physics", deck.terms_string());
+    out.attr("n_particles", static_cast<long>(sim.particles().size()));
+    out.attr("h", deck.h);
+    out.attr("dx", deck.dx);
+    out.attr("status", std::string("running"));
+    out.attr("message", std::string());
+    const std::string area_flux = D == 3 ? "m^3/s" : "m^2/s";
+    for (const auto& p : deck.probes) {
+      probes_.push_back(Eigen::Map<const Vec<D>>(p.point.data()));
+      out.series("pressure_probe_" + p.name, 0, "Pa");
+    }
+    for (const auto& f : deck.flow_planes) {
+      planes_.emplace_back(f);
+      out.series("flow_rate_" + f.name, 0, area_flux);
+    }
+    for (std::size_t k = 0; k < open.count(); ++k)
+      out.series((open.is_inlet(k) ? "inflow_" : "outflow_") + open.name(k), 0, area_flux);
+    if constexpr (Simulation<D, Terms>::has(term::wall_penalty))
+      for (const auto& m : sim.walls().meshes()) out.series("wall_force_" + m.name, D, D == 3 ? "N" : "N/m");
+    out.series("kinetic_energy", 0, D == 3 ? "J" : "J/m");
+    out.series("max_density_deviation", 0, "1");
+    const std::size_t n = sim.particles().x.capacity();
+    const std::size_t scalars = probes_.size() + planes_.size() + open.count();
+    values_.resize(scalars + D * sim.walls().meshes().size() + 2);
+    std::size_t j = 0;  // where each series' row starts in values_
+    for (std::size_t i = 0; i < scalars; ++i) rows_.push_back(&values_[j++]);
+    for (std::size_t m = 0; m < sim.walls().meshes().size(); ++m, j += D) rows_.push_back(&values_[j]);
+    rows_.push_back(&values_[j++]);
+    rows_.push_back(&values_[j++]);
+    ids_.reserve(n), kind_.reserve(n), x_.reserve(n * D), v_.reserve(n * D), rho_.reserve(n), p_.reserve(n);
+    order_.reserve(n);
+  }
+
+  bool has_flow_planes() const { return !planes_.empty(); }
+  void cross(const Vec<D>& x_old, const Vec<D>& dx, double volume) {
+    for (auto& plane : planes_) plane.crossing(x_old, dx, volume, sim_.box());
+  }
+  double last_series_time() const { return last_series_; }
+  double last_frame_time() const { return last_frame_; }
+
+  // One row of every series at time t; the simulation must be sorted and its EOS current.
+  void series(double t) {
+    const auto& P = sim_.particles();
+    std::size_t k = 0;
+    for (const auto& point : probes_) values_[k++] = probe_pressure(point, P, sim_.cells(), sim_.kernel(), sim_.box());
+    const double elapsed = last_series_ < 0.0 ? 0.0 : t - last_series_;
+    for (auto& plane : planes_) values_[k++] = plane.flow_rate(elapsed);
+    for (std::size_t b = 0; b < open_.count(); ++b) values_[k++] = open_.flow_rate(b, elapsed);
+    const std::size_t wall_base = k;
+    if constexpr (Simulation<D, Terms>::has(term::wall_penalty)) {
+      const std::size_t nm = sim_.walls().meshes().size();
+      std::fill(values_.begin() + k, values_.begin() + k + D * nm, 0.0);
+      for (std::size_t i = 0; i < P.size(); ++i)
+        if (P.moves(i))
+          sim_.walls().force(P.x[i], [&](int m, const Vec<D>& F) {
+            for (int d = 0; d < D; ++d) values_[wall_base + D * m + d] -= F[d];  // reaction on the mesh
+          });
+      k += D * nm;
+    }
+    double ke = 0.0;
+    for (std::size_t i = 0; i < P.size(); ++i)
+      if (P.moves(i)) ke += 0.5 * P.mass[i] * P.v[i].squaredNorm();
+    values_[k++] = ke;
+    values_[k++] = sim_.max_density_deviation();
+    out_.record(t, rows_);
+    last_series_ = t;
+  }
+
+  // The current state as a frame, rows in input order.
+  void frame(double t, long step) {
+    const auto& P = sim_.particles();
+    write(t, step, P.x, P.v, P.rho, false);
+  }
+
+  // The start-of-step state of a failed step (the last state that passed the checks).
+  void last_good_frame(double t, long step) {
+    const auto& P = sim_.particles();
+    write(t, step, P.x0, P.v0, P.rho0, true);
+    out_.attr("last_good_frame", static_cast<long>(out_.frames_written() - 1));
+  }
+
+ private:
+  void write(double t, long step, const std::vector<Vec<D>>& x, const std::vector<Vec<D>>& v,
+             const std::vector<double>& rho, bool recompute_pressure) {
+    const auto& P = sim_.particles();
+    const std::size_t n = P.size();
+    order_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) order_[i] = i;
+    std::sort(order_.begin(), order_.end(), [&](std::size_t a, std::size_t b) { return P.id[a] < P.id[b]; });
+    ids_.resize(n), kind_.resize(n), x_.resize(n * D), v_.resize(n * D), rho_.resize(n), p_.resize(n);
+    for (std::size_t r = 0; r < n; ++r) {
+      const std::size_t i = order_[r];
+      ids_[r] = P.id[i];
+      kind_[r] = static_cast<std::int8_t>(P.kind[i]);
+      for (int d = 0; d < D; ++d) x_[r * D + d] = x[i][d], v_[r * D + d] = v[i][d];
+      rho_[r] = rho[i];
+      p_[r] = recompute_pressure ? sim_.eos().pressure(rho[i]) : P.p[i];
+    }
+    out_.frame(t, step, n, D, ids_.data(), kind_.data(), x_.data(), v_.data(), rho_.data(), p_.data());
+    last_frame_ = t;
+  }
+
+  Simulation<D, Terms>& sim_;
+  OpenBoundaries<D>& open_;
+  OutputFile& out_;
+  std::vector<Vec<D>> probes_;
+  std::vector<FlowPlane<D>> planes_;
+  std::vector<double> values_;
+  std::vector<const double*> rows_;
+  double last_series_ = -1.0, last_frame_ = -1.0;
+  std::vector<std::int64_t> ids_;
+  std::vector<std::int8_t> kind_;
+  std::vector<double> x_, v_, rho_, p_;
+  std::vector<std::size_t> order_;
+};
+
+}  // namespace sph

@@ -1,0 +1,166 @@
+// The time loop of a run: stepping, recording, progress, stability stop.
+#pragma once
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "open_boundaries.h"
+#include "output_h5.h"
+#include "recorder.h"
+#include "setup.h"
+#include "simulation.h"
+
+namespace sph {
+
+enum ExitCode { exit_ok = 0, exit_failed = 1, exit_bad_input = 2, exit_unstable = 3, exit_terminated = 4 };
+
+inline volatile std::sig_atomic_t stop_requested = 0;
+inline void request_stop(int) { stop_requested = 1; }
+
+template <int D, unsigned Terms>
+int run_simulation(const Deck& deck, Particles<D> particles, WallPenalty<D> walls, OpenBoundaries<D> open) {
+  using Clock = std::chrono::steady_clock;
+  const auto started = Clock::now();
+  std::int64_t next_id = 0;
+  for (auto id : particles.id) next_id = std::max(next_id, id + 1);
+  Simulation<D, Terms> sim(deck, std::move(particles), std::move(walls));
+  OutputFile out(deck.output_file);
+  Recorder<D, Terms> rec(deck, sim, open, out);
+  std::signal(SIGTERM, request_stop);
+  std::signal(SIGINT, request_stop);
+
+  const bool fixed = deck.dt.has_value();
+  long step = 0, series_count = 0, frame_count = 0;
+  double t = 0.0, dt = fixed ? *deck.dt : 0.0, dt_sum = 0.0;
+  auto planned = [&] {
+    const double left = std::max(0.0, deck.t_end - t);
+    const double dt_typical = fixed || step == 0 ? dt : dt_sum / step;
+    long m = step + static_cast<long>(std::ceil(left / std::max(dt_typical, 1e-300) - 1e-9));
+    return deck.max_steps ? std::min(m, deck.max_steps) : m;
+  };
+  rec.series(t);
+  rec.frame(t, step);
+  std::string status = "ok", message;
+  int code = exit_ok;
+  bool sorted = true, timing_printed = false;
+  auto last_progress = started;
+
+  while (t < deck.t_end * (1.0 - 1e-12) && !(deck.max_steps && step >= deck.max_steps)) {
+    if (stop_requested) {
+      status = "terminated", message = "stopped by a signal", code = exit_terminated;
+      break;
+    }
+    if (!sorted && !sim.sort_particles()) {
+      status = "unstable", message = "particles spread over too many cells (blow-up)", code = exit_unstable;
+      break;
+    }
+    sim.compute_rates();
+    if (!fixed) {
+      dt = sim.adaptive_dt();
+      const double target = std::min({(series_count + 1) * deck.series_interval,
+                                      (frame_count + 1) * deck.frame_interval, deck.t_end});
+      if (t + 1.01 * dt >= target) dt = std::max(target - t, 1e-6 * dt);
+    }
+    sim.begin_step();
+    const bool binned = sim.predict(dt);
+    if (binned) {
+      sim.compute_rates();
+      if (rec.has_flow_planes())
+        sim.correct(dt, [&](const Vec<D>& x_old, const Vec<D>& dx, double volume) { rec.cross(x_old, dx, volume); });
+      else
+        sim.correct(dt, NoCrossings{});
+    }
+    ++step;
+    const double t_before = t;
+    t = fixed ? step * dt : t + dt;
+    dt_sum += dt;
+    sorted = false;
+    const StabilityReport report = binned ? sim.check_stability() : StabilityReport{false, "particles blew apart"};
+    if (!report.ok) {
+      status = "unstable";
+      message = "unstable at t = " + std::to_string(t) + " s (step " + std::to_string(step) + "): " + report.message;
+      code = exit_unstable;
+      rec.last_good_frame(t_before, step - 1);
+      break;
+    }
+    if (!open.empty())
+      next_id = open.update(sim.particles(), next_id, [&](const Vec<D>& x, double m, double sign) {
+        sim.boundary_density_event(x, m, sign);
+      });
+    const double tol = 1e-6 * dt;
+    const bool series_due = t >= (series_count + 1) * deck.series_interval - tol;
+    const bool frame_due = t >= (frame_count + 1) * deck.frame_interval - tol;
+    if (series_due || frame_due) {
+      sorted = sim.sort_particles();
+      sim.equation_of_state();
+    }
+    if (series_due) {
+      rec.series(t);
+      while ((series_count + 1) * deck.series_interval <= t + tol) ++series_count;
+    }
+    if (frame_due) {
+      rec.frame(t, step);
+      while ((frame_count + 1) * deck.frame_interval <= t + tol) ++frame_count;
+    }
+    const auto now = Clock::now();
+    if (std::chrono::duration<double>(now - last_progress).count() >= deck.progress_interval) {
+      last_progress = now;
+      std::fprintf(stderr, "PROGRESS step=%ld of %ld phase=run t=%.6g\n", step, planned(), t);
+      if (!timing_printed) {
+        const double per_step = std::chrono::duration<double>(now - started).count() / step;
+        std::fprintf(stderr, "TIMING s_per_step=%.6g planned_steps=%ld estimate_s=%.6g\n", per_step, planned(),
+                     per_step * planned());
+        timing_printed = true;
+      }
+      std::fflush(stderr);
+    }
+  }
+  if (code != exit_unstable && (rec.last_series_time() < t || rec.last_frame_time() < t)) {
+    if (!sorted) sim.sort_particles();
+    sim.equation_of_state();
+    if (rec.last_series_time() < t) rec.series(t);
+    if (rec.last_frame_time() < t) rec.frame(t, step);
+  }
+  const double wall = std::chrono::duration<double>(Clock::now() - started).count();
+  std::fprintf(stderr, "PROGRESS step=%ld of %ld phase=done t=%.6g\n", step, step, t);
+  out.attr("status", status);
+  out.attr("message", message);
+  out.attr("n_steps", step);
+  out.attr("dt_mean", step ? dt_sum / step : 0.0);
+  out.attr("t_final", t);
+  out.attr("wall_time_s", wall);
+  out.attr("particle_steps_per_s", wall > 0 ? static_cast<double>(sim.particles().size()) * step / wall : 0.0);
+  out.flush();
+  if (code == exit_unstable) std::fprintf(stderr, "error: numerically %s\n", message.c_str());
+  return code;
+}
+
+template <int D, unsigned T = 0>
+int dispatch_terms(unsigned terms, const Deck& deck, Particles<D> P, WallPenalty<D> walls, OpenBoundaries<D> open) {
+  if constexpr (T > term::all) {
+    return exit_failed;
+  } else {
+    if (terms == T) return run_simulation<D, T>(deck, std::move(P), std::move(walls), std::move(open));
+    return dispatch_terms<D, T + 1>(terms, deck, std::move(P), std::move(walls), std::move(open));
+  }
+}
+
+// Read the inputs of a deck of dimension D and run it.
+template <int D>
+int run_dimension(const Deck& deck) {
+  if (deck.threads > 0) omp_set_num_threads(deck.threads);
+  const ParticleInput in = read_particles(deck.particles_file, D);
+  OpenBoundaries<D> open(deck);
+  Particles<D> P = make_particles<D>(deck, in, open.extra_capacity(deck.t_end));
+  open.fill(P, static_cast<std::int64_t>(in.n));
+  open.classify_initial(P);
+  WallPenalty<D> walls = make_walls<D>(deck);
+  return dispatch_terms<D>(deck.terms, deck, std::move(P), std::move(walls), std::move(open));
+}
+
+}  // namespace sph

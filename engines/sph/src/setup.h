@@ -1,0 +1,104 @@
+// Turning the deck and its input files into particles and wall meshes.
+#pragma once
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "deck.h"
+#include "input_h5.h"
+#include "particles.h"
+#include "wall_penalty.h"
+
+namespace sph {
+
+// The input particles, with room for `extra` more (inflow) in every array.
+template <int D>
+Particles<D> make_particles(const Deck& deck, const ParticleInput& in, std::size_t extra = 0) {
+  Particles<D> P;
+  P.reserve(in.n + extra);
+  P.resize(in.n);
+  double mass_sum = 0.0;
+  std::size_t fluid = 0;
+  for (std::size_t i = 0; i < in.n; ++i) {
+    for (int d = 0; d < D; ++d) {
+      P.x[i][d] = in.positions[i * D + d];
+      P.v[i][d] = in.velocities[i * D + d];
+    }
+    P.mass[i] = in.masses[i];
+    P.rho[i] = in.densities[i];
+    P.kind[i] = static_cast<Kind>(in.kind[i]);
+    P.id[i] = static_cast<std::int64_t>(i);
+    if (P.kind[i] == Kind::fluid) {
+      const double speed = P.v[i].norm();
+      if (speed > deck.v_max)
+        throw InputError("particle " + std::to_string(i) + " starts at " + std::to_string(speed) +
+                         " m/s, above v_max = " + std::to_string(deck.v_max) + " m/s; raise v_max (and c0)");
+      mass_sum += P.mass[i];
+      ++fluid;
+    }
+  }
+  for (std::size_t k = 0; k < deck.periodic_axes.size(); ++k) {
+    const int a = deck.periodic_axes[k];
+    for (std::size_t i = 0; i < in.n; ++i)
+      if (P.x[i][a] < deck.periodic_lo[k] - deck.dx || P.x[i][a] > deck.periodic_hi[k] + deck.dx)
+        throw InputError("particle " + std::to_string(i) + " lies outside the periodic box along axis " +
+                         std::to_string(a) + " (periodic.lo .. periodic.hi)");
+  }
+  if (fluid) {
+    const double expected = deck.rho0 * std::pow(deck.dx, D);
+    const double mean = mass_sum / fluid;
+    if (std::abs(mean / expected - 1.0) > 0.2)
+      std::fprintf(stderr, "warning: mean fluid particle mass %.4g kg differs from rho0 dx^%d = %.4g kg by more "
+                   "than 20 %%\n", mean, D, expected);
+  }
+  return P;
+}
+
+template <int D>
+WallMesh<D> make_mesh(const MeshSpec& spec) {
+  WallMesh<D> m;
+  m.name = spec.name;
+  const std::string where = "mesh '" + spec.name + "'";
+  if (!spec.file.empty()) {
+    const MeshInput in = read_mesh(spec.file, spec.group, D);
+    for (std::size_t i = 0; i + D <= in.vertices.size(); i += D) m.vertices.push_back(Eigen::Map<const Vec<D>>(&in.vertices[i]));
+    for (std::size_t i = 0; i + D <= in.faces.size(); i += D) {
+      std::array<int, D> f{};
+      for (int k = 0; k < D; ++k) f[k] = static_cast<int>(in.faces[i + k]);
+      m.faces.push_back(f);
+    }
+  } else {
+    for (const auto& v : spec.vertices) m.vertices.push_back(Eigen::Map<const Vec<D>>(v.data()));
+    for (const auto& face : spec.faces) {
+      std::array<int, D> f{};
+      for (int k = 0; k < D; ++k) f[k] = static_cast<int>(face[k]);
+      m.faces.push_back(f);
+    }
+  }
+  if (m.faces.empty()) throw InputError(where + " has no faces");
+  const int nv = static_cast<int>(m.vertices.size());
+  for (std::size_t f = 0; f < m.faces.size(); ++f) {
+    for (int id : m.faces[f])
+      if (id < 0 || id >= nv)
+        throw InputError(where + ": face " + std::to_string(f) + " uses vertex " + std::to_string(id) +
+                         ", outside 0.." + std::to_string(nv - 1));
+    const auto& v = m.vertices;
+    const auto& ids = m.faces[f];
+    double size;
+    if constexpr (D == 3) size = (v[ids[1]] - v[ids[0]]).cross(v[ids[2]] - v[ids[0]]).norm();
+    else size = (v[ids[1]] - v[ids[0]]).norm();
+    if (!(size > 0.0)) throw InputError(where + ": face " + std::to_string(f) + " is degenerate (zero size)");
+  }
+  return m;
+}
+
+template <int D>
+WallPenalty<D> make_walls(const Deck& deck) {
+  if (deck.meshes.empty()) return {};
+  std::vector<WallMesh<D>> meshes;
+  for (const auto& spec : deck.meshes) meshes.push_back(make_mesh<D>(spec));
+  return WallPenalty<D>(std::move(meshes), {deck.wall_range, deck.wall_s, deck.wall_psi}, 2.0 * deck.h);
+}
+
+}  // namespace sph

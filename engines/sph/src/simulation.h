@@ -1,0 +1,333 @@
+// The weakly compressible SPH solver for one dimension and one compile-time set of terms.
+//
+// Rates are gathered per particle (each particle sums over its own
+// neighbours), so the result does not depend on the OpenMP schedule. Time
+// integration is the explicit predictor-corrector leapfrog (midpoint form):
+//   predictor  x* = x + dt/2 v,  v* = v + dt/2 a(x, v, rho),  rho* = rho + dt/2 Drho
+//   corrector  v' = v + dt a(x*, v*, rho*),  rho' = rho + dt Drho*,  x' = x + dt (v + dt/2 a*)
+// Fixed boundary particles keep position and velocity and evolve their density;
+// inlet and outlet buffer particles do the same but move at their velocity.
+#pragma once
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "cell_list.h"
+#include "deck.h"
+#include "eos.h"
+#include "kernel.h"
+#include "particles.h"
+#include "physics_terms.h"
+#include "wall_penalty.h"
+
+namespace sph {
+
+// Pass as `crossed` when no flow plane needs the particle displacements.
+struct NoCrossings {
+  template <class... Args>
+  void operator()(Args&&...) const {}
+};
+
+struct StabilityReport {
+  bool ok = true;
+  std::string message;
+};
+
+template <int D, unsigned Terms>
+class Simulation {
+ public:
+  using Model = FluidModel<D, Terms>;
+  static constexpr bool has(unsigned t) { return Model::has(t); }
+
+  // In 3D cells of half the support (5^3 stencil) test fewer far pairs than
+  // cells of the full support (3^3); in 2D the 3^2 stencil is faster (measured).
+  static constexpr int cell_reach = D == 3 ? 2 : 1;
+
+  Simulation(const Deck& deck, Particles<D> particles, WallPenalty<D> walls = {})
+      : deck_(deck), P_(std::move(particles)), kernel_(deck.h), eos_{deck.rho0, deck.c0, deck.gamma,
+                                                                       deck.background_pressure},
+        walls_(std::move(walls)) {
+    const double eta2 = 0.01 * deck.h * deck.h;
+    model_.morris.mu = deck.rho0 * deck.viscosity;
+    model_.morris.eta2 = eta2;
+    model_.artificial = {deck.alpha, deck.beta, deck.h, eta2};
+    if (!deck.body_force.empty())
+      for (int d = 0; d < D; ++d) model_.body.g[d] = deck.body_force[d];
+    for (std::size_t i = 0; i < deck.periodic_axes.size(); ++i) {
+      const int a = deck.periodic_axes[i];
+      box_.periodic[a] = true;
+      box_.lo[a] = deck.periodic_lo[i];
+      box_.hi[a] = deck.periodic_hi[i];
+    }
+    for (auto& x : P_.x) box_.wrap(x);
+    const std::size_t n = P_.size();
+    P_.resize(n);
+    cells_.reserve(P_.x.capacity());
+    cells_.configure(kernel_.support_radius(), cell_reach, box_, std::max<std::size_t>(64 * n, 1u << 22));
+    sort_particles();
+    equation_of_state();
+  }
+
+  Particles<D>& particles() { return P_; }
+  const Particles<D>& particles() const { return P_; }
+  const CellList<D>& cells() const { return cells_; }
+  const WendlandC2<D>& kernel() const { return kernel_; }
+  const TaitEos& eos() const { return eos_; }
+  const PeriodicBox<D>& box() const { return box_; }
+  const WallPenalty<D>& walls() const { return walls_; }
+
+  // Bin and reorder the particles by cell (memory locality); false if they blew apart.
+  bool sort_particles() {
+    if (!cells_.build(P_.x, P_.size())) return false;
+    P_.reorder(cells_.items());
+    cells_.mark_sorted();
+    return true;
+  }
+
+  // Pressure (and sound speed) of every particle from its density, eq. 6.
+  // A fixed boundary particle never pulls: its pressure is that of
+  // max(rho, rho0), so a wall under a free surface does not suck fluid in.
+  void equation_of_state() {
+    const std::ptrdiff_t n = P_.size();
+#pragma omp parallel for schedule(static) if (n >= parallel_min_light)
+    for (std::ptrdiff_t i = 0; i < n; ++i) {
+      const double rho = P_.kind[i] == Kind::boundary ? std::max(P_.rho[i], deck_.rho0) : P_.rho[i];
+      P_.p[i] = eos_.pressure(rho);
+      if constexpr (has(term::artificial_viscosity)) P_.c[i] = eos_.sound_speed(rho);
+      P_.vol[i] = P_.mass[i] / P_.rho[i];
+      P_.p_rho2[i] = P_.p[i] / (P_.rho[i] * P_.rho[i]);
+    }
+  }
+
+  // acc and drho of every particle at the current x, v, rho; cells must be binned for x.
+  void compute_rates() {
+    equation_of_state();
+    if constexpr (has(term::morris_viscosity)) no_slip_velocities();
+    const std::ptrdiff_t n = P_.size();
+#pragma omp parallel for schedule(dynamic, 256) if (n >= parallel_min_heavy)
+    for (std::ptrdiff_t a = 0; a < n; ++a) {
+      if (P_.moves(a)) {
+        PairRates<D> r = gather<true>(a);
+        if constexpr (has(term::body_force)) model_.body.add(r.acc);
+        if constexpr (has(term::wall_penalty)) r.acc += walls_.force(P_.x[a]) / P_.mass[a];
+        P_.acc[a] = r.acc;
+        P_.drho[a] = r.drho;
+      } else {
+        P_.acc[a].setZero();
+        // Outlet particles keep the density they left with (a zero-gradient outlet).
+        P_.drho[a] = P_.kind[a] == Kind::outlet ? 0.0 : gather<false>(a).drho;
+      }
+    }
+  }
+
+  // No-slip at fixed boundary particles for the viscous term: a boundary
+  // particle b takes 2 v_b - v~_b, with v~_b the Shepard average of the fluid
+  // velocity around it, so the fluid sees the velocity mirrored through the
+  // wall (as Adami et al. 2012). Its own v_b (the wall's velocity) is unchanged.
+  void no_slip_velocities() {
+    const std::ptrdiff_t n = P_.size();
+    const double support2 = kernel_.support_radius() * kernel_.support_radius();
+#pragma omp parallel for schedule(dynamic, 256) if (n >= parallel_min_heavy)
+    for (std::ptrdiff_t b = 0; b < n; ++b) {
+      if (P_.kind[b] != Kind::boundary) {
+        P_.v_noslip[b] = P_.v[b];
+        continue;
+      }
+      Vec<D> sum = Vec<D>::Zero();
+      double weight = 0.0;
+      const Vec<D> xb = P_.x[b];
+      cells_.for_each_neighbour(xb, [&](int f, const Vec<D>& shift) {
+        if (!P_.moves(f)) return;
+        const double r2 = (xb - P_.x[f] - shift).squaredNorm();
+        if (r2 >= support2) return;
+        const double w = kernel_.value(std::sqrt(r2));
+        sum += w * P_.v[f];
+        weight += w;
+      });
+      P_.v_noslip[b] = weight > 0.0 ? Vec<D>(2.0 * P_.v[b] - sum / weight) : P_.v[b];
+    }
+  }
+
+  // A particle of mass m appears (sign +1) or disappears (-1) at x: change the
+  // density of the fixed boundary particles around it by its kernel share
+  // m W, as a summation density would, so continuity does not keep a memory
+  // of particles that an inlet created or an outlet removed. Boundary
+  // particles never move, so the cells of the last binning still hold them.
+  void boundary_density_event(const Vec<D>& x, double m, double sign) {
+    Vec<D> xj = x;
+    box_.wrap(xj);
+    const double support2 = kernel_.support_radius() * kernel_.support_radius();
+    cells_.for_each_neighbour(xj, [&](int b, const Vec<D>& shift) {
+      if (static_cast<std::size_t>(b) >= P_.size() || P_.kind[b] != Kind::boundary) return;
+      const double r2 = (P_.x[b] + shift - xj).squaredNorm();
+      if (r2 < support2) P_.rho[b] += sign * m * kernel_.value(std::sqrt(r2));
+    });
+  }
+
+  // Time step of eq. 13 extended by the viscous and force criteria, from the
+  // rates just computed: min(cfl h/(c0 + v_max), viscous h^2/nu, force sqrt(h/a_max)).
+  double adaptive_dt() const {
+    double v2 = 0.0, a2 = 0.0;
+    const std::ptrdiff_t n = P_.size();
+#pragma omp parallel for reduction(max : v2, a2) schedule(static) if (n >= parallel_min_light)
+    for (std::ptrdiff_t i = 0; i < n; ++i) {
+      if (!P_.moves(i)) continue;
+      v2 = std::max(v2, P_.v[i].squaredNorm());
+      a2 = std::max(a2, P_.acc[i].squaredNorm());
+    }
+    const double h = deck_.h;
+    double dt = deck_.cfl * h / (deck_.c0 + std::sqrt(v2));
+    if constexpr (has(term::morris_viscosity)) dt = std::min(dt, deck_.viscous_factor * h * h / deck_.viscosity);
+    if (a2 > 0.0) dt = std::min(dt, deck_.force_factor * std::sqrt(h / std::sqrt(a2)));
+    return dt;
+  }
+
+  // Save the start-of-step state; rates must be current for it.
+  void begin_step() {
+    P_.x0 = P_.x;
+    P_.v0 = P_.v;
+    P_.rho0 = P_.rho;
+  }
+
+  // Predictor: half step with the start-of-step rates, then re-bin.
+  bool predict(double dt) {
+    const double half = 0.5 * dt;
+    const std::ptrdiff_t n = P_.size();
+#pragma omp parallel for schedule(static) if (n >= parallel_min_light)
+    for (std::ptrdiff_t i = 0; i < n; ++i) {
+      P_.rho[i] = P_.rho0[i] + half * P_.drho[i];
+      if (!P_.advects(i)) continue;  // acc is zero for all but fluid
+      P_.x[i] = P_.x0[i] + half * P_.v0[i];
+      box_.wrap(P_.x[i]);
+      P_.v[i] = P_.v0[i] + half * P_.acc[i];
+    }
+    return cells_.build(P_.x, P_.size());
+  }
+
+  // Corrector with the mid-step rates. Displacements are handed to `crossed`
+  // (x_old, dx, volume) before wrapping, for flow-rate planes.
+  template <class Crossed>
+  void correct(double dt, Crossed&& crossed) {
+    const std::ptrdiff_t n = P_.size();
+#pragma omp parallel for schedule(static) if (n >= parallel_min_light)
+    for (std::ptrdiff_t i = 0; i < n; ++i) {
+      P_.rho[i] = P_.rho0[i] + dt * P_.drho[i];
+      if (!P_.advects(i)) continue;
+      const Vec<D> dx = dt * (P_.v0[i] + 0.5 * dt * P_.acc[i]);
+      P_.v[i] = P_.v0[i] + dt * P_.acc[i];
+      P_.x[i] = P_.x0[i] + dx;
+      box_.wrap(P_.x[i]);
+    }
+    if constexpr (!std::is_same_v<std::decay_t<Crossed>, NoCrossings>)
+      for (std::ptrdiff_t i = 0; i < n; ++i)
+        if (P_.moves(i)) crossed(P_.x0[i], Vec<D>(dt * (P_.v0[i] + 0.5 * dt * P_.acc[i])), P_.mass[i] / P_.rho[i]);
+  }
+
+  // One full step (the rates of the current state are computed here).
+  template <class Crossed>
+  bool step(double dt, Crossed&& crossed) {
+    compute_rates();
+    begin_step();
+    if (!predict(dt)) return false;
+    compute_rates();
+    correct(dt, crossed);
+    return true;
+  }
+
+  // NaN anywhere, or a fluid particle whose density deviates from rho0 by more
+  // than the threshold or that is faster than c0. (Boundary and buffer
+  // densities are devices of the wall and open-boundary models.)
+  StabilityReport check_stability() const {
+    const std::ptrdiff_t n = P_.size();
+    double worst_rho = 0.0, worst_v2 = 0.0;
+    bool finite = true;
+#pragma omp parallel for reduction(max : worst_rho, worst_v2) reduction(&& : finite) schedule(static) \
+    if (n >= parallel_min_light)
+    for (std::ptrdiff_t i = 0; i < n; ++i) {
+      finite = finite && std::isfinite(P_.rho[i]) && P_.x[i].allFinite() && P_.v[i].allFinite();
+      if (!P_.moves(i)) continue;
+      worst_rho = std::max(worst_rho, std::abs(P_.rho[i] / deck_.rho0 - 1.0));
+      worst_v2 = std::max(worst_v2, P_.v[i].squaredNorm());
+    }
+    if (!finite) return {false, "a particle's position, velocity or density is not finite"};
+    if (worst_rho > deck_.max_density_deviation)
+      return {false, "density deviates from rho0 by " + std::to_string(100.0 * worst_rho) + " % (limit " +
+                         std::to_string(100.0 * deck_.max_density_deviation) + " %)"};
+    if (worst_v2 > deck_.c0 * deck_.c0)
+      return {false, "a particle moves at " + std::to_string(std::sqrt(worst_v2)) + " m/s, faster than c0 = " +
+                         std::to_string(deck_.c0) + " m/s"};
+    return {};
+  }
+
+  // max |rho/rho0 - 1| over the fluid particles.
+  double max_density_deviation() const {
+    double worst = 0.0;
+    for (std::size_t i = 0; i < P_.size(); ++i)
+      if (P_.moves(i)) worst = std::max(worst, std::abs(P_.rho[i] / deck_.rho0 - 1.0));
+    return worst;
+  }
+
+ private:
+  // Sum the pair terms over the neighbours of particle a.
+  template <bool Moves>
+  PairRates<D> gather(std::ptrdiff_t a) const {
+    // Raw pointers and local copies let the compiler keep them in registers.
+    const Vec<D>* const x = P_.x.data();
+    const Vec<D>* const v = P_.v.data();
+    const Vec<D>* const v_noslip = P_.v_noslip.data();
+    const double* const mass = P_.mass.data();
+    const double* const rho = P_.rho.data();
+    const double* const p = P_.p.data();
+    const double* const c = P_.c.data();
+    const double* const vol = P_.vol.data();
+    const double* const p_rho2 = P_.p_rho2.data();
+    const WendlandC2<D> kernel = kernel_;
+    const Model model = model_;
+    PairRates<D> r;
+    const Vec<D> xa = x[a], va = v[a];
+    const double rho_a = rho[a], p_a = p[a], c_a = has(term::artificial_viscosity) ? c[a] : 0.0;
+    const double p_rho2_a = p_rho2[a], inv_rho_a = 1.0 / rho_a;
+    const double support2 = kernel.support_radius() * kernel.support_radius();
+    cells_.for_each_neighbour(xa, [&](int b, const Vec<D>& shift) {
+      Pair<D> pr;
+      pr.r_ab = xa - x[b] - shift;
+      pr.r2 = pr.r_ab.squaredNorm();
+      if (pr.r2 >= support2 || pr.r2 == 0.0) return;
+      pr.grad_w = kernel.gradient_factor(std::sqrt(pr.r2)) * pr.r_ab;
+      pr.v_ab = va - v[b];
+      if constexpr (has(term::morris_viscosity)) pr.v_ab_noslip = va - v_noslip[b];
+      pr.m_b = mass[b];
+      pr.vol_b = vol[b];
+      pr.rho_a = rho_a;
+      pr.inv_rho_a = inv_rho_a;
+      pr.rho_b = rho[b];
+      pr.p_a = p_a;
+      pr.p_b = p[b];
+      pr.p_rho2_a = p_rho2_a;
+      pr.p_rho2_b = p_rho2[b];
+      if constexpr (has(term::artificial_viscosity)) {
+        pr.c_a = c_a;
+        pr.c_b = c[b];
+      }
+      if constexpr (Moves)
+        model.pair(pr, r);
+      else
+        model.boundary_pair(pr, r);
+    });
+    return r;
+  }
+
+  Deck deck_;
+  Particles<D> P_;
+  WendlandC2<D> kernel_;
+  TaitEos eos_;
+  Model model_;
+  PeriodicBox<D> box_;
+  CellList<D> cells_;
+  WallPenalty<D> walls_;
+};
+
+}  // namespace sph

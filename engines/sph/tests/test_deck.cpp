@@ -1,0 +1,157 @@
+// Deck validation: each bad input is rejected with a message naming the problem.
+#include <nlohmann/json.hpp>
+
+#include "check.h"
+#include "deck.h"
+#include "physics_terms.h"
+#include "test_files.h"
+
+using namespace sph;
+using nlohmann::json;
+
+namespace {
+
+std::filesystem::path deck_dir() {
+  static const auto dir = [] {
+    const auto d = testfiles::scratch("deck");
+    testfiles::ParticleRows p;
+    p.add({0.0, 0.0}, {0.0, 0.0}, 1e-3, 1000.0, 0);
+    p.write(d / "particles.h5");
+    return d;
+  }();
+  return dir;
+}
+
+json good_deck() {
+  return json::parse(R"({
+    "dimension": 2, "particles_file": "particles.h5",
+    "physics": ["morris_viscosity", "body_force"],
+    "rho0": 1000, "c0": 20, "v_max": 1.0, "viscosity": 1e-6, "h": 1.3e-3, "dx": 1e-3,
+    "body_force": [0, -9.81], "t_end": 0.1,
+    "output": {"file": "out.h5", "frame_interval": 0.01}
+  })");
+}
+
+// The InputError message for a deck, or "" when it is accepted.
+std::string rejection(const json& j) {
+  try {
+    parse_deck(j, deck_dir().string());
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+bool mentions(const std::string& msg, const std::string& part) { return msg.find(part) != std::string::npos; }
+
+}  // namespace
+
+TEST(good_deck_is_accepted) {
+  const Deck d = parse_deck(good_deck(), deck_dir().string());
+  CHECK(d.dimension == 2);
+  CHECK(d.terms == (term::morris_viscosity | term::body_force));
+  CHECK(d.gamma == 7.0);
+  CHECK(!d.dt.has_value());
+  CHECK(d.series_interval == d.frame_interval);
+  CHECK(mentions(d.output_file, "out.h5"));
+  CHECK(d.terms_string() == "continuity,tait_eos,pressure_gradient,morris_viscosity,body_force");
+}
+
+TEST(unknown_keys_are_named_with_the_allowed_ones) {
+  json j = good_deck();
+  j["smoothing"] = 1.0;
+  std::string msg = rejection(j);
+  CHECK(mentions(msg, "unknown key 'smoothing'") && mentions(msg, "allowed keys:") && mentions(msg, "particles_file"));
+  j = good_deck();
+  j["output"]["every"] = 3;
+  msg = rejection(j);
+  CHECK(mentions(msg, "unknown key 'output.every'") && mentions(msg, "frame_interval"));
+  j = good_deck();
+  j["physics"].push_back("turbulence");
+  CHECK(mentions(rejection(j), "unknown physics term 'turbulence'"));
+}
+
+TEST(bad_values_are_rejected) {
+  json j = good_deck();
+  j["h"] = 0.0;
+  CHECK(mentions(rejection(j), "'h' must be > 0"));
+  j = good_deck();
+  j["dx"] = -1e-3;
+  CHECK(mentions(rejection(j), "'dx' must be > 0"));
+  j = good_deck();
+  j["c0"] = 9.0;  // < 10 v_max
+  CHECK(mentions(rejection(j), "c0 >= 10 v_max"));
+  j = good_deck();
+  j["particles_file"] = "nowhere.h5";
+  CHECK(mentions(rejection(j), "does not exist"));
+  j = good_deck();
+  j["dimension"] = 4;
+  CHECK(mentions(rejection(j), "'dimension' must be 2 or 3"));
+  j = good_deck();
+  j["body_force"] = {0, 0, -9.81};
+  CHECK(mentions(rejection(j), "'body_force' must be a list of 2 numbers"));
+  j = good_deck();
+  j["h"] = "small";
+  CHECK(mentions(rejection(j), "'h' must be a number"));
+  j = good_deck();
+  j["dt"] = 1e-5;
+  j["time_step"] = {{"cfl", 0.2}};
+  CHECK(mentions(rejection(j), "either 'dt'"));
+  j = good_deck();
+  j.erase("t_end");
+  CHECK(mentions(rejection(j), "missing key 't_end'"));
+}
+
+TEST(term_keys_must_match_the_physics_list) {
+  json j = good_deck();
+  j["alpha"] = 0.1;
+  CHECK(mentions(rejection(j), "'alpha' is given but physics term 'artificial_viscosity'"));
+  j = good_deck();
+  j.erase("viscosity");
+  CHECK(mentions(rejection(j), "'morris_viscosity' is on but key 'viscosity' is missing"));
+  j = good_deck();
+  j["physics"].push_back("wall_penalty");
+  CHECK(mentions(rejection(j), "key 'meshes' is missing"));
+  j["meshes"] = json::parse(R"([{"name": "floor", "vertices": [[0, 0], [1, 0]], "faces": [[0, 1]]}])");
+  j["wall"] = json::parse(R"({"range": 1e-3, "s": 2e-3, "psi": 1.0})");
+  CHECK(mentions(rejection(j), "'wall.s' must be smaller"));
+  j["wall"]["s"] = 0.5e-3;
+  CHECK(rejection(j).empty());
+  j["meshes"][0]["file"] = "missing.h5";
+  CHECK(mentions(rejection(j), "both 'file' and inline"));
+}
+
+TEST(periodic_and_output_sections) {
+  json j = good_deck();
+  j["periodic"] = json::parse(R"({"axes": [0], "lo": [0.0], "hi": [1e-3]})");
+  CHECK(mentions(rejection(j), "at least the kernel support"));
+  j["periodic"]["hi"] = {1e-2};
+  CHECK(rejection(j).empty());
+  j["periodic"]["axes"] = {2};
+  CHECK(mentions(rejection(j), "'periodic.axes' entries must be integers in 0..1"));
+  j = good_deck();
+  j["output"]["flow_planes"] = json::parse(R"([{"name": "q", "center": [0, 0], "normal": [1, 0]}])");
+  CHECK(mentions(rejection(j), "exactly one of 'radius'"));
+  j["output"]["flow_planes"][0]["radius"] = 1e-3;
+  j["output"]["probes"] = json::parse(R"([{"name": "p", "point": [0, 0]}, {"name": "p", "point": [1, 0]}])");
+  CHECK(mentions(rejection(j), "duplicate name 'p'"));
+}
+
+TEST(inlets_and_outlets) {
+  json j = good_deck();
+  j["inlets"] = json::parse(R"([{"name": "feed", "center": [0, 0], "normal": [1, 0], "radius": 0.01, "velocity": 0.5}])");
+  j["outlets"] = json::parse(R"([{"name": "drain", "center": [0.1, 0], "normal": [1, 0], "radius": 0.01}])");
+  const Deck d = parse_deck(j, deck_dir().string());
+  CHECK(d.inlets.size() == 1 && d.outlets.size() == 1 && d.inlets[0].layers == 3 && d.inlets[0].velocity == 0.5);
+  j["inlets"][0]["velocity"] = 2.0;  // above v_max
+  CHECK(mentions(rejection(j), "exceeds v_max"));
+  j["inlets"][0]["velocity"] = 0.5;
+  j["inlets"][0]["layers"] = 2;  // 2 dx < 2h
+  CHECK(mentions(rejection(j), "must cover the kernel support"));
+  j["inlets"][0].erase("layers");
+  j["outlets"][0]["speed"] = 1.0;
+  CHECK(mentions(rejection(j), "unknown key 'outlets[0].speed'"));
+  j["outlets"][0].erase("speed");
+  j["outlets"][0]["name"] = "feed";
+  CHECK(mentions(rejection(j), "duplicate name 'feed'"));
+}
