@@ -7,6 +7,7 @@ import argparse
 import json
 import math
 import sys
+from pathlib import Path
 
 from . import __version__
 
@@ -70,6 +71,46 @@ def _parser() -> argparse.ArgumentParser:
                         help="'finest' (smallest time step), a run id prefix, or a number (closed form / paper)")
     report.add_argument("--tolerance", type=float, default=0.05, help="relative error accepted (default 0.05)")
 
+    verify = sub.add_parser(
+        "verify", help="verification suite: every scene on every installed engine against closed forms",
+        description="Run every verification scene (cases/verification/*.toml: Chung & Ooi 2011 tests 1-4 and the "
+        "sphere drop of Uhlmann et al. 2015) on every installed DEM engine and on the reference DEM, compare each "
+        "measured quantity with its closed form, print one table (scene, engine, quantity [SI unit], value, "
+        "expected, rel_error = |value - expected| / |expected|, tolerance, passed) and save verify_dem.png (normal "
+        "force in N against time in ms, engines overlaid per scene). Exit code 1 if any check fails.")
+    verify.add_argument("suite", choices=["dem"], help="which suite: dem (discrete element impacts)")
+    verify.add_argument("--engine", dest="engines", action="append", metavar="NAME",
+                        help="run on this engine only (repeatable; default: every installed DEM engine and the "
+                        "reference)")
+    verify.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE",
+                        help="override a value of every scene, SI units, e.g. --set numerics.timestep_factor=0.1")
+    verify.add_argument("--cases", metavar="DIR", help="directory of scenes (default: the shipped cases/verification)")
+    verify.add_argument("--out", metavar="DIR", help="run directories and the PNG (default: runs/verify-dem-<time>)")
+    verify.add_argument("--workers", type=int, metavar="N", help="parallel runs (default: the number of cores)")
+    verify.add_argument("--json", action="store_true",
+                        help="print the rows as a JSON list of objects with the keys scene, engine, quantity, value, "
+                        "expected, rel_error, tolerance, passed (SI units; null where not measured)")
+    verify.add_argument("--timestep-factors", type=float, nargs="+", metavar="F",
+                        help="speed against error instead: run the suite at each numerics.timestep_factor F (fraction "
+                        "of the critical step, e.g. 0.01 0.05 0.2 1) and print, per engine and F, the worst relative "
+                        "error, the checks passed and the engine compute time in s; saves timestep_sweep.png")
+
+    calibrate = sub.add_parser(
+        "calibrate", help="fit a model parameter to measured or simulated data (restitution from a sphere drop)",
+        description="calibrate restitution: fit the normal coefficient of restitution e_n (-) to the first three "
+        "impacts of a sphere drop, as Uhlmann et al. 2015 did: from the peak-force ratios F2/F1, F3/F1 and the times "
+        "since the first impact t2-t1, t3-t1 (s), with the drop case's damped Hertz closed forms as the model.")
+    calibrate.add_argument("parameter", choices=["restitution"], help="what to fit: restitution (e_n, -)")
+    source = calibrate.add_mutually_exclusive_group(required=True)
+    source.add_argument("--csv", metavar="FILE", help="force-sensor trace: a header line, then rows time_s,force_N")
+    source.add_argument("--run", metavar="RUN_DIR", help="a simulated drop (its run.h5 contact events and case)")
+    calibrate.add_argument("--case", metavar="CASE",
+                           help="the drop's case file for --csv (sphere, plate, drop height; default: "
+                           "cases/verification/uhlmann2015_sphere_drop.toml, the paper's 10 mm drop)")
+    calibrate.add_argument("--json", action="store_true",
+                           help="print one JSON object: restitution, residuals, observed and model peaks (N) and "
+                           "peak times (s)")
+
     doctor = sub.add_parser("doctor", help="which engines are installed, their versions and paths")
     doctor.add_argument("--json", action="store_true", help="print a JSON list")
 
@@ -90,7 +131,8 @@ def main(argv=None) -> int:
         return 2
     try:
         commands = {"run": _cmd_run, "analyze": _cmd_analyze, "doctor": _cmd_doctor, "export": _cmd_export,
-                    "study": _cmd_study, "status": _cmd_status, "report": _cmd_report}
+                    "study": _cmd_study, "status": _cmd_status, "report": _cmd_report, "verify": _cmd_verify,
+                    "calibrate": _cmd_calibrate}
         return commands[args.command](args)
     except OrchestratorError as exc:
         if getattr(args, "json", False) and exc.summary is not None:
@@ -250,4 +292,72 @@ def _cmd_report(args) -> int:
 
     print(write_study_report(args.study_dir, quantity=args.quantity, reference=args.reference,
                              tolerance=args.tolerance))
+    return 0
+
+
+def _cmd_verify(args) -> int:
+    from .verify import default_out_dir, format_table, json_rows, plot_force_curves, run_verification
+
+    out_dir = args.out or default_out_dir()
+    if args.timestep_factors:
+        return _verify_sweep(args, Path(out_dir))
+    def done(run, count, total):
+        print(f"verify: {count}/{total} {run.scene} on {run.engine}: {run.status}", file=sys.stderr, flush=True)
+
+    runs = run_verification(engines=args.engines, out_dir=out_dir, cases_dir=args.cases, overrides=args.overrides,
+                            workers=args.workers, on_done=done)
+    png = plot_force_curves(runs, Path(out_dir) / "verify_dem.png")
+    rows = json_rows(runs)
+    failed = sum(not row["passed"] for row in rows)
+    if args.json:
+        print(json.dumps(rows))
+    else:
+        print(format_table(runs))
+        engines = ", ".join(dict.fromkeys(run.engine for run in runs))
+        print(f"{len(rows) - failed} of {len(rows)} checks passed ({len(runs)} runs on {engines})")
+        print(f"curves       {png}")
+        print(f"runs         {out_dir}")
+    return 1 if failed else 0
+
+
+def _verify_sweep(args, out_dir: Path) -> int:
+    from dataclasses import asdict
+
+    from .errors import OrchestratorError
+    from .timestep_study import format_sweep, plot_sweep, run_timestep_sweep
+
+    if any(not 0 < f <= 1 for f in args.timestep_factors):
+        raise OrchestratorError("--timestep-factors: every factor must be in (0, 1] (a fraction of the critical step)")
+    points, _ = run_timestep_sweep(args.timestep_factors, engines=args.engines, out_dir=out_dir,
+                                   cases_dir=args.cases, workers=args.workers)
+    png = plot_sweep(points, out_dir / "timestep_sweep.png")
+    if args.json:
+        print(json.dumps([_jsonable(asdict(p)) for p in points]))
+    else:
+        print(format_sweep(points))
+        print(f"plot         {png}")
+        print(f"runs         {out_dir}")
+    return 0
+
+
+def _cmd_calibrate(args) -> int:
+    from dataclasses import asdict
+
+    from .calibrate import drop_case_path, fit_restitution, format_fit, observations_from_csv, observations_from_run
+    from .case import load_case
+
+    if args.run:
+        observed, case = observations_from_run(args.run)
+        if args.case:
+            case = load_case(args.case).model
+        source = f"run {args.run}"
+    else:
+        observed = observations_from_csv(args.csv)
+        case = load_case(args.case or drop_case_path()).model
+        source = f"CSV {args.csv}"
+    fit = fit_restitution(case, observed, source)
+    if args.json:
+        print(json.dumps(_jsonable(asdict(fit))))
+    else:
+        print(format_fit(fit))
     return 0

@@ -27,6 +27,8 @@ def analyze_run(run_dir, render: bool = True) -> dict:
     run = read_run(run_dir)
     case = _loaded_case(run)
     attrs = run["attrs"]
+    if case.case.kind == "impact":
+        return analyze_impact_run(run_dir, run, case)
     measured = run.get("measured", {}).get("attrs", {})
     print(f"run {run_dir}: status {attrs['status']}, {attrs['engine']} {attrs['engine_version']}, "
           f"{attrs['n_particles']} particles, {attrs['n_steps']} steps, {attrs['wall_time_s']:.1f} s")
@@ -44,3 +46,35 @@ def analyze_run(run_dir, render: bool = True) -> dict:
     for name, path in outputs.items():
         print(f"{name:<8} {path}")
     return outputs
+
+
+def analyze_impact_run(run_dir: Path, run: dict, case) -> dict:
+    """Print an impact run's checks (measured against expected, SI units) and write forces.png."""
+    import numpy as np
+
+    from .analysis.impact import QUANTITIES, evaluate_checks
+    from .verify import SceneRun, plot_force_curves
+
+    attrs = run["attrs"]
+    measured = run.get("measured", {}).get("attrs", {})
+    spheres = f"{attrs['n_particles']} sphere{'s' if attrs['n_particles'] != 1 else ''}"
+    print(f"run {run_dir}: status {attrs['status']}, {attrs['engine']} {attrs['engine_version']}, {spheres}, "
+          f"{attrs['n_steps']} steps, {attrs['wall_time_s']:.1f} s")
+    if attrs.get("deviation"):
+        print(f"note: {attrs['deviation']}")
+    for name, (unit, meaning) in QUANTITIES.items():
+        if name in measured:
+            print(f"{name:<28} {measured[name]:<12.6g} {unit:<6} {meaning}")
+    for row in evaluate_checks(case, measured):
+        verdict = "pass" if row.passed else "FAIL"
+        print(f"check {row.quantity:<28} expected {row.expected:<12.6g} ({row.source}) rel_error {row.rel_error:.2e} "
+              f"tolerance {row.tolerance:g} {verdict}" + (f" ({row.note})" if row.note else ""))
+    scene = SceneRun(case.case.name, attrs["engine"], attrs["status"], attrs.get("message", ""), run_dir)
+    series, events = run.get("series", {}), run.get("events", {})
+    if "normal_force" in series:
+        scene.time, scene.normal_force = series["time"], series["normal_force"]
+    if "peak_time" in events:
+        scene.peaks = np.column_stack([events["peak_time"], events["peak_normal_force"]])
+    path = plot_force_curves([scene], run_dir / "forces.png")
+    print(f"forces   {path}")
+    return {"forces": path}

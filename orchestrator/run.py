@@ -83,14 +83,16 @@ def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float |
     backend = get_backend(engine, threads=case.numerics.threads)
     backend.check_available()
     version = backend.version()
-    run_dir = prepare_run_dir(out_dir, case.case.name, engine, force)
-    (run_dir / "case.toml").write_text(loaded.toml_text)
-    started = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
     t0 = time.monotonic()
     try:
         scene = build_scene(case)
     except ValueError as exc:
         raise OrchestratorError(f"cannot build the scene of {case.case.name}: {exc}") from None
+    if hasattr(backend, "check_scene"):
+        backend.check_scene(scene)  # e.g. a scene too big for the reference DEM: refused before anything is written
+    run_dir = prepare_run_dir(out_dir, case.case.name, engine, force)
+    (run_dir / "case.toml").write_text(loaded.toml_text)
+    started = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
     backend.write_input(scene, run_dir)
     command, env = backend.command(run_dir)
     prep_s = time.monotonic() - t0

@@ -45,6 +45,10 @@ def write_run(path: Path, result: Result, root_attrs: dict, case_toml: str, case
                         sub.attrs[name] = array
                     else:
                         sub.create_dataset(name, data=array)
+        if result.events:
+            events = h5.create_group("events")
+            for name, item in result.events.items():
+                events.create_dataset(name, data=item.values).attrs["units"] = item.units
         meshes = h5.create_group("meshes")
         for name, arrays in result.meshes.items():
             sub = meshes.create_group(name)

@@ -9,6 +9,8 @@ from pathlib import Path
 
 import pytest
 
+from orchestrator.backends import engine_names
+
 from orchestrator.backends.yade import YadeBackend
 from orchestrator.study import Study, grid, zipped
 
@@ -92,7 +94,7 @@ BAD = {
     "zip-lengths": ('[study]\nname="t"\ncase="CASE"\n[sweep]\nmode="zip"\n[sweep.parameters]\n'
                     '"media.count"=[50,60]\n"case.seed"=[1]\n', ["equal length", "media.count"]),
     "unknown-engine": ('[study]\nname="t"\ncase="CASE"\nengines=["fluent"]\n[sweep]\n[sweep.parameters]\n'
-                       '"media.count"=[50]\n', ["fluent", "allowed: yade"]),
+                       '"media.count"=[50]\n', ["fluent", f"allowed: {', '.join(engine_names())}"]),
     "bad-value": ('[study]\nname="t"\ncase="CASE"\n[sweep]\n[sweep.parameters]\n"media.count"=[50, -3]\n',
                   ["media.count", "-3"]),
     "missing-case": ('[study]\nname="t"\ncase="nope.toml"\n[sweep]\n[sweep.parameters]\n"media.count"=[50]\n',

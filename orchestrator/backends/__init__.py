@@ -13,6 +13,7 @@ from ..errors import OrchestratorError
 
 _REGISTRY = {
     "yade": ("orchestrator.backends.yade", "YadeBackend"),
+    "reference": ("orchestrator.backends.reference", "ReferenceBackend"),
 }
 
 

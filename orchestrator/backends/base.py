@@ -28,8 +28,10 @@ class Result:
 
     attrs: root attributes (n_steps, dt, ...); series: name -> Series;
     frames / contacts: lists of (time_s, {name: array}); meshes: name ->
-    {"vertices", "faces", per-face fields}; measured: the case's measured
-    quantities (filled by the analysis).
+    {"vertices", "faces", per-face fields}; events: one row per contact
+    from first touch to separation (impact cases; columns in
+    analysis.impact.EVENT_FIELDS); measured: the case's measured quantities
+    (filled by the analysis).
     """
 
     status: str = "ok"
@@ -40,6 +42,7 @@ class Result:
     frames: list[tuple[float, dict[str, np.ndarray]]] = field(default_factory=list)
     contacts: list[tuple[float, dict[str, np.ndarray]]] = field(default_factory=list)
     meshes: dict[str, dict[str, np.ndarray]] = field(default_factory=dict)
+    events: dict[str, Series] = field(default_factory=dict)
     measured: dict[str, float] = field(default_factory=dict)
 
 

@@ -1,4 +1,4 @@
-"""Yade backend: the drag-finishing scene as a Jinja-rendered Yade script.
+"""Yade backend: the drag-finishing and impact scenes as Jinja-rendered Yade scripts.
 
 Profile: Yade is found through its launcher (``yade`` on PATH, or
 ``$ORCHESTRATOR_YADE``). The script is run by the launcher's own python with
@@ -25,8 +25,8 @@ from ..errors import EngineNotFound, ReadError
 from ..templating import render, template_root
 from .base import Backend, Result, Series
 
-TEMPLATES = {"drag_finishing": "yade/drag_finishing.py.j2"}
-SCRIPT_NAME = {"drag_finishing": "drag_finishing.py"}
+TEMPLATES = {"drag_finishing": "yade/drag_finishing.py.j2", "impact": "yade/impact.py.j2"}
+SCRIPT_NAME = {"drag_finishing": "drag_finishing.py", "impact": "impact.py"}
 PHASE_CODES = {0: "settle", 1: "insert", 2: "relax", 3: "process"}
 
 
@@ -82,9 +82,11 @@ class YadeBackend(Backend):
     """Template (Yade scripts under templates/yade/) plus profile (YadeProfile)."""
 
     name = "yade"
+    case_kinds = ("drag_finishing", "impact")
 
     def __init__(self, executable: str | None = None, threads: int = 1):
         self.profile = YadeProfile(executable, threads)
+        self._kind = "drag_finishing"  # set by write_input; command() runs that kind's script
 
     def available(self) -> bool:
         return bool(self.profile.executable) and Path(self.profile.executable).exists()
@@ -111,6 +113,10 @@ class YadeBackend(Backend):
     # ---- input ----
     def render_context(self, scene) -> dict:
         """Plain values the template needs (SI units)."""
+        if scene.case.case.kind == "impact":
+            from .yade_impact import impact_context
+
+            return impact_context(scene)
         case = scene.case
         scale = case.numerics.stiffness_scale
         materials = [
@@ -163,7 +169,13 @@ class YadeBackend(Backend):
 
     def write_input(self, scene, workdir: Path) -> None:
         kind = scene.case.case.kind
+        self._kind = kind
         workdir = Path(workdir)
+        if kind == "impact":
+            from .yade_impact import write_impact_input
+
+            write_impact_input(scene, workdir, render(TEMPLATES[kind], self.render_context(scene)))
+            return
         arrays = {"positions": scene.positions, "radii": scene.radii}
         for name, part in scene.meshes.items():
             arrays[f"{name}_vertices"] = np.asarray(part.mesh.vertices, dtype=float)
@@ -172,8 +184,8 @@ class YadeBackend(Backend):
         scene.write_meshes(workdir)
         (workdir / SCRIPT_NAME[kind]).write_text(render(TEMPLATES[kind], self.render_context(scene)))
 
-    def command(self, workdir: Path, kind: str = "drag_finishing") -> tuple[list[str], dict[str, str]]:
-        command, env = self.profile.command(SCRIPT_NAME[kind])
+    def command(self, workdir: Path, kind: str | None = None) -> tuple[list[str], dict[str, str]]:
+        command, env = self.profile.command(SCRIPT_NAME[kind or self._kind])
         # Yade makes a scratch directory per process; keep it inside the run, not in /tmp.
         scratch = Path(workdir) / "tmp"
         scratch.mkdir(exist_ok=True)
@@ -181,6 +193,8 @@ class YadeBackend(Backend):
 
     def planned_steps(self, scene) -> int:
         """Upper bound of the run's time steps (settling counted at its maximum time)."""
+        if scene.case.case.kind == "impact":
+            return 0  # short runs of a few spheres: no timing probe
         return self.render_context(scene)["planned_steps"]
 
     def probe_command(self, workdir: Path, kind: str = "drag_finishing", steps: int = 200):
@@ -190,6 +204,13 @@ class YadeBackend(Backend):
 
     # ---- output ----
     def read_output(self, scene, workdir: Path) -> Result:
+        if scene.case.case.kind == "impact":
+            from .yade_impact import read_impact_output, yade_deviations
+
+            result = read_impact_output(scene, Path(workdir))
+            if yade_deviations(scene.case):
+                result.attrs["deviation"] = yade_deviations(scene.case)
+            return result
         return read_drag_finishing_output(scene, Path(workdir))
 
 

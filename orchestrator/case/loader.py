@@ -20,9 +20,10 @@ from pydantic import BaseModel, ValidationError
 
 from ..errors import CaseError
 from .drag_finishing import DragFinishingCase
+from .impact import ImpactCase
 
-#: case.kind -> model class. Later scene kinds (impacts, SPH flows) add rows.
-CASE_KINDS: dict[str, type[BaseModel]] = {"drag_finishing": DragFinishingCase}
+#: case.kind -> model class. Later scene kinds (SPH flows) add rows.
+CASE_KINDS: dict[str, type[BaseModel]] = {"drag_finishing": DragFinishingCase, "impact": ImpactCase}
 
 
 @dataclass(frozen=True)
@@ -68,15 +69,29 @@ def parse_override(text: str) -> tuple[list[str], Any]:
 
 
 def _set_path(data: dict, path: list[str], value: Any, origin: str) -> None:
+    """Set data[a][b]... = value; a numeric part indexes an array of tables (contacts.0.restitution)."""
     node = data
     for i, part in enumerate(path[:-1]):
-        child = node.get(part)
-        if child is None:
-            child = node[part] = {}
-        if not isinstance(child, dict):
+        if isinstance(node, list):
+            child = node[_index(node, part, path[: i + 1], origin)]
+        else:
+            child = node.get(part)
+            if child is None:
+                child = node[part] = {}
+        if not isinstance(child, (dict, list)) or (isinstance(child, list) and not path[i + 1].isdigit()):
             raise CaseError(f"{origin}: {'.'.join(path[: i + 1])} is a value, not a table; cannot set {'.'.join(path)}")
         node = child
-    node[path[-1]] = value
+    if isinstance(node, list):
+        node[_index(node, path[-1], path, origin)] = value
+    else:
+        node[path[-1]] = value
+
+
+def _index(items: list, part: str, path: list[str], origin: str) -> int:
+    if not part.isdigit() or int(part) >= len(items):
+        raise CaseError(f"{origin}: {'.'.join(path)}: {'.'.join(path[:-1])} has {len(items)} entries; "
+                        f"allowed indices: 0 to {len(items) - 1}")
+    return int(part)
 
 
 def _merge(base: dict, patch: dict, origin: str, prefix: tuple[str, ...] = ()) -> None:

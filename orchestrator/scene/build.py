@@ -87,11 +87,17 @@ def build_drag_finishing(case) -> Scene:
     return Scene(case=case, positions=positions, radii=radii, meshes=meshes, timestep=dt, physics=physics)
 
 
-SCENE_BUILDERS = {"drag_finishing": build_drag_finishing}
+def _build_impact(case):
+    from .impact import build_impact
+
+    return build_impact(case)
 
 
-def build_scene(case) -> Scene:
-    """Build the Scene of any validated case model."""
+SCENE_BUILDERS = {"drag_finishing": build_drag_finishing, "impact": _build_impact}
+
+
+def build_scene(case):
+    """Build the Scene (an ImpactScene for impact cases) of any validated case model."""
     return SCENE_BUILDERS[case.case.kind](case)
 
 

@@ -1,0 +1,252 @@
+"""`orchestrator verify dem`: every verification scene on every installed DEM
+engine and on the reference, checked against its closed form.
+
+The scenes are the impact cases in cases/verification/ (shipped with the
+package); each case's [[expected]] table names the quantity, the closed form
+or value and the relative tolerance. One table row per (scene, engine,
+check); a run that ends unstable or failed gives failing rows with the reason.
+A PNG overlays the normal-force curves of every engine per scene.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import math
+import os
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from .errors import EngineNotFound, OrchestratorError
+
+#: The keys of one row of `orchestrator verify dem --json`, in order.
+ROW_KEYS = ("scene", "engine", "quantity", "value", "expected", "rel_error", "tolerance", "passed")
+_CANDIDATE_DIRS = (
+    Path(__file__).resolve().parent / "verification_cases",  # installed wheel
+    Path(__file__).resolve().parent.parent / "cases" / "verification",  # source checkout / editable install
+)
+
+
+def verification_dir() -> Path:
+    """Directory holding the verification scenes (cases/verification)."""
+    for candidate in _CANDIDATE_DIRS:
+        if candidate.is_dir():
+            return candidate
+    raise OrchestratorError("the verification scenes (cases/verification) are missing; reinstall the package")
+
+
+def scene_files(directory: Path | None = None) -> list[Path]:
+    """The verification case files, sorted by name."""
+    directory = Path(directory) if directory is not None else verification_dir()
+    files = sorted(directory.glob("*.toml"))
+    if not files:
+        raise OrchestratorError(f"no case files (*.toml) in {directory}")
+    return files
+
+
+def dem_engines(requested=None) -> list[str]:
+    """Engines that run impact cases: the requested ones (each must be installed), or every installed one.
+
+    Raises EngineNotFound for a requested engine that is missing and
+    OrchestratorError for one that cannot run impact cases.
+    """
+    from .backends import engine_names, get_backend
+
+    if requested:
+        out = []
+        for name in requested:
+            if name not in engine_names():
+                raise OrchestratorError(f"unknown engine {name!r}; allowed: {', '.join(engine_names())}")
+            backend = get_backend(name)
+            if "impact" not in getattr(backend, "case_kinds", ()):
+                raise OrchestratorError(f"{name} does not run DEM impact scenes; DEM engines: "
+                                        f"{', '.join(dem_engine_names())}")
+            backend.check_available()
+            out.append(name)
+        return list(dict.fromkeys(out))
+    return [name for name in dem_engine_names() if get_backend(name).available()]
+
+
+def dem_engine_names() -> list[str]:
+    """Every registered engine that runs impact cases, installed or not."""
+    from .backends import engine_names, get_backend
+
+    return [name for name in engine_names() if "impact" in getattr(get_backend(name), "case_kinds", ())]
+
+
+@dataclass
+class SceneRun:
+    """One scene on one engine: its rows, status and the curves to plot."""
+
+    scene: str
+    engine: str
+    status: str
+    message: str
+    run_dir: Path
+    rows: list[dict] = field(default_factory=list)
+    time: object = None  # (n,) s
+    normal_force: object = None  # (n,) N
+    peaks: object = None  # (k, 2): peak time s, peak force N of each contact
+    wall_time_s: float = math.nan
+
+
+def run_scene(case_file: Path, engine: str, out_dir: Path, overrides=(), timeout_s: float | None = 600.0) -> SceneRun:
+    """Run one verification scene on one engine and check it (never raises for a failed run)."""
+    import numpy as np
+
+    from .analysis.impact import evaluate_checks
+    from .case import load_case
+    from .run import run_case
+    from .runh5 import read_run
+
+    loaded = load_case(case_file, overrides=overrides)
+    run_dir = Path(out_dir)
+    status, message = "ok", ""
+    try:
+        summary = run_case(loaded, engine=engine, out_dir=run_dir, timeout_s=timeout_s, progress=False, force=True)
+        measured, wall = summary.measured, summary.wall_time_s
+    except EngineNotFound:
+        raise
+    except OrchestratorError as exc:
+        summary = exc.summary
+        status = summary.status if summary is not None else "failed"
+        message = str(exc).split("\n")[0]
+        measured = summary.measured if summary is not None else {}
+        wall = summary.wall_time_s if summary is not None else math.nan
+    result = SceneRun(loaded.name, engine, status, message, run_dir, wall_time_s=wall)
+    try:
+        run = read_run(run_dir)
+    except OrchestratorError:
+        run = {"attrs": {}}
+    deviation = run["attrs"].get("deviation", "")
+    for check in evaluate_checks(loaded.model, measured):
+        passed = check.passed and status == "ok"
+        note = message if status != "ok" else check.note or (f"{engine}: {deviation}" if not passed and deviation
+                                                              else "")
+        result.rows.append({"scene": loaded.name, "engine": engine, "quantity": check.quantity, "value": check.value,
+                            "expected": check.expected, "rel_error": check.rel_error, "tolerance": check.tolerance,
+                            "passed": bool(passed), "source": check.source, "note": note})
+    series = run.get("series", {})
+    if "normal_force" in series:
+        result.time, result.normal_force = series["time"], series["normal_force"]
+    events = run.get("events", {})
+    if "peak_time" in events:
+        result.peaks = np.column_stack([events["peak_time"], events["peak_normal_force"]])
+    return result
+
+
+def run_verification(engines=None, out_dir=None, cases_dir=None, overrides=(), workers: int | None = None,
+                     timeout_s: float | None = 600.0, on_done=None) -> list[SceneRun]:
+    """Every scene in cases_dir on every engine; run directories under out_dir/<scene>/<engine>.
+
+    engines: names (default: every installed DEM engine, the reference included);
+    overrides: --set strings applied to every scene (e.g. numerics.timestep_factor=0.1);
+    workers: parallel runs (default: the number of cores); on_done(run, done, total) is
+    called as each run finishes; timeout_s: wall-time limit of each run, s.
+    """
+    files = scene_files(cases_dir)
+    names = dem_engines(engines)
+    out_dir = Path(out_dir) if out_dir is not None else default_out_dir()
+    jobs = [(path, engine) for path in files for engine in names]
+    workers = workers or max(1, min(len(jobs), os.cpu_count() or 1))
+    # processes, not threads: each run writes and reads its run.h5, and HDF5 is safest one file per process
+    with ProcessPoolExecutor(max_workers=workers) as pool:
+        futures = [pool.submit(run_scene, path, engine, out_dir / path.stem / engine, overrides, timeout_s)
+                   for path, engine in jobs]
+        if on_done is not None:
+            for done, future in enumerate(as_completed(futures), 1):
+                on_done(future.result(), done, len(futures))
+        return [future.result() for future in futures]
+
+
+def default_out_dir(root: Path = Path("runs")) -> Path:
+    """runs/verify-dem-<UTC timestamp>."""
+    stamp = _dt.datetime.now(_dt.timezone.utc).strftime("%Y%m%dT%H%M%S")
+    return root / f"verify-dem-{stamp}"
+
+
+def rows_of(runs: list[SceneRun]) -> list[dict]:
+    """Every check row of the runs, as dicts with ROW_KEYS (plus source and note)."""
+    return [row for run in runs for row in run.rows]
+
+
+def json_rows(runs: list[SceneRun]) -> list[dict]:
+    """Rows with exactly ROW_KEYS; NaN becomes None."""
+    def clean(value):
+        return None if isinstance(value, float) and not math.isfinite(value) else value
+
+    return [{key: clean(row[key]) for key in ROW_KEYS} for row in rows_of(runs)]
+
+
+def format_table(runs: list[SceneRun]) -> str:
+    """The plain-text table: scene, engine, quantity, value, expected, rel_error, tolerance, passed; notes below."""
+    from .analysis.impact import QUANTITIES
+
+    header = ("scene", "engine", "quantity", "value", "expected", "rel_error", "tolerance", "passed")
+    lines, notes = [], []
+    table = []
+    for row in rows_of(runs):
+        unit = QUANTITIES.get(row["quantity"], ("",))[0]
+        cells = [row["scene"], row["engine"], f"{row['quantity']} [{unit}]", _num(row["value"]),
+                 _num(row["expected"]), _num(row["rel_error"], ".2e"), _num(row["tolerance"], ".2g"),
+                 "yes" if row["passed"] else "NO"]
+        if row["note"]:
+            notes.append(f"{row['scene']} / {row['engine']}: {row['note']}")
+        table.append(cells)
+    widths = [max(len(h), *(len(r[i]) for r in table)) if table else len(h) for i, h in enumerate(header)]
+    lines.append("  ".join(h.ljust(w) for h, w in zip(header, widths)))
+    for cells in table:
+        lines.append("  ".join(c.ljust(w) for c, w in zip(cells, widths)))
+    for note in dict.fromkeys(notes):
+        lines.append(f"note: {note}")
+    return "\n".join(lines)
+
+
+def _num(value, fmt: str = ".6g") -> str:
+    if value is None or (isinstance(value, float) and not math.isfinite(value)):
+        return "-"
+    return format(value, fmt)
+
+
+def plot_force_curves(runs: list[SceneRun], path: Path) -> Path:
+    """PNG: one panel per scene with the normal force against time of every engine (peaks marked), N vs s."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    scenes = list(dict.fromkeys(run.scene for run in runs))
+    engines = list(dict.fromkeys(run.engine for run in runs))
+    colours = {engine: f"C{k}" for k, engine in enumerate(engines)}
+    columns = min(4, len(scenes))
+    rows = math.ceil(len(scenes) / columns)
+    fig, axes = plt.subplots(rows, columns, figsize=(4.2 * columns, 3.0 * rows), squeeze=False)
+    for ax, scene in zip(axes.ravel(), scenes):
+        for k, run in enumerate(r for r in runs if r.scene == scene):
+            style = dict(color=colours[run.engine], lw=1.2, ls="-" if k == 0 else "--")
+            label = run.engine + ("" if run.status == "ok" else f" ({run.status})")
+            if run.time is not None and len(run.time):
+                ax.plot(np.asarray(run.time) * 1e3, run.normal_force, label=label, **style)
+            if run.peaks is not None and len(run.peaks):
+                ax.plot(run.peaks[:, 0] * 1e3, run.peaks[:, 1], "o", mfc="none", color=colours[run.engine], ms=5,
+                        label=None if run.time is not None else label)
+                recorded = np.max(run.normal_force, initial=0.0) if run.time is not None else 0.0
+                if recorded < 0.8 * run.peaks[:, 1].max():  # contacts shorter than the record interval: stems
+                    ax.vlines(run.peaks[:, 0] * 1e3, 0.0, run.peaks[:, 1], color=colours[run.engine], lw=1.0,
+                              ls=style["ls"])
+        ax.set_title(scene, fontsize=8)
+        ax.set_xlabel("time [ms]", fontsize=8)
+        ax.set_ylabel("normal force [N]", fontsize=8)
+        ax.tick_params(labelsize=7)
+        ax.legend(fontsize=7)
+    for ax in axes.ravel()[len(scenes):]:
+        ax.set_visible(False)
+    fig.suptitle("contact normal force per verification scene (lines: recorded series; circles: each contact's peak)",
+                 fontsize=9)
+    fig.tight_layout()
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
