@@ -10,6 +10,7 @@ import sys
 from pathlib import Path
 
 from . import __version__
+from .humanize import duration
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -175,7 +176,7 @@ def _cmd_run(args) -> int:
 
     def announce(timing):
         print(f"estimate: {timing.seconds_per_step * 1e3:.3g} ms per step x {timing.planned_steps} steps planned "
-              f"-> the whole run takes about {_duration(timing.estimate_s)}", file=sys.stderr, flush=True)
+              f"-> the whole run takes about {duration(timing.estimate_s)}", file=sys.stderr, flush=True)
 
     summary = run_case(loaded, engine=args.engine, out_dir=args.out, timeout_s=args.timeout,
                        progress=not args.no_progress, force=args.force, on_timing=announce)
@@ -192,16 +193,6 @@ def _cmd_run(args) -> int:
             print(f"{key:<12} {value:.6g}" if isinstance(value, float) else f"{key:<12} {value}")
         print(f"run.h5       {summary.run_dir}/run.h5")
     return 0
-
-
-def _duration(seconds: float) -> str:
-    if seconds < 120:
-        return f"{seconds:.0f} s"
-    if seconds < 7200:
-        return f"{seconds / 60:.0f} min"
-    if seconds < 3 * 86400:
-        return f"{seconds / 3600:.1f} h"
-    return f"{seconds / 86400:.1f} days"
 
 
 def _cmd_analyze(args) -> int:

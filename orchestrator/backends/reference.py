@@ -24,6 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..humanize import duration
 from ..errors import OrchestratorError
 from .base import Backend, Result
 
@@ -75,12 +76,12 @@ class ReferenceBackend(Backend):
                 steps = _drag_finishing_steps(scene)
                 estimate = steps * (STEP_COST_S + SPHERE_STEP_COST_S * scene.n_particles)
                 size = (f"{scene.n_particles} balls for about {steps / 1e6:.3g} million steps: "
-                        f"{_duration(estimate)} at the least in numpy")
+                        f"{duration(estimate)} at the least in numpy")
                 reason = (f"it is too big ({size})" if estimate > MAX_WALL_TIME_S else f"it has {size}") + \
                     " and needs a rod turning through the bed, which the reference does not model"
             raise OrchestratorError(
                 f"the reference DEM cannot run {name}: {reason}. The reference runs impact cases (up to "
-                f"{MAX_SPHERES} spheres, under {_duration(MAX_WALL_TIME_S)}). Run it on an engine instead: "
+                f"{MAX_SPHERES} spheres, under {duration(MAX_WALL_TIME_S)}). Run it on an engine instead: "
                 "--engine yade")
         if scene.n_particles > MAX_SPHERES:
             raise OrchestratorError(
@@ -89,9 +90,9 @@ class ReferenceBackend(Backend):
         estimate = self.estimated_wall_time(scene)
         if estimate > MAX_WALL_TIME_S:
             raise OrchestratorError(
-                f"the case {name} would take the reference DEM about {_duration(estimate)} "
+                f"the case {name} would take the reference DEM about {duration(estimate)} "
                 f"({self.estimated_steps(scene):.3g} steps of {scene.n_particles} spheres; limit "
-                f"{_duration(MAX_WALL_TIME_S)}). Shorten simulation.duration, raise numerics.timestep_factor, or run "
+                f"{duration(MAX_WALL_TIME_S)}). Shorten simulation.duration, raise numerics.timestep_factor, or run "
                 "it on an engine: --engine yade")
 
     def estimated_steps(self, scene) -> float:
@@ -121,18 +122,6 @@ class ReferenceBackend(Backend):
 def _drag_finishing_steps(scene) -> float:
     case = scene.case
     return (case.settling.max_time + case.settling.relax_time + case.process.duration) / scene.timestep
-
-
-def _duration(seconds: float) -> str:
-    if seconds < 120:
-        return f"{seconds:.0f} s"
-    if seconds < 7200:
-        return f"{seconds / 60:.0f} min"
-    if seconds < 3 * 86400:
-        return f"{seconds / 3600:.1f} h"
-    if seconds < 3 * 365 * 86400:
-        return f"{seconds / 86400:.0f} days"
-    return f"{seconds / (365 * 86400):.0f} years"
 
 
 def scene_description(scene) -> dict:
