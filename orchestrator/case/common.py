@@ -105,3 +105,18 @@ def rayleigh_timestep(radius_m: float, material: Material, stiffness_scale: floa
 
     shear = material.shear_modulus * stiffness_scale
     return math.pi * radius_m * math.sqrt(material.density / shear) / (0.1631 * material.poisson_ratio + 0.8766)
+
+
+class MaterialCase(Frozen):
+    """Base of every DEM case: metadata, materials and contact pairs, with the pair lookup."""
+
+    case: CaseMeta
+    materials: dict[str, Material] = Field(min_length=1)
+    contacts: tuple[ContactPair, ...] = Field(min_length=1)
+
+    def contact(self, a: str, b: str) -> ContactPair:
+        """The contact parameters of materials a and b (raises ValueError naming the gap)."""
+        for contact in self.contacts:
+            if sorted(contact.pair) == sorted((a, b)):
+                return contact
+        raise ValueError(f"contacts has no entry for the pair ({a}, {b}); add [[contacts]] pair = [{a!r}, {b!r}]")

@@ -10,7 +10,7 @@ from typing import Literal
 
 from pydantic import Field, ValidationInfo, field_validator, model_validator
 
-from .common import CaseMeta, ContactPair, Frozen, Material, NonNegative, Numerics, Positive
+from .common import CaseMeta, ContactPair, Frozen, Material, NonNegative, Numerics, Positive, MaterialCase
 
 #: Random loose packing of monodisperse spheres poured into a container; used
 #: only to tell a user early that a bed cannot fit in the bowl.
@@ -134,12 +134,9 @@ class ForceBand(Frozen):
     fn_std: NonNegative
 
 
-class DragFinishingCase(Frozen):
+class DragFinishingCase(MaterialCase):
     """A validated drag-finishing case in SI units."""
 
-    case: CaseMeta
-    materials: dict[str, Material] = Field(min_length=1)
-    contacts: tuple[ContactPair, ...] = Field(min_length=1)
     media: Media
     bowl: Bowl
     workpiece: Workpiece
@@ -222,13 +219,6 @@ class DragFinishingCase(Frozen):
         m = self.media.material
         pairs = {tuple(sorted((m, m))), tuple(sorted((m, self.bowl.material))), tuple(sorted((m, self.workpiece.material)))}
         return sorted(pairs)
-
-    def contact(self, a: str, b: str) -> ContactPair:
-        """The contact parameters of materials a and b (raises ValueError naming the gap)."""
-        for contact in self.contacts:
-            if sorted(contact.pair) == sorted((a, b)):
-                return contact
-        raise ValueError(f"contacts has no entry for the pair ({a}, {b}); add [[contacts]] pair = [{a!r}, {b!r}]")
 
     @property
     def angular_velocity(self) -> float:

@@ -18,7 +18,7 @@ from typing import Annotated, Literal
 
 from pydantic import Field, field_validator, model_validator
 
-from .common import CaseMeta, ContactPair, Frozen, Material, Numerics, Positive
+from .common import CaseMeta, ContactPair, Frozen, Material, Numerics, Positive, MaterialCase
 
 #: Reserved material name of an immovable, infinitely stiff wall (E = inf).
 RIGID = "rigid"
@@ -148,12 +148,9 @@ class Check(Frozen):
         return self
 
 
-class ImpactCase(Frozen):
+class ImpactCase(MaterialCase):
     """A validated impact case in SI units."""
 
-    case: CaseMeta
-    materials: dict[str, Material] = Field(min_length=1)
-    contacts: tuple[ContactPair, ...] = Field(min_length=1)
     spheres: tuple[Sphere, ...] = Field(min_length=1, max_length=MAX_IMPACT_SPHERES)
     plane: Plane | None = None
     simulation: Simulation
@@ -248,10 +245,3 @@ class ImpactCase(Frozen):
             if self.plane is not None:
                 pairs.add(tuple(sorted((a, self.plane.material))))
         return sorted(pairs)
-
-    def contact(self, a: str, b: str) -> ContactPair:
-        """The contact parameters of materials a and b (raises ValueError naming the gap)."""
-        for contact in self.contacts:
-            if sorted(contact.pair) == sorted((a, b)):
-                return contact
-        raise ValueError(f"contacts has no entry for the pair ({a}, {b}); add [[contacts]] pair = [{a!r}, {b!r}]")

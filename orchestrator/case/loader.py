@@ -198,6 +198,18 @@ def to_toml(data: dict) -> str:
     return tomli_w.dumps(plain(data))
 
 
+def read_toml_file(path: Path, what: str) -> dict:
+    """A TOML file as a dict; CaseError for a missing, non-text or malformed file (`what` names it)."""
+    if not path.is_file():
+        raise CaseError(f"{what} file not found: {path}")
+    try:
+        return tomllib.loads(path.read_text(encoding="utf-8"))
+    except tomllib.TOMLDecodeError as exc:
+        raise CaseError(f"{path}: malformed TOML: {exc}") from None
+    except UnicodeDecodeError:
+        raise CaseError(f"{path}: not a text file (expected UTF-8 TOML)") from None
+
+
 def load_case(path: str | Path, preset: str | None = None, overrides=()) -> LoadedCase:
     """Read a TOML case file, apply ``[presets.<preset>]`` then ``--set`` overrides, validate.
 
@@ -205,14 +217,7 @@ def load_case(path: str | Path, preset: str | None = None, overrides=()) -> Load
     Raises CaseError naming the key, the bad value and what is allowed.
     """
     path = Path(path)
-    if not path.is_file():
-        raise CaseError(f"case file not found: {path}")
-    try:
-        raw = tomllib.loads(path.read_text(encoding="utf-8"))
-    except tomllib.TOMLDecodeError as exc:
-        raise CaseError(f"{path}: malformed TOML: {exc}") from None
-    except UnicodeDecodeError:
-        raise CaseError(f"{path}: not a text file (expected UTF-8 TOML)") from None
+    raw = read_toml_file(path, "case")
     presets = raw.pop("presets", {})
     if not isinstance(presets, dict) or not all(isinstance(p, dict) for p in presets.values()):
         raise CaseError(f"{path}: [presets] must hold tables such as [presets.quick]")

@@ -21,7 +21,6 @@
 from __future__ import annotations
 
 import itertools
-import tomllib
 from pathlib import Path
 from typing import Any, Literal
 
@@ -91,15 +90,10 @@ class StudySpec(_Frozen):
 
 def load_study_spec(path: str | Path) -> tuple[StudySpec, Path]:
     """Read and validate a study file; returns (spec, absolute case path). Raises CaseError with clear messages."""
-    from ..case.loader import format_validation_error
+    from ..case.loader import format_validation_error, read_toml_file
 
     path = Path(path)
-    if not path.is_file():
-        raise CaseError(f"study file not found: {path}")
-    try:
-        raw = tomllib.loads(path.read_text(encoding="utf-8"))
-    except tomllib.TOMLDecodeError as exc:
-        raise CaseError(f"{path}: malformed TOML: {exc}") from None
+    raw = read_toml_file(path, "study")
     try:
         spec = StudySpec.model_validate(raw)
     except ValidationError as exc:
