@@ -15,7 +15,11 @@ from .runh5 import RUN_FILE, write_run
 
 @dataclass
 class RunSummary:
-    """What `orchestrator run` prints: status, engine, times, sizes and measured quantities (SI)."""
+    """What `orchestrator run` prints: status, engine, times, sizes and measured quantities (SI).
+
+    wall_time_s is the engine's wall time; overhead_s the orchestrator's own time around it (s), the sum of
+    overhead_phases_s (OVERHEAD_PHASES -> s).
+    """
 
     status: str
     engine: str
@@ -29,10 +33,43 @@ class RunSummary:
     measured: dict = field(default_factory=dict)
     estimate_s: float | None = None
     dt: float | None = None
+    overhead_s: float | None = None
+    overhead_phases_s: dict = field(default_factory=dict)
 
     def as_dict(self) -> dict:
         """Plain dict (what --json prints)."""
         return asdict(self)
+
+
+#: The orchestrator's own phases of a run, timed by PhaseClock and stored in run.h5 as overhead_<phase>_s (s):
+#: backend lookup and engine version, scene build, run directory and engine input, parsing the engine's output,
+#: the case's analysis, writing run.h5. Their sum is orchestrator_overhead_s; the engine's (and a timing probe's)
+#: time is not in it.
+OVERHEAD_PHASES = ("setup", "scene", "input", "parse", "analysis", "write")
+
+
+class PhaseClock:
+    """Wall time (s, time.perf_counter) spent in named phases; time between lap() and skip() is not counted."""
+
+    def __init__(self):
+        self.phases: dict[str, float] = {}
+        self._last = time.perf_counter()
+
+    def lap(self, phase: str) -> None:
+        """Add the time since the last lap/skip to phase."""
+        now = time.perf_counter()
+        self.phases[phase] = self.phases.get(phase, 0.0) + (now - self._last)
+        self._last = now
+
+    def skip(self) -> None:
+        """Leave the time since the last lap/skip out (the engine's time)."""
+        self._last = time.perf_counter()
+
+    def attrs(self) -> dict[str, float]:
+        """overhead_<phase>_s for every phase so far and their sum, orchestrator_overhead_s (s)."""
+        out = {f"overhead_{name}_s": self.phases.get(name, 0.0) for name in OVERHEAD_PHASES}
+        out["orchestrator_overhead_s"] = sum(out.values())
+        return out
 
 
 #: Runs planned longer than this many steps start with a timing probe (a few
@@ -73,6 +110,7 @@ def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float |
     Raises EngineNotFound before anything runs; EngineTimeout / EngineFailed
     after run.h5 is written (with status and what was measured before).
     """
+    clock = PhaseClock()  # the first phase, setup, includes importing what a run needs
     from .analysis import measure
     from .backends import get_backend
     from .runner import execute
@@ -83,19 +121,20 @@ def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float |
     backend = get_backend(engine, threads=case.numerics.threads)
     backend.check_available()
     version = backend.version()
-    t0 = time.monotonic()
+    clock.lap("setup")
     try:
         scene = build_scene(case)
     except ValueError as exc:
         raise OrchestratorError(f"cannot build the scene of {case.case.name}: {exc}") from None
     if hasattr(backend, "check_scene"):
         backend.check_scene(scene)  # e.g. a scene too big for the reference DEM: refused before anything is written
+    clock.lap("scene")
     run_dir = prepare_run_dir(out_dir, case.case.name, engine, force)
     (run_dir / "case.toml").write_text(loaded.toml_text)
     started = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
     backend.write_input(scene, run_dir)
     command, env = backend.command(run_dir)
-    prep_s = time.monotonic() - t0
+    clock.lap("input")
     if hasattr(backend, "probe_command") and backend.planned_steps(scene) > PROBE_ABOVE_STEPS:
         probe_dir = run_dir / "probe"
         probe_dir.mkdir(exist_ok=True)
@@ -106,12 +145,13 @@ def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float |
         execute(probe_cmd, probe_env, probe_dir, timeout_s=600, progress=False, label="timing probe",
                 on_timing=on_timing)
     interrupted = None
+    clock.skip()  # the timing probe is the engine's time
     try:
         execution = execute(command, env, run_dir, timeout_s, progress, label=f"{engine} {case.case.name}",
                             on_timing=on_timing)
     except KeyboardInterrupt as exc:
         interrupted, execution = exc, exc.execution
-    t1 = time.monotonic()
+    clock.skip()
     result = backend.read_output(scene, run_dir)
     if interrupted is not None:
         result.status, result.message = "failed", "interrupted by the user (Ctrl-C)"
@@ -123,7 +163,9 @@ def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float |
         result.message = f"the engine exited with code {execution.returncode}"
     elif result.status == "failed" and execution.returncode == 0:
         result.message = result.message or "the engine ended without finishing"
+    clock.lap("parse")
     result.measured = measure(case, result)
+    clock.lap("analysis")
     root = {
         "engine": engine,
         "engine_version": version,
@@ -133,7 +175,7 @@ def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float |
         "case_source": str(loaded.source),
         "preset": loaded.preset or "",
         "wall_time_s": execution.wall_time_s,
-        "orchestrator_overhead_s": prep_s + (time.monotonic() - t1),
+        **clock.attrs(),  # overhead_write_s and the total are rewritten once run.h5 is written
         "n_particles": scene.n_particles,
         "started": started,
         "finished": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
@@ -146,12 +188,15 @@ def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float |
     result.attrs.setdefault("n_steps", execution.last_progress.done if execution.last_progress else 0)
     result.attrs.setdefault("dt", scene.timestep)
     write_run(run_dir / RUN_FILE, result, root, loaded.toml_text, loaded.resolved, execution.log_tail(200))
+    overhead = _store_write_time(run_dir / RUN_FILE, clock)
     summary = RunSummary(
         status=result.status, engine=engine, engine_version=version, case_name=case.case.name,
         wall_time_s=round(execution.wall_time_s, 3), n_particles=scene.n_particles,
         n_steps=int(result.attrs["n_steps"]), run_dir=str(run_dir), message=result.message,
         measured=result.measured, estimate_s=execution.timing.estimate_s if execution.timing else None,
         dt=float(result.attrs["dt"]),
+        overhead_s=round(overhead["orchestrator_overhead_s"], 6),
+        overhead_phases_s={name: round(overhead[f"overhead_{name}_s"], 6) for name in OVERHEAD_PHASES},
     )
     if interrupted is not None:
         raise interrupted
@@ -171,6 +216,21 @@ def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float |
             f"Last lines of the log:\n{execution.log_tail(15)}"
         ).with_summary(summary)
     return summary
+
+
+def _store_write_time(path: Path, clock: PhaseClock) -> dict[str, float]:
+    """Time the run.h5 write (ends here) and put it and the new total into run.h5's root attributes; returns them.
+
+    Only setting these two attributes and closing the file again (well under a millisecond) is left out.
+    """
+    import h5py
+
+    with h5py.File(path, "r+") as h5:
+        clock.lap("write")
+        attrs = clock.attrs()
+        h5.attrs["overhead_write_s"] = attrs["overhead_write_s"]
+        h5.attrs["orchestrator_overhead_s"] = attrs["orchestrator_overhead_s"]
+    return attrs
 
 
 def _template_hash(backend, kind: str) -> str:
