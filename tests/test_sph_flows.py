@@ -78,3 +78,41 @@ def test_tait_density_inverts_the_equation_of_state():
     p = rho0 * c0**2 / 7 * ((rho / rho0) ** 7 - 1)
     assert p == pytest.approx(4905.0, rel=1e-12)
     assert rho > rho0
+
+
+# --- measured dam-break surge fronts (orchestrator.reference.dam_break_data) ---
+
+from orchestrator.reference.dam_break_data import (  # noqa: E402
+    KOSHIZUKA_OKA,
+    MARTIN_MOYCE_LARGE,
+    MARTIN_MOYCE_LETHE,
+    MARTIN_MOYCE_SMALL,
+    SURGE_FRONT_DATA,
+    dimensionless_front,
+    dimensionless_time,
+)
+
+
+def test_surge_front_series_are_monotone_and_start_at_the_column():
+    for data in SURGE_FRONT_DATA.values():
+        assert len(data.T) == len(data.Z) >= 9, data.name
+        assert np.all(np.diff(data.T) > 0) and np.all(np.diff(data.Z) > 0), data.name
+        assert 1.0 <= data.Z[0] < 1.3 and data.height_ratio == 2.0, data.name
+        assert data.digitised_by.startswith("https://github.com/"), data.name
+
+
+def test_two_digitisations_of_martin_and_moyce_agree_within_three_percent():
+    # PySPH's and Lethe's numbers were read off the paper independently; they measure the digitising error
+    T = np.array(MARTIN_MOYCE_LETHE.T)
+    for data in (MARTIN_MOYCE_SMALL, MARTIN_MOYCE_LARGE):
+        z = data.front_at(T)
+        inside = np.isfinite(z)
+        assert inside.sum() >= 10
+        assert np.max(np.abs(z[inside] / np.array(MARTIN_MOYCE_LETHE.Z)[inside] - 1)) < 0.03, data.name
+    assert np.isnan(MARTIN_MOYCE_SMALL.front_at(0.5))  # before the first measurement: no value
+
+
+def test_dimensionless_variables_use_twice_g():
+    a = KOSHIZUKA_OKA.column_width
+    assert dimensionless_time(1.0, a, 9.81) == pytest.approx(math.sqrt(2 * 9.81 / 0.146))
+    assert dimensionless_front(2 * a, a) == pytest.approx(2.0)
