@@ -165,6 +165,9 @@ BAD_INPUTS = [
      ["case.kind = ['drag_finishing']", "not known", "allowed: drag_finishing"]),
     ("case-kind-missing", variant({"case.kind": DROP}), [],
      ["case.kind: required key is missing", "allowed: drag_finishing"]),
+    ("settling-stiffer-than-process", variant({"numerics.stiffness_scale": 0.01, "settling.stiffness_scale": 0.1}),
+     [], ["settling.stiffness_scale = 0.1", "numerics.stiffness_scale = 0.01",
+          "allowed: settling.stiffness_scale <= numerics.stiffness_scale"]),
 ]
 
 

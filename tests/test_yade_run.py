@@ -95,3 +95,30 @@ def test_timeout_keeps_status_and_partial_data(tmp_path):
     assert len(run["series"]["time"]) > 5  # what was measured before the stop is kept
     assert run["attrs"]["n_steps"] > 1000  # from the engine's last progress line
     assert "engine.log" in {p.name for p in out.iterdir()}
+
+
+def test_soft_settling_then_stiffening_keeps_the_bed_at_rest(tmp_path):
+    """Settle at E/1000, stiffen x100 to E/10 over 0.02 s with damping: afterwards the bowl and the
+    rod still carry the bed's weight within 1 %, the bed is at rest, and the process runs at E/10's step."""
+    out = tmp_path / "stiffened"
+    proc = subprocess.run(
+        [sys.executable, "-m", "orchestrator", "run", str(TINY), "--out", str(out), "--json", "--no-progress",
+         "--set", "numerics.stiffness_scale=0.1", "--set", "settling.stiffness_scale=0.001",
+         "--set", "process.duration=0.05", "--set", "output.network_times=[0.05]"],
+        capture_output=True, text=True, timeout=600,
+    )
+    assert proc.returncode == 0, proc.stderr
+    run = read_run(out)
+    model = load_case(TINY, overrides=["numerics.stiffness_scale=0.1"]).model
+    scene = build_scene(model)
+    assert run["attrs"]["dt"] == pytest.approx(scene.timestep, rel=1e-12)  # the process step: E/10's
+    log = (out / "engine.log").read_text()
+    assert "STIFFEN x100 over 0.02 s" in log and "STIFFENED" in log
+    series = run["series"]
+    before_process = np.flatnonzero(series["phase"] == 2)[-1]
+    weight = bed_weight(scene)
+    carried = -(series["bowl_force"][before_process, 2] + series["rod_force"][before_process, 2])
+    assert carried == pytest.approx(weight, rel=0.01)
+    # at rest: kinetic energy below 1e-3 m g R (mean ball speed below about 8 mm/s)
+    assert series["kinetic_energy"][before_process] < 1e-3 * weight * model.media.radius
+    assert np.all(run["contacts"]["0"]["normal_force"] >= 0)

@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import EngineNotFound, ReadError
+from ..scene.build import settling_timestep
 from ..templating import render, template_root
 from .base import Backend, Result, Series
 
@@ -119,10 +120,11 @@ class YadeBackend(Backend):
             return impact_context(scene)
         case = scene.case
         scale = case.numerics.stiffness_scale
+        soft = case.settling_stiffness_scale
         materials = [
             {
                 "name": name,
-                "young": repr(m.young_modulus * scale),
+                "young": repr(m.young_modulus * soft),
                 "poisson": repr(m.poisson_ratio),
                 "density": repr(m.density),
                 # Per-pair friction comes from the contacts table; this is only Yade's fallback.
@@ -133,13 +135,30 @@ class YadeBackend(Backend):
         pairs = case.touching_pairs()
         rows = lambda value: repr(tuple((a, b, value(case.contact(a, b))) for a, b in pairs))  # noqa: E731
         dt = scene.timestep
-        record_every = max(1, round(case.output.record_interval / dt))
-        control_every = max(1, min(record_every, round(1e-3 / dt)))
-        settle_steps = case.settling.max_time / dt
-        insert_steps = (case.workpiece.submersion_depth + 2 * case.media.radius) / case.workpiece.insertion_speed / dt
-        planned = settle_steps + insert_steps + (case.settling.relax_time + case.process.duration) / dt
+        dt_settle = settling_timestep(case)
+        stiffen = scale != soft or dt != dt_settle
+
+        def every(interval: float, step: float) -> int:
+            return max(1, round(interval / step))
+
+        record_every = every(case.output.record_interval, dt)
+        record_every_settle = every(case.output.record_interval, dt_settle)
+        settle_steps = case.settling.max_time / dt_settle
+        insert_steps = (case.workpiece.submersion_depth + 2 * case.media.radius) / case.workpiece.insertion_speed
+        insert_steps /= dt_settle
+        relax_steps = case.settling.relax_time / dt_settle
+        if stiffen:
+            relax_steps += (case.settling.stiffen_time + case.settling.relax_time) / dt
+        planned = settle_steps + insert_steps + relax_steps + case.process.duration / dt
         return {
             "stiffness_scale": repr(scale),
+            "settling_stiffness_scale": repr(soft),
+            "stiffen": stiffen,
+            "stiffen_factor": repr(scale / soft),
+            "stiffen_time": repr(case.settling.stiffen_time),
+            "dt_settle": repr(dt_settle),
+            "control_every_settle": min(record_every_settle, every(1e-3, dt_settle)),
+            "record_every_settle": record_every_settle,
             "materials": materials,
             "pairs_en": rows(lambda c: c.restitution),
             "pairs_es": rows(lambda c: c.e_t),
@@ -151,7 +170,7 @@ class YadeBackend(Backend):
             "angular_velocity": repr(case.angular_velocity),
             "settling_damping": repr(case.settling.damping),
             "gravity": repr((0.0, 0.0, -9.81)),
-            "control_every": control_every,
+            "control_every": min(record_every, every(1e-3, dt)),
             "record_every": record_every,
             "dt": repr(dt),
             "settle_max_time": repr(case.settling.max_time),

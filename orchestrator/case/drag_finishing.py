@@ -103,6 +103,18 @@ class Settling(Frozen):
     unbalanced_force: float = Field(0.02, gt=0, lt=1, description="rest criterion, -")
     max_speed: Positive = Field(0.01, description="rest criterion on the fastest ball, m/s")
     relax_time: NonNegative = Field(0.05, description="undamped rest after the rod is inserted, s")
+    stiffness_scale: float | None = Field(
+        None, gt=0, le=1,
+        description="Young's modulus factor while the bed settles and the rod goes in (None: "
+                    "numerics.stiffness_scale). A softer value makes settling cheap; the contacts are then "
+                    "stiffened to numerics.stiffness_scale over stiffen_time, with damping, before the process, -",
+    )
+    timestep_factor: float | None = Field(
+        None, gt=0, le=1,
+        description="time step while settling, as a fraction of the Rayleigh step at settling.stiffness_scale "
+                    "(None: numerics.timestep_factor). Runs that share the settling values share the settled bed, -",
+    )
+    stiffen_time: Positive = Field(0.02, description="damped ramp from the settling stiffness to the process one, s")
 
 
 class Process(Frozen):
@@ -207,6 +219,13 @@ class DragFinishingCase(MaterialCase):
                 f"output.record_interval = {self.output.record_interval} s is longer than the process "
                 f"(process.duration = {self.process.duration} s); allowed: record_interval < duration"
             )
+        soft = self.settling.stiffness_scale
+        if soft is not None and soft > self.numerics.stiffness_scale:
+            raise ValueError(
+                f"settling.stiffness_scale = {soft} is stiffer than numerics.stiffness_scale = "
+                f"{self.numerics.stiffness_scale}; allowed: settling.stiffness_scale <= numerics.stiffness_scale "
+                "(settle soft, then stiffen)"
+            )
         if self.analysis.transient_time >= self.process.duration:
             raise ValueError(
                 f"analysis.transient_time = {self.analysis.transient_time} s leaves no data after the transient "
@@ -219,6 +238,16 @@ class DragFinishingCase(MaterialCase):
         m = self.media.material
         pairs = {tuple(sorted((m, m))), tuple(sorted((m, self.bowl.material))), tuple(sorted((m, self.workpiece.material)))}
         return sorted(pairs)
+
+    @property
+    def settling_stiffness_scale(self) -> float:
+        """Young's modulus factor while settling and inserting the rod, -."""
+        return self.settling.stiffness_scale or self.numerics.stiffness_scale
+
+    @property
+    def settling_timestep_factor(self) -> float:
+        """Time-step factor (of the settling Rayleigh step) while settling and inserting, -."""
+        return self.settling.timestep_factor or self.numerics.timestep_factor
 
     @property
     def angular_velocity(self) -> float:

@@ -55,11 +55,18 @@ class Scene:
         return paths
 
 
-def critical_timestep(case) -> float:
-    """Rayleigh step of the smallest ball with the (scaled) media material, s."""
+def critical_timestep(case, stiffness_scale: float | None = None) -> float:
+    """Rayleigh step of the smallest ball with the media material at a stiffness scale
+    (default numerics.stiffness_scale), s."""
     media = case.media
     r_min = media.radius - (2.0 if media.distribution == "normal" else 1.0) * media.radius_spread
-    return rayleigh_timestep(r_min, case.materials[media.material], case.numerics.stiffness_scale)
+    scale = case.numerics.stiffness_scale if stiffness_scale is None else stiffness_scale
+    return rayleigh_timestep(r_min, case.materials[media.material], scale)
+
+
+def settling_timestep(case) -> float:
+    """Time step while a drag-finishing bed settles and the rod goes in, s (the process uses Scene.timestep)."""
+    return case.settling_timestep_factor * critical_timestep(case, case.settling_stiffness_scale)
 
 
 def build_drag_finishing(case) -> Scene:

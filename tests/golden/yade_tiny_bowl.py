@@ -19,7 +19,9 @@ OUT = "output"
 os.makedirs(OUT, exist_ok=True)
 WALL_START = time.time()
 
-# ---- materials (E already multiplied by numerics.stiffness_scale = 0.001) ----
+# ---- materials ----
+# E is multiplied by the settling stiffness scale (0.001) here; before the process
+# every contact is stiffened to numerics.stiffness_scale = 0.001 (see stiffen()).
 MATERIAL_ID = {}
 MATERIAL_ID["ceramic"] = O.materials.append(FrictMat(
     young=77000000.0, poisson=0.19, density=2656.0,
@@ -84,7 +86,13 @@ O.engines = [
     PyRunner(iterPeriod=36, command="control()", label="controller"),
     PyRunner(iterPeriod=72, command="record()", label="recorder"),
 ]
-O.dt = 2.794444601978471e-05
+DT_SETTLE = 2.794444601978471e-05  # s, while settling, inserting and relaxing at the settling stiffness
+DT = 2.794444601978471e-05  # s, from the stiffening on (the process)
+O.dt = DT_SETTLE
+STIFFEN = False  # settling stiffness or step differ from the process ones
+STIFFEN_FACTOR = 1.0
+STIFFEN_TIME = 0.02
+YOUNG_SETTLE = dict((m.id, m.young) for m in O.materials)
 
 SETTLE_MAX_TIME = 1.0
 SETTLE_UNBALANCED = 0.01
@@ -96,13 +104,13 @@ PROCESS_DURATION = 0.1
 NETWORK_TIMES = [0.05]
 BOWL_RADIUS = 0.02
 BOWL_HEIGHT = 0.05
-RECORD_INTERVAL = O.dt * 72
 PLANNED_STEPS = 53348
 PHASES = ("settle", "insert", "relax", "process")
 
 state = {"phase": 0, "t_phase": 0.0, "bed_height": None, "settled": None, "tip_target": None,
          "t_process": None, "next_network": 0, "status": "ok", "message": "", "last_progress": 0.0,
-         "last_record": -1.0, "probe_done": False, "planned": PLANNED_STEPS, "probe_start": None, "phase_wall": {}}
+         "last_record": -1.0, "record_interval": DT_SETTLE * 72,
+         "relax_stage": 0, "t_stage": 0.0, "applied_factor": 1.0, "probe_done": False, "planned": PLANNED_STEPS, "probe_start": None, "phase_wall": {}}
 rod_intensity = np.zeros(len(ROD_IDS))  # accumulated |F| dt per rod facet, N s
 rod_contact_count = np.zeros(len(ROD_IDS), dtype=np.int64)  # facet-samples in contact
 series = open(os.path.join(OUT, "series.csv"), "w")
@@ -161,7 +169,7 @@ def record():
         for k, i in enumerate(ROD_IDS):
             f = O.forces.f(i).norm()
             if f > 0:
-                rod_intensity[k] += f * RECORD_INTERVAL
+                rod_intensity[k] += f * state["record_interval"]
                 rod_contact_count[k] += 1
     series.write("%.9g,%d,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d,%.9g\n" % (
         O.time, phase, wn, wt, wv, fr[0], fr[1], fr[2], fb[0], fb[1], fb[2], kinetic_energy(),
@@ -279,7 +287,10 @@ def control():
             state["tip_target"] = state["bed_height"] - SUBMERSION_DEPTH
             push.dead = False
             travel = top + 1e-3 - state["tip_target"]
-            state["planned"] = O.iter + int((travel / 0.05 + RELAX_TIME + PROCESS_DURATION) / O.dt)
+            remaining = (travel / 0.05 + RELAX_TIME) / DT_SETTLE + PROCESS_DURATION / DT
+            if STIFFEN:
+                remaining += (STIFFEN_TIME + RELAX_TIME) / DT
+            state["planned"] = O.iter + int(remaining)
             next_phase(1)
     elif phase == 1:
         if rod_tip_z() <= state["tip_target"]:
@@ -288,7 +299,16 @@ def control():
                 O.bodies[i].state.vel = Vector3(0, 0, 0)
             next_phase(2)
     elif phase == 2:
-        if O.time - state["t_phase"] >= RELAX_TIME:
+        stage, elapsed = state["relax_stage"], O.time - state["t_stage"]
+        if stage == 0 and O.time - state["t_phase"] >= RELAX_TIME and STIFFEN:
+            start_stiffening()
+        elif stage == 1:
+            stiffen(min(1.0, elapsed / STIFFEN_TIME))
+            if elapsed >= STIFFEN_TIME:
+                newton.damping = 0.0
+                state["relax_stage"], state["t_stage"] = 2, O.time
+                print("STIFFENED t=%.6g s step=%d: relaxing undamped for %g s" % (O.time, O.iter, RELAX_TIME), flush=True)
+        elif (stage == 0 and O.time - state["t_phase"] >= RELAX_TIME) or (stage == 2 and elapsed >= RELAX_TIME):
             state["t_process"] = O.time
             drag.dead = False
             next_phase(3)
@@ -302,6 +322,36 @@ def control():
             stop("ok", "")
 
 
+
+
+def start_stiffening():
+    """From the settling stiffness and step to the process ones: the new step and sampling periods
+    now, the contact stiffness over STIFFEN_TIME with numerical damping (stiffen())."""
+    O.dt = DT
+    controller.iterPeriod = 36
+    recorder.iterPeriod = 72
+    state["record_interval"] = DT * 72
+    newton.damping = 0.4
+    state["relax_stage"], state["t_stage"] = 1, O.time
+    print("STIFFEN x%g over %g s from t=%.6g s, dt %g -> %g s" % (STIFFEN_FACTOR, STIFFEN_TIME, O.time,
+                                                                DT_SETTLE, DT), flush=True)
+
+
+def stiffen(fraction):
+    """Scale every contact's Hertz-Mindlin stiffness (kno, kso; both proportional to E) and the
+    materials' E (for contacts made from now on) to STIFFEN_FACTOR**fraction of the settling values.
+    Damping ratios (betan, betas) do not depend on E and stay."""
+    factor = STIFFEN_FACTOR ** fraction
+    ratio = factor / state["applied_factor"]
+    if ratio == 1.0:
+        return
+    for I in O.interactions:
+        if I.isReal:
+            I.phys.kno *= ratio
+            I.phys.kso *= ratio
+    for m in O.materials:
+        m.young = YOUNG_SETTLE[m.id] * factor
+    state["applied_factor"] = factor
 
 
 def run_probe(steps):
