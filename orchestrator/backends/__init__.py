@@ -14,6 +14,7 @@ from ..errors import OrchestratorError
 _REGISTRY = {
     "yade": ("orchestrator.backends.yade", "YadeBackend"),
     "reference": ("orchestrator.backends.reference", "ReferenceBackend"),
+    "sph": ("orchestrator.backends.sph", "SphBackend"),
 }
 
 
@@ -28,3 +29,13 @@ def get_backend(name: str, **profile_options):
         raise OrchestratorError(f"unknown engine {name!r}; allowed: {', '.join(engine_names())}")
     module, cls = _REGISTRY[name]
     return getattr(importlib.import_module(module), cls)(**profile_options)
+
+
+def engines_for_kind(kind: str) -> list[str]:
+    """Names of the engines whose backend runs cases of this kind (its class attribute case_kinds)."""
+    names = []
+    for name, (module, cls) in sorted(_REGISTRY.items()):
+        kinds = getattr(getattr(importlib.import_module(module), cls), "case_kinds", ())
+        if kind in kinds:
+            names.append(name)
+    return names

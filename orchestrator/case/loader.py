@@ -21,9 +21,11 @@ from pydantic import BaseModel, ValidationError
 from ..errors import CaseError
 from .drag_finishing import DragFinishingCase
 from .impact import ImpactCase
+from .sph import SphFlowCase
 
 #: case.kind -> model class. Later scene kinds (SPH flows) add rows.
-CASE_KINDS: dict[str, type[BaseModel]] = {"drag_finishing": DragFinishingCase, "impact": ImpactCase}
+CASE_KINDS: dict[str, type[BaseModel]] = {"drag_finishing": DragFinishingCase, "impact": ImpactCase,
+                                          "sph_flow": SphFlowCase}
 
 
 @dataclass(frozen=True)
