@@ -112,6 +112,31 @@ def _parser() -> argparse.ArgumentParser:
                            help="print one JSON object: restitution, residuals, observed and model peaks (N) and "
                            "peak times (s)")
 
+    compare = sub.add_parser(
+        "compare", help="run one case on several engines and print their results, spread, speed and overhead",
+        description="Run CASE on each engine of --engines in turn (each into OUT/<engine>/run.h5) and print, per "
+        "measured quantity, every engine's value and their spread (max - min, and relative to the mean); per engine "
+        "the wall time, particle-steps per second (particles x steps / engine wall time) and the orchestrator's own "
+        "time (by phase, and as a % of the engine's). Drag-finishing cases add F_n and F_t (mean, std, N) next to "
+        "the paper's numbers; impact cases their closed forms. Writes OUT/compare_forces.png overlaying the engines' "
+        "force series. An engine that is not installed is skipped with how to install it; exit code 1 unless every "
+        "engine ran ok.")
+    compare.add_argument("case", metavar="CASE", help="TOML case file, e.g. cases/verification/"
+                         "chung_ooi_test2_sphere_plane.toml or cases/drag_finishing_uhlmann2015.toml")
+    compare.add_argument("--engines", required=True, metavar="A,B[,C]",
+                         help="engines separated by commas, e.g. yade,liggghts,reference (see 'orchestrator doctor')")
+    compare.add_argument("--preset", help="named override set from the case's [presets.NAME] (e.g. quick)")
+    compare.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE",
+                         help="override any case value, SI units (repeatable)")
+    compare.add_argument("--out", metavar="DIR", help="directory of the runs and the PNG "
+                         "(default: runs/compare-<case>-<time>)")
+    compare.add_argument("--timeout", type=float, metavar="SECONDS", help="wall-time limit of each engine's run, s")
+    compare.add_argument("--force", action="store_true", help="overwrite runs already in --out")
+    compare.add_argument("--json", action="store_true",
+                         help="print one JSON object: case, engines (times, speed, overhead by phase), quantities "
+                         "(values per engine, spread, rel_spread), forces (drag finishing, with the references), plot")
+    compare.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
+
     doctor = sub.add_parser("doctor", help="which engines are installed, their versions and paths")
     doctor.add_argument("--json", action="store_true", help="print a JSON list")
 
@@ -133,7 +158,7 @@ def main(argv=None) -> int:
     try:
         commands = {"run": _cmd_run, "analyze": _cmd_analyze, "doctor": _cmd_doctor, "export": _cmd_export,
                     "study": _cmd_study, "status": _cmd_status, "report": _cmd_report, "verify": _cmd_verify,
-                    "calibrate": _cmd_calibrate}
+                    "calibrate": _cmd_calibrate, "compare": _cmd_compare}
         return commands[args.command](args)
     except OrchestratorError as exc:
         if getattr(args, "json", False) and exc.summary is not None:
@@ -157,6 +182,8 @@ def main(argv=None) -> int:
 def _jsonable(value):
     if isinstance(value, dict):
         return {k: _jsonable(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [_jsonable(v) for v in value]
     if isinstance(value, float) and not math.isfinite(value):
         return None
     return value
@@ -272,6 +299,11 @@ def _print_rows(rows: list[dict]) -> None:
                                                      row.get("wall_time_s", "")]
         cells += [row.get(k, "") for k in results] + [row.get("reused", "")]
         table.append([f"{c:.4g}" if isinstance(c, float) else str(c) for c in cells])
+    _print_table(header, table)
+
+
+def _print_table(header: list[str], table: list[list[str]]) -> None:
+    """Columns of strings, left-aligned, two spaces apart, under a header line."""
     widths = [max(len(h), *(len(r[i]) for r in table)) for i, h in enumerate(header)]
     print("  ".join(h.ljust(w) for h, w in zip(header, widths)))
     for r in table:
@@ -329,6 +361,31 @@ def _verify_sweep(args, out_dir: Path) -> int:
         print(f"plot         {png}")
         print(f"runs         {out_dir}")
     return 0
+
+
+def _cmd_compare(args) -> int:
+    from .case import load_case
+    from .compare import compare_engines, notes, parse_engines, text_tables
+
+    engines = parse_engines(args.engines)
+    loaded = load_case(args.case, preset=args.preset, overrides=args.overrides)
+    comparison = compare_engines(loaded, engines, out_dir=args.out, timeout_s=args.timeout,
+                                 progress=not args.no_progress, force=args.force)
+    if args.json:
+        print(json.dumps(_jsonable(comparison.as_dict())))
+    else:
+        print(f"case         {loaded.name}" + (f" (preset {loaded.preset})" if loaded.preset else ""))
+        for title, header, table in text_tables(comparison):
+            print(f"\n{title}")
+            _print_table(header, table)
+        print()
+        for line in notes(comparison):
+            print(f"note: {line}")
+        print(f"compare took {duration(comparison.wall_time_s)} in all")
+        if comparison.plot:
+            print(f"forces       {comparison.plot}")
+        print(f"runs         {comparison.out_dir}")
+    return 0 if all(run.status == "ok" for run in comparison.runs) else 1
 
 
 def _cmd_calibrate(args) -> int:

@@ -36,22 +36,12 @@ def plot_drag_finishing_forces(run: dict, case, path) -> Path:
     from matplotlib.figure import Figure
     from matplotlib.patches import Patch
 
-    from .analysis.drag_finishing import force_statistics, process_series
+    from .analysis.drag_finishing import force_statistics
 
     model = getattr(case, "model", case)
     path = Path(path)
     attrs = run.get("attrs", {})
-    series = run.get("series", {})
-    if "workpiece_force" not in series or "time" not in series:
-        raise ReadError("run.h5 holds no /series/workpiece_force; the run ended before recording forces")
-    time = np.asarray(series["time"], dtype=float)
-    force = np.asarray(series["workpiece_force"], dtype=float).reshape(len(time), -1)
-    phase = np.asarray(series.get("phase", np.full(len(time), 3)))
-    start = _finite(attrs.get("process_start_time"))
-    if start is None:
-        in_process = time[phase == 3]
-        start = float(in_process[0]) if in_process.size else 0.0
-    t, f = process_series(time, phase, force, start)
+    t, f = _process_forces(run)
     transient = float(model.analysis.transient_time)
     stats = force_statistics(t, f, transient) if t.size else {}
 
@@ -95,6 +85,83 @@ def plot_drag_finishing_forces(run: dict, case, path) -> Path:
     rows = max(len(c) for c in columns)
     entries = [e for c in columns for e in c + [blank] * (rows - len(c))]
     fig.legend([h for h, _ in entries], [lab for _, lab in entries], loc="outside lower center", ncols=2,
+               fontsize=8, frameon=False)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path)
+    return path
+
+
+def _process_forces(run: dict) -> tuple[np.ndarray, np.ndarray]:
+    """(process time s, workpiece force N (n, 3)) of a run's process phase; ReadError without a force series."""
+    from .analysis.drag_finishing import process_series
+
+    attrs = run.get("attrs", {})
+    series = run.get("series", {})
+    if "workpiece_force" not in series or "time" not in series:
+        raise ReadError("run.h5 holds no /series/workpiece_force; the run ended before recording forces")
+    time = np.asarray(series["time"], dtype=float)
+    force = np.asarray(series["workpiece_force"], dtype=float).reshape(len(time), -1)
+    phase = np.asarray(series.get("phase", np.full(len(time), 3)))
+    start = _finite(attrs.get("process_start_time"))
+    if start is None:
+        in_process = time[phase == 3]
+        start = float(in_process[0]) if in_process.size else 0.0
+    return process_series(time, phase, force, start)
+
+
+def plot_engine_forces(runs: list[tuple[str, dict]], case, path) -> Path:
+    """Overlay several engines' F_n and F_t on the rod (N) against process time (s) in one PNG; returns path.
+
+    runs: (label, ``read_run`` output) per engine, e.g. ("yade 2023.02a", run);
+    a run without a force series is named in the legend and not drawn. As in
+    plot_drag_finishing_forces: the transient shaded grey, each engine's mean
+    after it dashed in the engine's colour, the case's reference bands on F_n.
+    """
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+    from matplotlib.patches import Patch
+
+    from .analysis.drag_finishing import force_statistics
+
+    model = getattr(case, "model", case)
+    path = Path(path)
+    transient = float(model.analysis.transient_time)
+    fig = Figure(figsize=(9.0, 7.0), dpi=150, layout="constrained")
+    FigureCanvasAgg(fig)
+    ax_n, ax_t = fig.subplots(2, 1, sharex=True)
+    fig.suptitle(f"Force on the rod: case {model.case.name}, engines compared", fontsize=12)
+    entries, fn_all, t_end = [], [], transient * 1.05
+    for k, (label, run) in enumerate(runs):
+        color = ("C0", "C1", "C9", "C6", "k")[k % 5]  # not the colours _reference_bands uses
+        try:
+            t, f = _process_forces(run)
+        except ReadError:
+            t, f = np.empty(0), np.empty((0, 3))
+        if not t.size:
+            entries.append((Patch(alpha=0.0), f"{label}: no process-phase force series"))
+            continue
+        t_end = max(t_end, float(t.max()))
+        fn_all.append(f[:, 0])
+        stats = force_statistics(t, f, transient)
+        for ax, column, key in ((ax_n, 0, "fn"), (ax_t, 1, "ft")):
+            ax.plot(t, f[:, column], color=color, lw=0.9, alpha=0.85, zorder=3)
+            if np.isfinite(stats[f"{key}_mean"]):
+                ax.hlines(stats[f"{key}_mean"], transient, float(t.max()), colors=color, linestyles="--", lw=1.4,
+                          zorder=4)
+        (handle,) = ax_n.plot([], [], color=color, lw=1.2)
+        entries.append((handle, f"{label}: $F_n$ {_num(stats['fn_mean'])} ± {_num(stats['fn_std'], '.2g')} N, "
+                                f"$F_t$ {_num(stats['ft_mean'])} ± {_num(stats['ft_std'], '.2g')} N (dashed: means)"))
+    for ax, symbol, meaning in ((ax_n, "F_n", "along the rod velocity"), (ax_t, "F_t", "horizontal, radial")):
+        ax.axvspan(0.0, transient, color="0.85", lw=0, zorder=0)
+        ax.axhline(0.0, color="0.6", lw=0.6, zorder=1)
+        ax.grid(True, color="0.92", lw=0.6)
+        ax.set_xlim(0.0, t_end)
+        ax.set_ylabel(f"${symbol}$ {meaning} [N]")
+    ax_t.set_xlabel(r"process time $t - t_0$ [s]  ($t_0$: the rod starts moving)")
+    if fn_all:
+        entries += _reference_bands(ax_n, model.reference, np.concatenate(fn_all))
+    entries.append((Patch(color="0.85"), f"start-up transient ({transient:g} s), discarded"))
+    fig.legend([h for h, _ in entries], [lab for _, lab in entries], loc="outside lower center", ncols=1,
                fontsize=8, frameon=False)
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path)

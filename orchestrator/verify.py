@@ -242,8 +242,8 @@ def plot_force_curves(runs: list[SceneRun], path: Path) -> Path:
         ax.legend(fontsize=7)
     for ax in axes.ravel()[len(scenes):]:
         ax.set_visible(False)
-    fig.suptitle("contact normal force per verification scene (lines: recorded series; circles: each contact's peak)",
-                 fontsize=9)
+    title = "contact normal force per verification scene (lines: recorded series; circles: each contact's peak)"
+    fig.suptitle(title if columns > 1 else title.replace(" (", "\n("), fontsize=9)  # one panel: too narrow
     fig.tight_layout()
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
