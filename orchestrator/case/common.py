@@ -6,7 +6,7 @@ from __future__ import annotations
 import typing
 from typing import Annotated, Any
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationInfo, field_validator
+from pydantic import BaseModel, ConfigDict, Field, ValidationInfo, field_validator, model_validator
 
 Positive = Annotated[float, Field(gt=0)]
 NonNegative = Annotated[float, Field(ge=0)]
@@ -56,6 +56,15 @@ class CaseMeta(Frozen):
         if value not in engine_names():
             raise ValueError(f"unknown engine; allowed: {', '.join(engine_names())}")
         return value
+
+    @model_validator(mode="after")
+    def _engine_runs_kind(self):
+        from ..backends import engines_for_kind
+
+        engines = engines_for_kind(self.kind)
+        if engines and self.engine not in engines:
+            raise ValueError(f"case.engine = {self.engine!r} does not run {self.kind} cases; allowed: {', '.join(engines)}")
+        return self
 
 
 class Material(Frozen):

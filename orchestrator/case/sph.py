@@ -356,7 +356,6 @@ class SphFlowCase(Frozen):
 
     @model_validator(mode="after")
     def _consistent(self):
-        self._check_engine()
         self._check_lengths()
         self._check_terms()
         self._check_blocks()
@@ -364,14 +363,6 @@ class SphFlowCase(Frozen):
         self._check_patches()
         self._check_times()
         return self
-
-    def _check_engine(self) -> None:
-        from ..backends import engines_for_kind
-
-        engines = engines_for_kind(self.case.kind)
-        if engines and self.case.engine not in engines:
-            raise ValueError(f"case.engine = {self.case.engine!r} does not run {self.case.kind} cases; "
-                             f"allowed: {', '.join(engines)}")
 
     def _vectors(self):
         """(key, vector) of every vector whose length must equal the dimension."""
