@@ -122,3 +122,15 @@ def test_soft_settling_then_stiffening_keeps_the_bed_at_rest(tmp_path):
     # at rest: kinetic energy below 1e-3 m g R (mean ball speed below about 8 mm/s)
     assert series["kinetic_energy"][before_process] < 1e-3 * weight * model.media.radius
     assert np.all(run["contacts"]["0"]["normal_force"] >= 0)
+
+
+def test_remeasure_reproduces_the_stored_quantities(tiny_run):
+    """A stored run re-analysed (what a study does when it reuses a run) gives the values written at run time."""
+    from orchestrator.analysis import remeasure
+
+    _, run = tiny_run
+    stored = run["measured"]["attrs"]
+    fresh = remeasure(run)
+    assert stored and set(stored) <= set(fresh)
+    for key, value in stored.items():
+        assert fresh[key] == pytest.approx(value, rel=1e-12, nan_ok=True), key

@@ -36,6 +36,10 @@ class PlannedRun:
     threads: int
 
 
+#: What a study directory says about itself (name, description, case, preset, engines), for its report.
+STUDY_INFO = "study.json"
+
+
 @dataclass
 class Study:
     """A sweep of `case` over `points` (dicts of dotted case keys -> values) on `engines`.
@@ -53,6 +57,7 @@ class Study:
     out_dir: Path | None = None
     name: str = "study"
     timeout_s: float | None = None
+    description: str = ""
     _planned: list[PlannedRun] = field(default_factory=list, init=False, repr=False)
 
     def __post_init__(self):
@@ -68,7 +73,8 @@ class Study:
 
         spec, case_path = load_study_spec(path)
         return cls(case=case_path, points=spec.sweep.points(), engines=spec.study.engines, preset=spec.study.preset,
-                   out_dir=out_dir, name=spec.study.name, timeout_s=spec.study.timeout)
+                   out_dir=out_dir, name=spec.study.name, timeout_s=spec.study.timeout,
+                   description=spec.study.description)
 
     def plan(self) -> list[PlannedRun]:
         """Validate every run's case and engine, and compute identities (raises CaseError / OrchestratorError)."""
@@ -110,6 +116,9 @@ class Study:
         """Run what is not finished yet (everything with force); returns one row per run and writes index.csv."""
         planned = self.plan()
         self.out_dir.mkdir(parents=True, exist_ok=True)
+        (self.out_dir / STUDY_INFO).write_text(json.dumps(
+            {"name": self.name, "description": self.description, "case": str(self.case), "preset": self.preset,
+             "engines": list(self.engines)}, indent=1))
         rows: dict[str, dict] = {}
         todo = []
         for run in planned:
@@ -211,7 +220,21 @@ def finished_row(run: PlannedRun) -> dict | None:
            "wall_time_s": float(attrs["wall_time_s"]), "n_steps": int(attrs["n_steps"]),
            "n_particles": int(attrs["n_particles"]), "dt": float(attrs["dt"])}
     row.update({k: _plain(v) for k, v in measured.items()})
+    row.update(_fresh_measures(path))
     return row
+
+
+def _fresh_measures(path: Path) -> dict:
+    """A reused run's quantities recomputed by the current analysis (a new measure needs no rerun);
+    empty when the stored run cannot be re-read, and the stored values stand."""
+    from ..analysis import remeasure
+    from ..errors import OrchestratorError
+    from ..runh5 import read_run
+
+    try:
+        return remeasure(read_run(path))
+    except (OrchestratorError, KeyError, ValueError):
+        return {}
 
 
 def _summary_row(summary) -> dict:

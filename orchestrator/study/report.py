@@ -7,11 +7,20 @@ from __future__ import annotations
 import base64
 import csv
 import io
+import json
 import math
 from pathlib import Path
 
 from ..errors import OrchestratorError
-from .core import INDEX_NAME
+from .core import INDEX_NAME, STUDY_INFO
+
+#: Quantities plotted against wall time when the index has them: (column, its error column, label with units).
+TRADE_OFF_QUANTITIES = (
+    ("fn_mean", "fn_sem", "mean F_n on the rod [N]"),
+    ("fn_std", None, "std of F_n [N]"),
+    ("contact_fn_max", None, "largest contact force [N]"),
+    ("contact_fn_p99", None, "99th percentile contact force [N]"),
+)
 
 
 def pareto_front(costs: list[float], errors: list[float]) -> list[bool]:
@@ -98,13 +107,21 @@ def write_study_report(study_dir, quantity: str = "fn_mean", reference: str = "f
     ax.legend()
     pareto_png = _png(fig)
 
-    candidates = [(w, r) for w, e, r in zip(walls, errors, ok) if e <= tolerance and r is not ref_row]
+    candidates = [(w, e, r) for w, e, r in zip(walls, errors, ok) if e <= tolerance and r is not ref_row]
     recommendation = ""
     if candidates:
-        wall, best = min(candidates, key=lambda item: item[0])
-        params = ", ".join(f"{k.removeprefix('param:')} = {v}" for k, v in best.items() if k.startswith("param:"))
-        recommendation = (f"{params} on {best['engine']}: {quantity} within {100 * tolerance:g} % of the reference "
-                          f"in {wall:.1f} s")
+        wall, err, best = min(candidates, key=lambda item: item[0])
+        recommendation = (f"{_label(best, varied=None)} on {best['engine']}: {quantity} within {100 * tolerance:g} % "
+                          f"of the reference ({100 * err:.1f} %) in {wall:.1f} s")
+        if ref_row is not None:
+            recommendation += f", {_float(ref_row['wall_time_s']) / wall:.0f} x faster than the reference run"
+    elif ok:
+        recommendation = f"no run other than the reference is within {100 * tolerance:g} % of it"
+    noise = _noise_note(ref_row, quantity, tolerance)
+    varied = [k for k in rows[0] if k.startswith("param:") and len({r.get(k) for r in rows}) > 1]
+    quantities_png = _quantities_plot(ok, varied)
+    info_path = study_dir / STUDY_INFO
+    description = json.loads(info_path.read_text()).get("description", "") if info_path.is_file() else ""
     params = [k for k in rows[0] if k.startswith("param:")]
     header = [p.removeprefix("param:") for p in params] + ["engine", "status", "wall time [s]", quantity,
                                                            "rel. error", "run"]
@@ -121,6 +138,7 @@ def write_study_report(study_dir, quantity: str = "fn_mean", reference: str = "f
         "name": study_dir.name, "runs": rows, "quantity": quantity, "reference_label": reference_label,
         "version": __version__, "index_path": str(index), "recommendation": recommendation,
         "pareto_png": pareto_png, "header": header, "table": table, "run_plots": run_plots,
+        "description": description, "noise": noise, "quantities_png": quantities_png,
     })
     out = Path(path) if path is not None else study_dir / "report.html"
     out.write_text(html)
@@ -149,3 +167,46 @@ def _run_plots(rows: list[dict]) -> list[dict]:
         title = ", ".join(f"{k.removeprefix('param:')} = {v}" for k, v in r.items() if k.startswith("param:"))
         plots.append({"title": f"{title} ({r['engine']})", "png": data})
     return plots
+
+
+def _label(row: dict, varied: list[str] | None) -> str:
+    """'key = value, ...' of a row's parameters (only the varied ones when given)."""
+    keys = varied if varied is not None else [k for k in row if k.startswith("param:")]
+    return ", ".join(f"{k.removeprefix('param:')} = {row.get(k)}" for k in keys)
+
+
+def _noise_note(ref_row: dict | None, quantity: str, tolerance: float) -> str:
+    """How the reference's own statistical error compares with the tolerance (drag-finishing fn_mean)."""
+    if ref_row is None or quantity != "fn_mean" or not math.isfinite(_float(ref_row.get("fn_sem"))):
+        return ""
+    sem, value = _float(ref_row["fn_sem"]), _float(ref_row["fn_mean"])
+    rel = abs(sem / value)
+    verdict = ("smaller than the tolerance: differences beyond it are resolved" if 2 * rel < tolerance else
+               "not much smaller than the tolerance: differences of that size are partly noise")
+    return (f"The reference's mean F_n has a standard error of {sem:.3g} N ({100 * rel:.1f} %, block averaging "
+            f"over 10 blocks), {verdict}.")
+
+
+def _quantities_plot(ok: list[dict], varied: list[str]) -> str:
+    """Base64 PNG: each TRADE_OFF_QUANTITIES column present in the index against wall time, one panel each."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    present = [q for q in TRADE_OFF_QUANTITIES if any(math.isfinite(_float(r.get(q[0]))) for r in ok)]
+    if not present:
+        return ""
+    fig = Figure(figsize=(7, 2.6 * len(present)), layout="constrained")
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(len(present), 1, sharex=True, squeeze=False)[:, 0]
+    walls = [_float(r["wall_time_s"]) for r in ok]
+    for ax, (column, error_column, label) in zip(axes, present):
+        values = [_float(r.get(column)) for r in ok]
+        errors = [_float(r.get(error_column)) if error_column else 0.0 for r in ok]
+        ax.errorbar(walls, values, yerr=[e if math.isfinite(e) else 0.0 for e in errors], fmt="o", capsize=3)
+        for w, v, r in zip(walls, values, ok):
+            ax.annotate(_label(r, varied).replace("numerics.", ""), (w, v), fontsize=6, xytext=(3, 3),
+                        textcoords="offset points")
+        ax.set_ylabel(label, fontsize=8)
+        ax.set_xscale("log")
+    axes[-1].set_xlabel("wall time [s]")
+    return _png(fig)

@@ -6,6 +6,7 @@
     preset = "quick"                              # optional
     engines = ["yade"]
     timeout = 3600                                # s per run, optional
+    description = "..."                           # shown in the report, optional
 
     [sweep]
     mode = "grid"            # grid: every combination; zip: i-th values together; list: explicit runs
@@ -41,6 +42,7 @@ class StudyMeta(_Frozen):
     preset: str | None = None
     engines: tuple[str, ...] = Field(("yade",), min_length=1)
     timeout: float | None = Field(None, gt=0, description="wall-time limit per run, s")
+    description: str = Field("", description="what the study does and how it departs from the case (shown in the report)")
 
 
 class Sweep(_Frozen):
