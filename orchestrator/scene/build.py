@@ -100,7 +100,13 @@ def _build_impact(case):
     return build_impact(case)
 
 
-SCENE_BUILDERS = {"drag_finishing": build_drag_finishing, "impact": _build_impact}
+def _build_sph_flow(case):
+    from .sph import build_sph_flow
+
+    return build_sph_flow(case)
+
+
+SCENE_BUILDERS = {"drag_finishing": build_drag_finishing, "impact": _build_impact, "sph_flow": _build_sph_flow}
 
 
 def build_scene(case):
