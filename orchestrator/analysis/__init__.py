@@ -2,8 +2,9 @@
 
 from .drag_finishing import force_statistics, measure_drag_finishing
 from .impact import measure_impact
+from .sph import measure_sph_flow
 
-MEASURES = {"drag_finishing": measure_drag_finishing, "impact": measure_impact}
+MEASURES = {"drag_finishing": measure_drag_finishing, "impact": measure_impact, "sph_flow": measure_sph_flow}
 
 
 def measure(case, result) -> dict[str, float]:
