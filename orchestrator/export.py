@@ -6,7 +6,9 @@ What is written into the output directory (default ``RUN_DIR/vtk``):
 ``particles_<k>.vtu``
     frame k (``/frames/<k>``): one vertex cell per particle at its centre
     (m); point data ``radius`` (m), ``velocity`` (m/s, 3 components) and any
-    other per-particle array the frame holds, under its run.h5 name.
+    other per-particle array the frame holds, under its run.h5 name
+    (SPH frames: ``density`` kg/m^3, ``pressure`` Pa, ``kind``, ``ids``; a 2D
+    run's points and vectors get z = 0).
 ``particles.pvd``
     the frames as a time collection (timestep = the frame's simulation time, s).
 ``network_<k>.vtu``
@@ -19,7 +21,7 @@ What is written into the output directory (default ``RUN_DIR/vtk``):
 ``network.pvd``
     the contact snapshots as a time collection (simulation time, s).
 ``mesh_<name>.vtu``
-    mesh ``/meshes/<name>``: triangles on its vertices (m); every per-face
+    mesh ``/meshes/<name>``: triangles on its vertices (m; segments for a 2D SPH wall); every per-face
     array of the mesh as cell data (e.g. the rod's ``contact_intensity``, N s,
     and ``contact_count``, -).
 
@@ -37,7 +39,7 @@ from .errors import ReadError
 from .runh5 import RUN_FILE, read_run
 
 #: run.h5 frame names -> the singular names used as VTK point data.
-_POINT_NAMES = {"radii": "radius", "velocities": "velocity"}
+_POINT_NAMES = {"radii": "radius", "velocities": "velocity", "densities": "density", "pressures": "pressure"}
 #: Contact arrays that are geometry or handled explicitly (not copied as cell data).
 _NETWORK_SPECIAL = {"point1", "point2", "branch", "normal_force", "normal_force_vector", "tangential_force"}
 
@@ -90,15 +92,16 @@ def _particles_mesh(frame: dict, k: int):
 
     if "positions" not in frame:
         raise ReadError(f"run.h5 /frames/{k} has no positions")
-    positions = np.asarray(frame["positions"], dtype=float).reshape(-1, 3)
+    positions = _in_3d(frame["positions"])
     n = len(positions)
+    two_d = np.ndim(frame["positions"]) == 2 and np.shape(frame["positions"])[1] == 2
     point_data = {}
     for key, value in frame.items():
         if key in ("attrs", "positions"):
             continue
         array = np.asarray(value)
         if array.ndim >= 1 and array.shape[0] == n and array.ndim <= 2:
-            point_data[_POINT_NAMES.get(key, key)] = array
+            point_data[_POINT_NAMES.get(key, key)] = _in_3d(array) if two_d and array.ndim == 2 else array
     cells = [("vertex", np.arange(n, dtype=np.int64).reshape(-1, 1))]
     return meshio.Mesh(positions, cells, point_data=point_data)
 
@@ -150,8 +153,10 @@ def _surface_mesh(group: dict, name: str):
 
     if "vertices" not in group or "faces" not in group:
         raise ReadError(f"run.h5 /meshes/{name} has no vertices/faces")
-    vertices = np.asarray(group["vertices"], dtype=float).reshape(-1, 3)
-    faces = np.asarray(group["faces"], dtype=np.int64).reshape(-1, 3)
+    vertices = _in_3d(group["vertices"])
+    faces = np.asarray(group["faces"], dtype=np.int64)
+    cell_type = "line" if faces.ndim == 2 and faces.shape[1] == 2 else "triangle"  # 2D walls are segments
+    faces = faces.reshape(-1, 2 if cell_type == "line" else 3)
     cell_data = {}
     for key, value in group.items():
         if key in ("attrs", "vertices", "faces"):
@@ -159,7 +164,15 @@ def _surface_mesh(group: dict, name: str):
         array = np.asarray(value)
         if array.ndim in (1, 2) and array.shape[0] == len(faces):
             cell_data[key] = [array]
-    return meshio.Mesh(vertices, [("triangle", faces)], cell_data=cell_data)
+    return meshio.Mesh(vertices, [(cell_type, faces)], cell_data=cell_data)
+
+
+def _in_3d(points) -> np.ndarray:
+    """Points or vectors (n, 3), or (n, 2) of a 2D run padded with z = 0, as (n, 3) floats."""
+    array = np.asarray(points, dtype=float)
+    if array.ndim == 2 and array.shape[1] == 2:
+        return np.column_stack([array, np.zeros(len(array))])
+    return array.reshape(-1, 3)
 
 
 def _write_pvd(path: Path, entries: list[tuple[float, str]]) -> Path:
