@@ -26,11 +26,11 @@ from pathlib import Path
 
 from .errors import EngineNotFound, OrchestratorError
 
-#: Units of the drag-finishing measured quantities (analysis.drag_finishing); impact ones are in analysis.impact.
-DRAG_FINISHING_UNITS = {
-    "bed_height": "m", "n_samples": "-", "process_time_simulated": "s",
-    "fn_mean": "N", "fn_std": "N", "ft_mean": "N", "ft_std": "N", "fv_mean": "N", "fv_std": "N",
-}
+#: Units of the drag-finishing measured quantities (analysis.drag_finishing) that are not forces; impact ones are
+#: in analysis.impact.QUANTITIES.
+DRAG_FINISHING_UNITS = {"bed_height": "m", "n_samples": "-", "process_time_simulated": "s"}
+#: Drag-finishing quantities named with these prefixes are forces, N (fn_mean, ft_std, fn_sem, contact_fn_max...).
+FORCE_PREFIXES = ("fn_", "ft_", "fv_", "contact_f")
 #: Status of an engine that did not run (not installed, or not for this kind of case).
 SKIPPED = "skipped"
 PLOT_FILE = "compare_forces.png"
@@ -106,7 +106,7 @@ class Comparison:
             finite = [v for v in values.values() if math.isfinite(v)]
             spread = max(finite) - min(finite) if len(finite) > 1 else math.nan
             mean = sum(finite) / len(finite) if finite else math.nan
-            unit = QUANTITIES[name][0] if name in QUANTITIES else DRAG_FINISHING_UNITS.get(name, "")
+            unit = unit_of(name)
             rows.append({"quantity": name, "unit": unit, "values": values, "spread": spread,
                          "rel_spread": abs(spread / mean) if math.isfinite(spread) and mean != 0 else math.nan,
                          "expected": expected.get(name, math.nan)})
@@ -114,7 +114,8 @@ class Comparison:
 
     def force_rows(self) -> list[dict]:
         """Drag finishing: source, F_n and F_t mean and std (N) of each engine that ran, then the case's
-        references; each engine row adds, per reference, the relative difference of its mean F_n and whether
+        references; each engine row adds fn_sem (standard error of its mean F_n, N, nan if not measured) and, per
+        reference, the relative difference of its mean F_n and whether
         it lies within the reference's band (mean +- std). Empty for other kinds."""
         if self.kind != "drag_finishing":
             return []
@@ -125,13 +126,14 @@ class Comparison:
         for run in self.runs:
             if run.summary is None:
                 continue
-            row = {**comparison_rows(self.case, run.measured)[0], "source": run.engine, "against": []}
+            row = {**comparison_rows(self.case, run.measured)[0], "source": run.engine,
+                   "fn_sem": _number(run.measured.get("fn_sem")), "against": []}
             for ref in references:
                 rel = (row["fn_mean"] - ref["fn_mean"]) / abs(ref["fn_mean"]) if ref["fn_mean"] else math.nan
                 row["against"].append({"reference": ref["source"], "fn_rel_difference": rel,
                                        "in_band": bool(abs(row["fn_mean"] - ref["fn_mean"]) <= ref["fn_std"])})
             rows.append(row)
-        return rows + references
+        return rows + [{**ref, "fn_sem": math.nan} for ref in references]
 
     def as_dict(self) -> dict:
         """One JSON-ready document (NaN stays float; the CLI turns it into null)."""
@@ -139,6 +141,17 @@ class Comparison:
                 "out_dir": str(self.out_dir), "plot": str(self.plot) if self.plot else None,
                 "wall_time_s": self.wall_time_s, "engines": [run.row() for run in self.runs],
                 "quantities": self.quantity_rows(), "forces": self.force_rows()}
+
+
+def unit_of(quantity: str) -> str:
+    """SI unit of a measured quantity ('' when unknown)."""
+    from .analysis.impact import QUANTITIES
+
+    if quantity in QUANTITIES:
+        return QUANTITIES[quantity][0]
+    if quantity in DRAG_FINISHING_UNITS:
+        return DRAG_FINISHING_UNITS[quantity]
+    return "N" if quantity.startswith(FORCE_PREFIXES) else ""
 
 
 def parse_engines(text: str) -> list[str]:
@@ -271,13 +284,13 @@ def _scene_run(comparison: Comparison, run: EngineRun, data: dict):
 
 def text_tables(comparison: Comparison) -> list[tuple[str, list[str], list[list[str]]]]:
     """The comparison as (title, header, rows of cells) tables for a plain-text printer."""
-    engines = [run.engine for run in comparison.runs]
+    engines = [run.engine for run in comparison.runs if run.summary is not None]
     tables = []
     quantities = comparison.quantity_rows()
     if quantities:
         with_expected = any(math.isfinite(row["expected"]) for row in quantities)
         header = ["quantity [unit]", *engines, "spread", "rel_spread"] + (["expected"] if with_expected else [])
-        cells = [[f"{row['quantity']} [{row['unit']}]", *(_cell(row["values"][e]) for e in engines),
+        cells = [[f"{row['quantity']} [{row['unit'] or '?'}]", *(_cell(row["values"][e]) for e in engines),
                   _cell(row["spread"], ".3g"), _percent(row["rel_spread"])]
                  + ([_cell(row["expected"])] if with_expected else []) for row in quantities]
         tables.append(("measured quantities (SI units; spread = max - min, rel_spread = spread / |mean|)",
@@ -285,17 +298,19 @@ def text_tables(comparison: Comparison) -> list[tuple[str, list[str], list[list[
     forces = comparison.force_rows()
     if forces:
         refs = [row["source"] for row in forces if "against" not in row]
-        header = ["source", "F_n mean", "F_n std", "F_t mean", "F_t std"] + [f"F_n vs {ref}" for ref in refs]
+        header = ["source", "F_n mean", "F_n std", "F_n sem", "F_t mean", "F_t std"] + [f"F_n vs {ref}"
+                                                                                          for ref in refs]
         cells = []
         for row in forces:
-            line = [row["source"]] + [_cell(row[k], ".4g") for k in ("fn_mean", "fn_std", "ft_mean", "ft_std")]
+            line = [row["source"]] + [_cell(row[k], ".4g") for k in ("fn_mean", "fn_std", "fn_sem", "ft_mean",
+                                                                      "ft_std")]
             for against in row.get("against", []):
                 line.append(f"{_percent(against['fn_rel_difference'], signed=True)} "
                             f"({'in band' if against['in_band'] else 'outside band'})")
             cells.append(line + [""] * (len(header) - len(line)))
         transient = comparison.case.analysis.transient_time
-        tables.append((f"force on the rod after the {transient:g} s transient, N (mean, standard deviation), "
-                       "engines and the case's references", header, cells))
+        tables.append((f"force on the rod after the {transient:g} s transient, N (mean, standard deviation, standard "
+                       "error of the mean), engines and the case's references", header, cells))
     rows = [run.row() for run in comparison.runs]
     header = ["engine", "version", "status", "engine wall [s]", "particles", "steps", "particle-steps/s",
               "overhead [s]", "overhead [% of engine]"]
