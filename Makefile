@@ -11,7 +11,7 @@ APT_PACKAGES := yade liggghts g++ cmake make pkg-config libeigen3-dev libhdf5-de
 DEMO_CASE := cases/drag_finishing_uhlmann2015.toml
 DEMO_DIR := runs/demo
 
-.PHONY: demo test setup apt sph venv clean
+.PHONY: demo test setup apt sph venv clean pysph
 
 setup: apt sph venv
 
@@ -49,6 +49,13 @@ $(DEMO_DIR)/run.h5: $(DEMO_CASE) $(wildcard templates/yade/*.j2) $(wildcard orch
 test: setup
 	@if [ -f engines/sph/CMakeLists.txt ]; then ctest --test-dir engines/sph/build --output-on-failure; fi
 	$(BIN)/python -m pytest -q
+
+# Optional (not part of demo or test): PySPH in .venv, for the side-by-side in 'orchestrator bench sph'.
+# Its sdist builds from source (about 6 minutes; needs Cython >= 3) and caches compiled kernels under $HOME/.pysph.
+pysph: venv
+	@$(BIN)/python -c "import pysph" 2>/dev/null || { \
+	  $(BIN)/pip install -q cython numpy mako compyle cyarray pytools beaker setuptools wheel && \
+	  $(BIN)/pip install -q --no-build-isolation pysph; }
 
 clean:
 	rm -rf $(VENV) engines/sph/build runs *.egg-info
