@@ -216,6 +216,9 @@ def _cmd_run(args) -> int:
         print(f"particles    {summary.n_particles}")
         print(f"steps        {summary.n_steps}")
         print(f"wall time    {summary.wall_time_s:.1f} s")
+        if summary.overhead_s is not None and summary.wall_time_s > 0:
+            print(f"overhead     {summary.overhead_s:.2f} s ({100 * summary.overhead_s / summary.wall_time_s:.2g} % of "
+                  "the engine's wall time; per phase in run.h5)")
         for key, value in summary.measured.items():
             print(f"{key:<12} {value:.6g}" if isinstance(value, float) else f"{key:<12} {value}")
         print(f"run.h5       {summary.run_dir}/run.h5")
