@@ -38,6 +38,14 @@ def cli(*args, env=None):
                           env={**os.environ, "OMP_WAIT_POLICY": "PASSIVE", **(env or {})})
 
 
+def strict_json(text):
+    """json.loads that refuses NaN / Infinity (not JSON; the CLI must print null)."""
+    def refuse(name):
+        raise ValueError(f"{name} in the JSON output")
+
+    return json.loads(text, parse_constant=refuse)
+
+
 def summary(engine, measured, wall=2.0, particles=10, steps=500, overhead=0.05):
     return RunSummary("ok", engine, "1.0", "case", wall, particles, steps, f"/nowhere/{engine}", measured=measured,
                       overhead_s=overhead, overhead_phases_s={name: overhead / len(OVERHEAD_PHASES)
@@ -172,7 +180,7 @@ def impact_comparison(tmp_path_factory):
     out = tmp_path_factory.mktemp("compare") / "impact"
     proc = cli("compare", str(IMPACT), "--engines", "yade,reference", "--out", str(out), "--json", "--no-progress")
     assert proc.returncode == 0, proc.stderr
-    return json.loads(proc.stdout), out
+    return strict_json(proc.stdout), out
 
 
 @pytest.mark.yade
@@ -218,7 +226,7 @@ def test_tiny_bowl_compare_and_its_overhead(tmp_path):
     proc = cli("compare", str(TINY), "--engines", "yade,reference", "--set", "process.duration=0.05", "--out",
                str(out), "--json", "--no-progress")
     assert proc.returncode == 1, proc.stderr  # the reference was skipped
-    doc = json.loads(proc.stdout)
+    doc = strict_json(proc.stdout)
     yade, reference = doc["engines"]
     assert reference["status"] == "skipped" and "does not run drag_finishing" in reference["message"]
     assert yade["status"] == "ok"
