@@ -1,0 +1,309 @@
+"""Reference weakly compressible SPH in numpy: the equations of the sph
+executable (engines/sph, seed 000: Canini et al.), written plainly over
+explicit neighbour pairs, for small scenes (up to a few thousand particles).
+
+Same model and algorithm as the executable, departures from the paper
+included (engines/sph/README.md):
+- Wendland C2 kernel with support 2h (eq. 8), alpha_D = 7/(4 pi h^2) in 2D,
+  21/(16 pi h^3) in 3D;
+- Tait EOS with background pressure (eq. 6); a fixed boundary particle's
+  pressure and sound speed are those of max(rho, rho0);
+- continuity (eq. 7) with the sign of drho/dt = -rho div v; fixed boundary
+  particles evolve by the rate of the summation density, sum m_b v_ab . grad W;
+- pressure gradient (eq. 9 / rho_a), Morris viscosity (eq. 10, mu = rho0 nu,
+  boundary particles entering with the mirrored velocity 2 v_b - <v>_fluid),
+  Monaghan artificial viscosity (eqs. 11-12), body force, penalty walls
+  (eq. 14, orchestrator.reference.sph_walls);
+- periodic axes: every image within 2h (the executable's cell lists find the
+  same ones when the periodic length is at least 4h);
+- the predictor-corrector leapfrog of Monaghan, Kos & Issa 2003:
+  x* = x + dt/2 v, v* = v + dt/2 a, rho* = rho + dt/2 Drho; then
+  v' = v + dt a*, rho' = rho + dt Drho*, x' = x + dt (v + dt/2 a*).
+Inlets and outlets are not modelled here.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from .sph_walls import PenaltyWalls
+
+FLUID, BOUNDARY = 0, 1
+
+
+@dataclass(frozen=True)
+class SphModel:
+    """The physics of a run (SI units). Optional terms are None when off."""
+
+    dimension: int
+    rho0: float  # kg/m^3
+    c0: float  # m/s
+    h: float  # smoothing length, m
+    gamma: float = 7.0
+    background_pressure: float = 0.0  # Pa
+    viscosity: float | None = None  # kinematic nu, m^2/s (Morris, eq. 10)
+    alpha: float | None = None  # artificial viscosity (eqs. 11-12), -
+    beta: float = 0.0
+    body_force: tuple | None = None  # m/s^2
+    walls: PenaltyWalls | None = None
+    periodic_axes: tuple[int, ...] = ()
+    periodic_lo: tuple[float, ...] = ()  # m, one per periodic axis
+    periodic_hi: tuple[float, ...] = ()
+
+    @property
+    def eta2(self) -> float:
+        """0.01 h^2, m^2 (the regularisation of eqs. 10-11)."""
+        return 0.01 * self.h * self.h
+
+
+@dataclass(frozen=True)
+class SphState:
+    """Particle state: x (n, D) m, v (n, D) m/s, rho (n) kg/m^3, mass (n) kg, kind (n) 0 fluid / 1 boundary."""
+
+    x: np.ndarray
+    v: np.ndarray
+    rho: np.ndarray
+    mass: np.ndarray
+    kind: np.ndarray
+
+
+def kernel_value(r, h: float, dimension: int):
+    """Wendland C2 W(r) = alpha_D (1 - q/2)^4 (2q + 1), q = r/h < 2, 1/m^D (eq. 8)."""
+    alpha_d = 7.0 / (4.0 * math.pi * h * h) if dimension == 2 else 21.0 / (16.0 * math.pi * h**3)
+    q = np.asarray(r, dtype=float) / h
+    t = 1.0 - 0.5 * q
+    return np.where(q >= 2.0, 0.0, alpha_d * t**4 * (2.0 * q + 1.0))
+
+
+def kernel_gradient_factor(r, h: float, dimension: int):
+    """F(r) with grad_a W_ab = F(r) r_ab: -5 alpha_D (1 - q/2)^3 / h^2, 1/m^(D+2)."""
+    alpha_d = 7.0 / (4.0 * math.pi * h * h) if dimension == 2 else 21.0 / (16.0 * math.pi * h**3)
+    q = np.asarray(r, dtype=float) / h
+    t = 1.0 - 0.5 * q
+    return np.where(q >= 2.0, 0.0, -5.0 * alpha_d / (h * h) * t**3)
+
+
+def tait_pressure(rho, model: SphModel):
+    """Eq. 6: rho0 c0^2/gamma ((rho/rho0)^gamma - 1) + p_B, Pa."""
+    ratio = np.asarray(rho, dtype=float) / model.rho0
+    return model.rho0 * model.c0**2 / model.gamma * (ratio**model.gamma - 1.0) + model.background_pressure
+
+
+def sound_speed(rho, model: SphModel):
+    """c = c0 (rho/rho0)^((gamma-1)/2), m/s."""
+    return model.c0 * (np.asarray(rho, dtype=float) / model.rho0) ** (0.5 * (model.gamma - 1.0))
+
+
+def wrap(x: np.ndarray, model: SphModel) -> np.ndarray:
+    """Positions mapped into [lo, hi) along the periodic axes (a copy), m."""
+    x = np.array(x, dtype=float)
+    for axis, lo, hi in zip(model.periodic_axes, model.periodic_lo, model.periodic_hi):
+        length = hi - lo
+        column = x[:, axis]
+        outside = (column >= hi) | (column < lo)
+        column[outside] -= length * np.floor((column[outside] - lo) / length)
+        column[column >= hi] = lo
+    return x
+
+
+def neighbour_pairs(x: np.ndarray, model: SphModel, targets: np.ndarray | None = None):
+    """Pairs (a, b, r_ab) with 0 < |r_ab| < 2h over every periodic image of b: r_ab = x_a - (x_b + shift), m.
+
+    targets: the points a (default x itself).
+    """
+    from scipy.spatial import cKDTree
+
+    xa = x if targets is None else targets
+    support = 2.0 * model.h
+    shifts = [np.zeros(model.dimension)]
+    if model.periodic_axes:
+        shifts = []
+        lengths = [hi - lo for lo, hi in zip(model.periodic_lo, model.periodic_hi)]
+        for combo in itertools.product((-1, 0, 1), repeat=len(model.periodic_axes)):
+            shift = np.zeros(model.dimension)
+            for axis, k, length in zip(model.periodic_axes, combo, lengths):
+                shift[axis] = k * length
+            shifts.append(shift)
+    tree_a = cKDTree(xa)
+    a_parts, b_parts, r_parts = [], [], []
+    for shift in shifts:
+        image = x + shift
+        matrix = tree_a.sparse_distance_matrix(cKDTree(image), support * (1 + 1e-12), output_type="ndarray")
+        a, b = matrix["i"].astype(np.int64), matrix["j"].astype(np.int64)
+        r_ab = xa[a] - image[b]
+        r2 = np.einsum("ij,ij->i", r_ab, r_ab)
+        keep = (r2 < support * support) & (r2 != 0.0)
+        a_parts.append(a[keep]), b_parts.append(b[keep]), r_parts.append(r_ab[keep])
+    order_a, order_b = np.concatenate(a_parts), np.concatenate(b_parts)
+    r_ab = np.concatenate(r_parts)
+    order = np.lexsort((order_b, order_a))
+    return order_a[order], order_b[order], r_ab[order]
+
+
+def _sum_to(index: np.ndarray, values: np.ndarray, n: int) -> np.ndarray:
+    out = np.zeros((n,) + values.shape[1:])
+    np.add.at(out, index, values)
+    return out
+
+
+def rates(state: SphState, model: SphModel) -> tuple[np.ndarray, np.ndarray]:
+    """(dv/dt (n, D) m/s^2, drho/dt (n) kg/m^3/s) of every particle at the state (zero acceleration for
+    boundary particles)."""
+    n, d = state.x.shape
+    fluid = state.kind == FLUID
+    rho_eos = np.where(fluid, state.rho, np.maximum(state.rho, model.rho0))
+    p = tait_pressure(rho_eos, model)
+    c = sound_speed(rho_eos, model)
+    vol = state.mass / state.rho
+    p_rho2 = p / (state.rho * state.rho)
+    a, b, r_ab = neighbour_pairs(state.x, model)
+    r2 = np.einsum("ij,ij->i", r_ab, r_ab)
+    grad_w = kernel_gradient_factor(np.sqrt(r2), model.h, d)[:, None] * r_ab
+    v_ab = state.v[a] - state.v[b]
+    v_dot_grad = np.einsum("ij,ij->i", v_ab, grad_w)
+    moving = fluid[a]
+
+    drho = np.where(moving, state.rho[a] * vol[b] * v_dot_grad, state.mass[b] * v_dot_grad)
+    acc_pairs = -(state.mass[b] * (p_rho2[a] + p_rho2[b]))[:, None] * grad_w
+    if model.viscosity is not None:
+        mu = model.rho0 * model.viscosity
+        v_noslip = _no_slip_velocities(state, model)
+        s = 2.0 * mu * vol[b] / state.rho[a] * np.einsum("ij,ij->i", r_ab, grad_w) / (r2 + model.eta2)
+        acc_pairs += s[:, None] * (state.v[a] - v_noslip[b])
+    if model.alpha is not None:
+        vr = np.einsum("ij,ij->i", v_ab, r_ab)
+        approaching = vr < 0.0
+        mu_ab = model.h * vr / (r2 + model.eta2)
+        rho_ab = 0.5 * (state.rho[a] + state.rho[b])
+        c_ab = 0.5 * (c[a] + c[b])
+        pi_ab = np.where(approaching, (-model.alpha * c_ab * mu_ab + model.beta * mu_ab * mu_ab) / rho_ab, 0.0)
+        acc_pairs -= (state.mass[b] * pi_ab)[:, None] * grad_w
+    acc = _sum_to(a[moving], acc_pairs[moving], n)
+    drho_sum = _sum_to(a, drho, n)
+    if model.body_force is not None:
+        acc[fluid] += np.asarray(model.body_force, dtype=float)
+    if model.walls is not None and fluid.any():
+        acc[fluid] += model.walls.forces(state.x[fluid]) / state.mass[fluid][:, None]
+    acc[~fluid] = 0.0
+    return acc, drho_sum
+
+
+def _no_slip_velocities(state: SphState, model: SphModel) -> np.ndarray:
+    """v for fluid; 2 v_b - (Shepard average of the fluid velocity within 2h) for boundary particles, m/s."""
+    v_noslip = state.v.copy()
+    boundary = np.nonzero(state.kind == BOUNDARY)[0]
+    fluid = np.nonzero(state.kind == FLUID)[0]
+    if not len(boundary) or not len(fluid):
+        return v_noslip
+    b, f, r_bf = _pairs_including_coincident(state.x[boundary], state.x[fluid], model)
+    w = kernel_value(np.linalg.norm(r_bf, axis=1), model.h, model.dimension)
+    weight = _sum_to(b, w, len(boundary))
+    velocity = _sum_to(b, w[:, None] * state.v[fluid][f], len(boundary))
+    wet = weight > 0.0
+    rows = boundary[wet]
+    v_noslip[rows] = 2.0 * state.v[rows] - velocity[wet] / weight[wet][:, None]
+    return v_noslip
+
+
+def _pairs_including_coincident(targets: np.ndarray, sources: np.ndarray, model: SphModel):
+    """Pairs (target i, source j, r = target - source image) with |r| < 2h, coincident points included."""
+    from scipy.spatial import cKDTree
+
+    support = 2.0 * model.h
+    lengths = [hi - lo for lo, hi in zip(model.periodic_lo, model.periodic_hi)]
+    parts = []
+    tree = cKDTree(targets)
+    for combo in itertools.product((-1, 0, 1), repeat=len(model.periodic_axes)):
+        shift = np.zeros(model.dimension)
+        for axis, k, length in zip(model.periodic_axes, combo, lengths):
+            shift[axis] = k * length
+        image = sources + shift
+        matrix = tree.sparse_distance_matrix(cKDTree(image), support * (1 + 1e-12), output_type="ndarray")
+        i, j = matrix["i"].astype(np.int64), matrix["j"].astype(np.int64)
+        r = targets[i] - image[j]
+        keep = np.einsum("ij,ij->i", r, r) < support * support
+        parts.append((i[keep], j[keep], r[keep]))
+    return tuple(np.concatenate(items) for items in zip(*parts))
+
+
+def step(state: SphState, model: SphModel, dt: float) -> SphState:
+    """One predictor-corrector step of dt seconds (two rate evaluations); boundary particles keep x and v."""
+    moves = state.kind == FLUID
+    acc0, drho0 = rates(state, model)
+    half = 0.5 * dt
+    x_half = state.x.copy()
+    x_half[moves] = wrap(state.x[moves] + half * state.v[moves], model)
+    v_half = state.v + half * acc0
+    mid = replace(state, x=x_half, v=v_half, rho=state.rho + half * drho0)
+    acc1, drho1 = rates(mid, model)
+    x_new = state.x.copy()
+    x_new[moves] = wrap(state.x[moves] + dt * (state.v[moves] + half * acc1[moves]), model)
+    return replace(state, x=x_new, v=state.v + dt * acc1, rho=state.rho + dt * drho1)
+
+
+def adaptive_dt(state: SphState, model: SphModel, cfl: float = 0.25, viscous: float = 0.125,
+                force: float = 0.25) -> float:
+    """Eq. 13 extended, s: min(cfl h/(c0 + |v|max), viscous h^2/nu, force sqrt(h/|a|max)) over the fluid."""
+    acc, _ = rates(state, model)
+    fluid = state.kind == FLUID
+    v_max = float(np.max(np.linalg.norm(state.v[fluid], axis=1), initial=0.0))
+    a_max = float(np.max(np.linalg.norm(acc[fluid], axis=1), initial=0.0))
+    dt = cfl * model.h / (model.c0 + v_max)
+    if model.viscosity is not None:
+        dt = min(dt, viscous * model.h**2 / model.viscosity)
+    if a_max > 0.0:
+        dt = min(dt, force * math.sqrt(model.h / a_max))
+    return dt
+
+
+def simulate(state: SphState, model: SphModel, dt: float, n_steps: int, every: int = 0):
+    """Advance n_steps fixed steps of dt s; returns (final state, [(step, state) every `every` steps])."""
+    states = []
+    state = replace(state, x=wrap(state.x, model))
+    for k in range(1, n_steps + 1):
+        state = step(state, model, dt)
+        if every and k % every == 0:
+            states.append((k, state))
+    return state, states
+
+
+def probe_pressure(point, state: SphState, model: SphModel) -> float:
+    """Shepard-normalised fluid pressure at a point, sum V_b p_b W / sum V_b W over fluid within 2h, Pa
+    (NaN when none)."""
+    fluid = np.nonzero(state.kind == FLUID)[0]
+    target = wrap(np.asarray(point, dtype=float).reshape(1, -1), model)
+    _, j, r = _pairs_including_coincident(target, state.x[fluid], model)
+    w = state.mass[fluid][j] / state.rho[fluid][j] * kernel_value(np.linalg.norm(r, axis=1), model.h,
+                                                                   model.dimension)
+    if not w.sum() > 0.0:
+        return float("nan")
+    return float(np.sum(w * tait_pressure(state.rho[fluid][j], model)) / np.sum(w))
+
+
+def from_scene(scene) -> tuple[SphState, SphModel]:
+    """The state and model of an SphScene (orchestrator.scene.sph); ValueError for inlets or outlets."""
+    case = scene.case
+    if case.inlets or case.outlets:
+        raise ValueError("the reference SPH does not model inlets and outlets")
+    physics = case.physics
+    walls = None
+    if physics.wall_penalty is not None:
+        wp = physics.wall_penalty
+        walls = PenaltyWalls({name: (m.vertices, m.faces) for name, m in scene.meshes.items()}, wp.range, wp.s, wp.psi)
+    axes = tuple(case.domain.periodic)
+    av = physics.artificial_viscosity
+    model = SphModel(
+        dimension=case.dimension, rho0=case.fluid.density, c0=scene.c0, h=scene.h, gamma=case.fluid.gamma,
+        background_pressure=case.fluid.background_pressure, viscosity=case.fluid.viscosity,
+        alpha=None if av is None else av.alpha, beta=0.0 if av is None else av.beta,
+        body_force=physics.body_force, walls=walls, periodic_axes=axes,
+        periodic_lo=tuple(case.domain.lo[a] for a in axes), periodic_hi=tuple(case.domain.hi[a] for a in axes),
+    )
+    state = SphState(x=np.array(scene.positions, dtype=float), v=np.array(scene.velocities, dtype=float),
+                     rho=np.array(scene.densities, dtype=float), mass=np.array(scene.masses, dtype=float),
+                     kind=np.array(scene.kind, dtype=np.int8))
+    return state, model
