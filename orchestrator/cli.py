@@ -137,6 +137,22 @@ def _parser() -> argparse.ArgumentParser:
                          "(values per engine, spread, rel_spread), forces (drag finishing, with the references), plot")
     compare.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
 
+    bench = sub.add_parser(
+        "bench", help="speed of an engine: particle-steps per second on standard scenes",
+        description="bench sph: time the sph executable on a 2D dam break (PySPH's dam_break_2d: dx = 0.03 m, "
+        "h = 1.3 dx, 2278 fluid particles) and a 3D dam break (25 360 particles), each on 1 and 2 threads, and, "
+        "when PySPH is importable ('make pysph'), the same 2D dam break in PySPH on one core. Prints particle-steps "
+        "per second (over the loop's wall time and per CPU second), mean neighbours per fluid particle, the "
+        "2-thread speed-up and the ratio to PySPH. On a shared machine set OMP_WAIT_POLICY=passive.")
+    bench.add_argument("suite", choices=["sph"], help="which engine: sph")
+    bench.add_argument("--steps-2d", type=int, default=2000, metavar="N", help="steps of the 2D runs (default 2000)")
+    bench.add_argument("--steps-3d", type=int, default=200, metavar="N", help="steps of the 3D runs (default 200)")
+    bench.add_argument("--no-pysph", action="store_true", help="skip PySPH even when it is installed")
+    bench.add_argument("--out", metavar="DIR", help="run directories (default: runs/bench-sph-<time>)")
+    bench.add_argument("--json", action="store_true",
+                       help="print one JSON object: rows (scene, engine, threads, particles, fluid, steps, neighbours, "
+                       "wall_s, cpu_s, particle_steps_per_s, per_core, status, note) and summary (speed-ups, ratios)")
+
     doctor = sub.add_parser("doctor", help="which engines are installed, their versions and paths")
     doctor.add_argument("--json", action="store_true", help="print a JSON list")
 
@@ -158,7 +174,7 @@ def main(argv=None) -> int:
     try:
         commands = {"run": _cmd_run, "analyze": _cmd_analyze, "doctor": _cmd_doctor, "export": _cmd_export,
                     "study": _cmd_study, "status": _cmd_status, "report": _cmd_report, "verify": _cmd_verify,
-                    "calibrate": _cmd_calibrate, "compare": _cmd_compare}
+                    "calibrate": _cmd_calibrate, "compare": _cmd_compare, "bench": _cmd_bench}
         return commands[args.command](args)
     except OrchestratorError as exc:
         if getattr(args, "json", False) and exc.summary is not None:
@@ -412,3 +428,23 @@ def _cmd_calibrate(args) -> int:
     else:
         print(format_fit(fit))
     return 0
+
+
+def _cmd_bench(args) -> int:
+    from .bench_sph import format_report, json_report, run_bench
+    from .errors import OrchestratorError
+
+    if args.steps_2d < 1 or args.steps_3d < 1:
+        raise OrchestratorError("--steps-2d and --steps-3d must be at least 1")
+
+    def done(row):
+        print(f"bench: {row.scene} on {row.engine}, {row.threads} thread(s): {row.status}", file=sys.stderr,
+              flush=True)
+
+    rows = run_bench(args.out, steps_2d=args.steps_2d, steps_3d=args.steps_3d,
+                     with_pysph=False if args.no_pysph else None, on_done=done)
+    if args.json:
+        print(json.dumps(json_report(rows)))
+    else:
+        print(format_report(rows))
+    return 0 if all(row.status == "ok" for row in rows) else 1
