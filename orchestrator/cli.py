@@ -216,6 +216,13 @@ def _cmd_run(args) -> int:
 
         if args.engine not in engine_names():
             raise OrchestratorError(f"unknown engine {args.engine!r}; allowed: {', '.join(engine_names())}")
+        from .backends import engines_for_kind, get_backend
+
+        allowed = engines_for_kind(loaded.kind)
+        # A backend with check_scene explains its own refusal (e.g. the reference DEM: why, and what to use).
+        if allowed and args.engine not in allowed and not hasattr(get_backend(args.engine), "check_scene"):
+            raise OrchestratorError(f"--engine {args.engine} does not run {loaded.kind} cases; allowed: "
+                                    f"{', '.join(allowed)}")
 
     def announce(timing):
         print(f"estimate: {timing.seconds_per_step * 1e3:.3g} ms per step x {timing.planned_steps} steps planned "
