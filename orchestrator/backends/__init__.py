@@ -14,6 +14,7 @@ from ..errors import OrchestratorError
 _REGISTRY = {
     "yade": ("orchestrator.backends.yade", "YadeBackend"),
     "reference": ("orchestrator.backends.reference", "ReferenceBackend"),
+    "liggghts": ("orchestrator.backends.liggghts", "LiggghtsBackend"),
     "sph": ("orchestrator.backends.sph", "SphBackend"),
 }
 
