@@ -35,12 +35,21 @@ def verification_dir() -> Path:
     raise OrchestratorError("the verification scenes (cases/verification) are missing; reinstall the package")
 
 
-def scene_files(directory: Path | None = None) -> list[Path]:
-    """The verification case files, sorted by name."""
+def scene_files(directory: Path | None = None, kind: str = "impact") -> list[Path]:
+    """The verification case files of one case kind (impact: DEM; sph_flow: SPH), sorted by name."""
+    import tomllib
+
     directory = Path(directory) if directory is not None else verification_dir()
-    files = sorted(directory.glob("*.toml"))
+    files = []
+    for path in sorted(directory.glob("*.toml")):
+        try:
+            file_kind = tomllib.loads(path.read_text()).get("case", {}).get("kind")
+        except (OSError, tomllib.TOMLDecodeError):
+            file_kind = kind  # let the case loader report what is wrong with it
+        if file_kind == kind:
+            files.append(path)
     if not files:
-        raise OrchestratorError(f"no case files (*.toml) in {directory}")
+        raise OrchestratorError(f"no {kind} case files (*.toml) in {directory}")
     return files
 
 
