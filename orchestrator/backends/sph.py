@@ -225,6 +225,8 @@ def read_sph_output(workdir: Path, scene=None) -> Result:
     """Parse out.h5 of a run (complete, partial or missing) into a Result; meshes from the scene."""
     import h5py
 
+    from ..runh5 import _plain
+
     result = Result()
     path = Path(workdir) / OUTPUT
     if scene is not None:
@@ -279,11 +281,3 @@ def _engine_error(workdir: Path) -> str:
 
     lines = [line for line in tail(Path(workdir) / LOG_NAME, 200).splitlines() if line.startswith("error: ")]
     return lines[-1].removeprefix("error: ") if lines else ""
-
-
-def _plain(value):
-    if isinstance(value, bytes):
-        return value.decode()
-    if isinstance(value, np.generic):
-        return value.item()
-    return value
