@@ -178,10 +178,23 @@ def test_a_wall_needs_wall_penalty(capsys, tmp_path):
     assert code == 2 and "'wall_penalty' is not in physics.terms" in err
 
 
-def test_sph_engine_refuses_a_dem_case(capsys, tmp_path):
+def test_missing_executable_says_how_to_build_it(monkeypatch, capsys, tmp_path):
+    monkeypatch.setenv("ORCHESTRATOR_SPH", str(tmp_path / "no-sph"))
+    code = main(["run", str(DAM_BREAK), "--preset", "tiny", "--out", str(tmp_path / "r")])
+    err = capsys.readouterr().err
+    assert code == 3 and f"ORCHESTRATOR_SPH={tmp_path / 'no-sph'} does not exist" in err and "make sph" in err
+
+
+def test_engine_and_kind_must_match(capsys, tmp_path):
     drop = ROOT / "cases" / "verification" / "uhlmann2015_sphere_drop.toml"
     code = main(["run", str(drop), "--set", "case.engine='sph'", "--out", str(tmp_path / "r")])
     assert code == 2 and "case.engine = 'sph' does not run impact cases" in capsys.readouterr().err
+    code = main(["run", str(drop), "--engine", "sph", "--out", str(tmp_path / "r")])
+    err = capsys.readouterr().err
+    assert code == 2 and "the sph engine runs sph_flow cases, not impact cases" in err and "yade" in err
+    code = main(["run", str(DAM_BREAK), "--engine", "yade", "--out", str(tmp_path / "r")])
+    assert code == 2 and "--engine yade does not run sph_flow cases; allowed: sph" in capsys.readouterr().err
+    assert not (tmp_path / "r").exists()
 
 
 def _internal_energy(rho, rho0: float, c0: float, gamma: float = 7.0):

@@ -39,7 +39,9 @@ class SphProfile:
 
     @cached_property
     def version(self) -> str:
-        """The executable's version, e.g. 'sph 0.1.0' -> '0.1.0'."""
+        """The executable's version, e.g. 'sph 0.1.0' -> '0.1.0' ('unknown' when it cannot say)."""
+        if not self.executable:
+            return "unknown"
         try:
             out = subprocess.run([self.executable, "--version"], capture_output=True, text=True, timeout=30)
         except (OSError, subprocess.TimeoutExpired):
