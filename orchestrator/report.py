@@ -29,6 +29,10 @@ def analyze_run(run_dir, render: bool = True) -> dict:
     attrs = run["attrs"]
     if case.case.kind == "impact":
         return analyze_impact_run(run_dir, run, case)
+    if case.case.kind == "sph_flow":
+        from .analysis.sph import analyze_sph_run
+
+        return analyze_sph_run(run_dir, run, case, render)
     measured = run.get("measured", {}).get("attrs", {})
     print(f"run {run_dir}: status {attrs['status']}, {attrs['engine']} {attrs['engine_version']}, "
           f"{attrs['n_particles']} particles, {attrs['n_steps']} steps, {attrs['wall_time_s']:.1f} s")

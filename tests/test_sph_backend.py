@@ -140,6 +140,30 @@ def test_parser_of_a_killed_run(tmp_path):
     assert result.status == "failed" and "without finishing" in result.message and len(result.frames) == 2
 
 
+def test_stored_output_through_run_h5_analyze_and_export(capsys, tmp_path):
+    """Engine-free: the stored output becomes run.h5 (as run_case writes it), which analyze and export read."""
+    from orchestrator.analysis import measure
+    from orchestrator.runh5 import RUN_FILE, read_run, write_run
+
+    loaded = load_case(REFERENCE_2D)
+    result = read_sph_output(DATA / "sph_output_ok", build_scene(loaded.model))
+    result.measured = measure(loaded.model, result)
+    root = {"engine": "sph", "engine_version": "0.1.0", "case_name": loaded.name, "case_kind": loaded.kind,
+            "n_particles": 414, "wall_time_s": 0.1}
+    write_run(tmp_path / RUN_FILE, result, root, loaded.toml_text, loaded.resolved, "log")
+    run = read_run(tmp_path)
+    np.testing.assert_array_equal(run["frames"]["1"]["positions"], result.frames[1][1]["positions"])
+    assert run["measured"]["attrs"]["fluid_particles_last"] == 216
+    assert run["measured"]["attrs"]["kinetic_energy_last"] == result.series["kinetic_energy"].values[-1]
+    assert main(["analyze", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "kinetic_energy_last" in out and (tmp_path / "series.png").is_file()
+    assert (tmp_path / "last_frame.png").is_file()
+    assert main(["export", str(tmp_path)]) == 0
+    assert sorted(p.name for p in (tmp_path / "vtk").iterdir()) == ["particles.pvd", "particles_0.vtu",
+                                                                    "particles_1.vtu"]
+
+
 BAD_VALUES = [
     ("fluid.max_speed=-1", ["fluid.max_speed", "greater than 0"]),
     ("fluid.sound_speed=20.0", ["fluid.sound_speed = 20.0", "10 x fluid.max_speed"]),

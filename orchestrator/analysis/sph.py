@@ -3,6 +3,8 @@ the series the sph executable writes (run.h5 /series) and its last frame."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 
 #: Series whose last value is reported as <name>_last (by prefix), with their meaning.
@@ -36,3 +38,82 @@ def measure_sph_flow(case, result) -> dict[str, float]:
         if kind is not None:
             measured["fluid_particles_last"] = float(np.count_nonzero(np.asarray(kind) == 0))
     return measured
+
+
+#: Panels of the series figure: (title, y label, series name prefix).
+SERIES_PANELS = (
+    ("pressure probes", "p [Pa]", "pressure_probe_"),
+    ("flow rates", "Q [m^3/s, 2D: m^2/s]", ("flow_rate_", "inflow_", "outflow_")),
+    ("fluid kinetic energy", "E_k [J, 2D: J/m]", "kinetic_energy"),
+    ("max |rho/rho0 - 1|", "-", "max_density_deviation"),
+)
+
+
+def analyze_sph_run(run_dir: Path, run: dict, case, render: bool = True) -> dict:
+    """`orchestrator analyze` of an SPH flow run: print the measured quantities (SI units), write series.png
+    (probes, flow rates, kinetic energy, density deviation against time) and, with render, last_frame.png
+    (the particles of the last frame coloured by pressure). Returns {name: path}."""
+    attrs = run["attrs"]
+    measured = run.get("measured", {}).get("attrs", {})
+    print(f"run {run_dir}: status {attrs['status']}, {attrs['engine']} {attrs['engine_version']}, "
+          f"{attrs['n_particles']} particles, {attrs['n_steps']} steps, {attrs['wall_time_s']:.1f} s"
+          + (f": {attrs['message']}" if attrs.get("message") else ""))
+    for name, value in measured.items():
+        print(f"{name:<40} {value:.6g}")
+    outputs = {"series": plot_sph_series(run, Path(run_dir) / "series.png")}
+    frames = [k for k in run.get("frames", {}) if k != "attrs"]
+    if render and frames:
+        outputs["last_frame"] = plot_sph_frame(run["frames"][max(frames, key=int)], Path(run_dir) / "last_frame.png")
+    for name, path in outputs.items():
+        print(f"{name:<10} {path}")
+    return outputs
+
+
+def plot_sph_series(run: dict, path: Path) -> Path:
+    """The run's SPH series against time (s), one panel per kind (SERIES_PANELS), as a PNG at path."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    series = run.get("series", {})
+    time = np.asarray(series.get("time", []), dtype=float)
+    panels = [(title, label, [n for n in sorted(series) if n != "attrs" and n.startswith(prefix)])
+              for title, label, prefix in SERIES_PANELS]
+    panels = [p for p in panels if p[2]]
+    fig = Figure(figsize=(9.0, 2.4 * max(1, len(panels))), dpi=120, layout="constrained")
+    FigureCanvasAgg(fig)
+    axes = np.atleast_1d(fig.subplots(max(1, len(panels)), 1, sharex=True))
+    for ax, (title, label, names) in zip(axes, panels):
+        for name in names:
+            values = np.asarray(series[name], dtype=float)
+            if values.ndim == 1 and len(values) == len(time):
+                ax.plot(time, values, label=name)
+        ax.set_title(title, fontsize=10)
+        ax.set_ylabel(label)
+        if len(names) > 1:
+            ax.legend(fontsize=8)
+    axes[-1].set_xlabel("t [s]")
+    fig.savefig(path)
+    return Path(path)
+
+
+def plot_sph_frame(frame: dict, path: Path) -> Path:
+    """The particles of one frame (x-y in 2D, x-z in 3D, m), fluid coloured by pressure (Pa), boundary grey."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    x = np.asarray(frame["positions"], dtype=float)
+    kind = np.asarray(frame["kind"])
+    vertical = 1 if x.shape[1] == 2 else 2
+    fig = Figure(figsize=(8.0, 5.0), dpi=120, layout="constrained")
+    FigureCanvasAgg(fig)
+    ax = fig.subplots()
+    fluid = kind == 0
+    ax.scatter(x[~fluid, 0], x[~fluid, vertical], s=2, c="0.6")
+    points = ax.scatter(x[fluid, 0], x[fluid, vertical], s=2, c=np.asarray(frame["pressures"])[fluid], cmap="viridis")
+    fig.colorbar(points, ax=ax, label="p [Pa]")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel(("y" if vertical == 1 else "z") + " [m]")
+    ax.set_title(f"t = {frame['attrs'].get('time', float('nan')):.4g} s")
+    fig.savefig(path)
+    return Path(path)
