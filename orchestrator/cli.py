@@ -37,6 +37,8 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--force", action="store_true", help="overwrite a run already in --out")
     run.add_argument("--json", action="store_true", help="print one JSON object instead of the text summary")
     run.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
+    run.add_argument("--mpi", type=int, metavar="N",
+                     help="run the engine under 'mpirun -np N' (liggghts; default 1, or $ORCHESTRATOR_LIGGGHTS_MPI)")
 
     analyze = sub.add_parser("analyze", help="compare a run with the paper: table and PNG plots",
                              description="Print the run's measured quantities next to the case's published "
@@ -78,8 +80,13 @@ def _parser() -> argparse.ArgumentParser:
         "sphere drop of Uhlmann et al. 2015) on every installed DEM engine and on the reference DEM, compare each "
         "measured quantity with its closed form, print one table (scene, engine, quantity [SI unit], value, "
         "expected, rel_error = |value - expected| / |expected|, tolerance, passed) and save verify_dem.png (normal "
-        "force in N against time in ms, engines overlaid per scene). Exit code 1 if any check fails.")
-    verify.add_argument("suite", choices=["dem"], help="which suite: dem (discrete element impacts)")
+        "force in N against time in ms, engines overlaid per scene). Exit code 1 if any check fails. "
+        "verify sph: the SPH scenes (cases/verification/sph_*.toml: Poiseuille and Couette start-up against the "
+        "series of Morris et al. 1997, a hydrostatic tank, the 2D dam break against Koshizuka & Oka 1996 and "
+        "Martin & Moyce 1952, penalty walls against eq. 14) on the sph executable, the same table and JSON rows, "
+        "and verify_sph.png (profiles, pressure, surge front, wall forces).")
+    verify.add_argument("suite", choices=["dem", "sph"],
+                        help="which suite: dem (discrete element impacts) or sph (SPH flows on the sph executable)")
     verify.add_argument("--engine", dest="engines", action="append", metavar="NAME",
                         help="run on this engine only (repeatable; default: every installed DEM engine and the "
                         "reference)")
@@ -229,7 +236,7 @@ def _cmd_run(args) -> int:
               f"-> the whole run takes about {duration(timing.estimate_s)}", file=sys.stderr, flush=True)
 
     summary = run_case(loaded, engine=args.engine, out_dir=args.out, timeout_s=args.timeout,
-                       progress=not args.no_progress, force=args.force, on_timing=announce)
+                       progress=not args.no_progress, force=args.force, on_timing=announce, mpi_ranks=args.mpi)
     if args.json:
         print(json.dumps(_jsonable(summary.as_dict())))
     else:
@@ -347,6 +354,8 @@ def _cmd_report(args) -> int:
 def _cmd_verify(args) -> int:
     from .verify import default_out_dir, format_table, json_rows, plot_force_curves, run_verification
 
+    if args.suite == "sph":
+        return _verify_sph(args)
     out_dir = args.out or default_out_dir()
     if args.timestep_factors:
         return _verify_sweep(args, Path(out_dir))
@@ -365,6 +374,35 @@ def _cmd_verify(args) -> int:
         engines = ", ".join(dict.fromkeys(run.engine for run in runs))
         print(f"{len(rows) - failed} of {len(rows)} checks passed ({len(runs)} runs on {engines})")
         print(f"curves       {png}")
+        print(f"runs         {out_dir}")
+    return 1 if failed else 0
+
+
+def _verify_sph(args) -> int:
+    from .errors import OrchestratorError
+    from .verify import format_table, json_rows
+    from .verify_sph import default_out_dir, plot_scenes, run_verification, unit_of
+
+    if args.timestep_factors:
+        raise OrchestratorError("--timestep-factors is for 'verify dem' only")
+    if args.engines and set(args.engines) != {"sph"}:
+        raise OrchestratorError(f"verify sph runs on the sph engine only, not {', '.join(args.engines)}")
+    out_dir = Path(args.out) if args.out else default_out_dir()
+
+    def done(run, count, total):
+        print(f"verify: {count}/{total} {run.scene} on {run.engine}: {run.status}", file=sys.stderr, flush=True)
+
+    runs = run_verification(out_dir=out_dir, cases_dir=args.cases, overrides=args.overrides, workers=args.workers,
+                            on_done=done)
+    png = plot_scenes(runs, out_dir / "verify_sph.png")
+    rows = json_rows(runs)
+    failed = sum(not row["passed"] for row in rows)
+    if args.json:
+        print(json.dumps(rows))
+    else:
+        print(format_table(runs, unit_of=unit_of))
+        print(f"{len(rows) - failed} of {len(rows)} checks passed ({len(runs)} scenes on sph)")
+        print(f"plots        {png}")
         print(f"runs         {out_dir}")
     return 1 if failed else 0
 

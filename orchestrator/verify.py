@@ -187,15 +187,19 @@ def json_rows(runs: list[SceneRun]) -> list[dict]:
     return [{key: clean(row[key]) for key in ROW_KEYS} for row in rows_of(runs)]
 
 
-def format_table(runs: list[SceneRun]) -> str:
-    """The plain-text table: scene, engine, quantity, value, expected, rel_error, tolerance, passed; notes below."""
+def format_table(runs: list[SceneRun], unit_of=None) -> str:
+    """The plain-text table: scene, engine, quantity, value, expected, rel_error, tolerance, passed; notes below.
+
+    unit_of(quantity) -> SI unit text (default: the impact quantities' units); runs: anything with `rows`.
+    """
     from .analysis.impact import QUANTITIES
 
+    unit_of = unit_of or (lambda quantity: QUANTITIES.get(quantity, ("",))[0])
     header = ("scene", "engine", "quantity", "value", "expected", "rel_error", "tolerance", "passed")
     lines, notes = [], []
     table = []
     for row in rows_of(runs):
-        unit = QUANTITIES.get(row["quantity"], ("",))[0]
+        unit = unit_of(row["quantity"])
         cells = [row["scene"], row["engine"], f"{row['quantity']} [{unit}]", _num(row["value"]),
                  _num(row["expected"]), _num(row["rel_error"], ".2e"), _num(row["tolerance"], ".2g"),
                  "yes" if row["passed"] else "NO"]
