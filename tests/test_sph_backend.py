@@ -98,6 +98,31 @@ def test_dam_break_scene():
     assert p == pytest.approx(1000.0 * 9.81 * (0.292 - scene.positions[foot, 1]), rel=1e-12)
 
 
+def test_overlapping_blocks_fill_a_site_once_and_the_first_block_keeps_it():
+    water = "{name='water',kind='fluid',lo=[0.0,0.0],hi=[0.1,0.1],velocity=[1.0,0.0]}"
+    tank = "{name='tank',kind='boundary',lo=[-0.03,-0.03],hi=[0.13,0.05]}"  # overlaps the water's lower half
+    case = load_case(REFERENCE_2D, overrides=[f"blocks=[{water},{tank}]"]).model
+    scene = build_scene(case)
+    assert scene.n_fluid == 100 and scene.n_particles == 100 + 16 * 8 - 10 * 5
+    assert np.all(scene.velocities[scene.kind == 0] == [1.0, 0.0]) and np.all(scene.velocities[scene.kind == 1] == 0)
+
+
+def test_box_and_plane_walls_as_meshes():
+    from orchestrator.case.sph import Wall
+    from orchestrator.scene.sph import wall_mesh
+
+    tank = wall_mesh(Wall(shape="box", name="t", lo=(0.0, 0.0), hi=(2.0, 1.0), open_sides=("+y",)), 2)
+    np.testing.assert_array_equal(tank.vertices[tank.faces], [[[0, 0], [2, 0]], [[2, 0], [2, 1]], [[0, 1], [0, 0]]])
+    box = wall_mesh(Wall(shape="box", name="b", lo=(0, 0, 0), hi=(1, 2, 3), open_sides=("-z", "+x")), 3)
+    normals = np.cross(*(box.vertices[box.faces[:, k]] - box.vertices[box.faces[:, 0]] for k in (1, 2)))
+    assert len(box.faces) == 8 and not np.any(normals[:, 2] < 0) and not np.any(normals[:, 0] > 0)
+    plane = wall_mesh(Wall(shape="plane", name="p", center=(0, 0, 1), normal=(0, 0, 2), u=(1, 1, 0),
+                           half_extents=(1.0, 0.5)), 3)
+    area = 0.5 * np.linalg.norm(np.cross(*(plane.vertices[plane.faces[:, k]] - plane.vertices[plane.faces[:, 0]]
+                                          for k in (1, 2))), axis=1).sum()
+    assert area == pytest.approx(2.0) and np.allclose(plane.vertices[:, 2], 1.0)
+
+
 def test_parser_reads_a_finished_run():
     result = read_sph_output(DATA / "sph_output_ok")
     assert result.status == "ok" and result.message == ""
