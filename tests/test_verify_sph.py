@@ -1,0 +1,123 @@
+"""`orchestrator verify sph`: the checks on synthetic runs (no engine), then every scene at its
+`quick` preset on the sph executable, asserting the suite's own tolerances."""
+
+import json
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from orchestrator.backends.sph import SphBackend
+from orchestrator.case import load_case
+from orchestrator.cli import main
+from orchestrator.errors import OrchestratorError
+from orchestrator.reference.sph_flows import poiseuille_velocity
+from orchestrator.verify import ROW_KEYS
+from orchestrator.verify_sph import (
+    FRONT_TOLERANCE,
+    PRESSURE_TOLERANCE,
+    PROFILE_TOLERANCE,
+    check_dam_break,
+    check_poiseuille,
+    checks_for,
+    run_verification,
+    scene_files,
+    unit_of,
+)
+
+CASES = Path(__file__).resolve().parent.parent / "cases" / "verification"
+needs_sph = pytest.mark.skipif(not SphBackend().available(), reason="the sph executable is not built (make sph)")
+
+
+def _run_with_frames(frames, attrs=None):
+    """A run.h5 dict as read_run returns it: frames keyed '0', '1', ... with attrs time."""
+    out = {"attrs": {"status": "ok", **(attrs or {})}, "series": {}, "frames": {"attrs": {}}}
+    for k, (t, arrays) in enumerate(frames):
+        out["frames"][str(k)] = {"attrs": {"time": t, "step": k}, **arrays}
+    return out
+
+
+def _channel_frames(case, perturb=0.0):
+    gap, nu, force = 1e-3, case.fluid.viscosity, case.physics.body_force[0]
+    y = (np.arange(40) + 0.5) * gap / 40
+    frames = []
+    for t in (0.0, 0.02, 0.04, 0.1, 0.2, case.simulation.duration):
+        u = poiseuille_velocity(y, t, gap, nu, force) + perturb * 2.5e-5 * np.sin(np.pi * y / gap)
+        frames.append((t, {"kind": np.zeros(len(y), np.int8), "positions": np.column_stack([np.zeros_like(y), y]),
+                           "velocities": np.column_stack([u, np.zeros_like(y)])}))
+    return frames
+
+
+def test_every_sph_scene_has_checks_and_units():
+    files = scene_files(CASES)
+    assert {f.stem for f in files} == {"sph_poiseuille_morris1997", "sph_couette_morris1997", "sph_hydrostatic_tank",
+                                       "sph_dam_break_2d", "sph_penalty_column", "sph_penalty_incline"}
+    for path in files:
+        assert callable(checks_for(load_case(path).name))
+    assert unit_of("u_profile(t=0.1 s)") == "m/s" and unit_of("surge_front_Z[koshizuka_oka_1996]") == "-"
+    with pytest.raises(OrchestratorError, match="no SPH checks for the scene 'sph_other'"):
+        checks_for("sph_other")
+
+
+def test_profile_check_passes_the_series_and_fails_a_3_percent_error():
+    case = load_case(CASES / "sph_poiseuille_morris1997.toml").model
+    rows, plot = check_poiseuille(case, _run_with_frames(_channel_frames(case)))
+    assert len(rows) == 5 and all(r["passed"] for r in rows) and max(r["rel_error"] for r in rows) < 1e-12
+    assert rows[-1]["expected"] == pytest.approx(2.5e-5 * (1 - (1 / 80) ** 2 * 4), rel=1e-3)  # rows at L/2 +- dx/2
+    rows, _ = check_poiseuille(case, _run_with_frames(_channel_frames(case, perturb=0.03)))
+    assert not any(r["passed"] for r in rows)
+    assert rows[-1]["rel_error"] == pytest.approx(0.03, rel=2e-3)
+    assert PROFILE_TOLERANCE == 0.02 and plot["lines"]
+
+
+def test_dam_break_check_compares_over_the_measured_range():
+    from orchestrator.reference.dam_break_data import KOSHIZUKA_OKA
+
+    case = load_case(CASES / "sph_dam_break_2d.toml").model
+    a, dx = 0.146, case.numerics.dx
+    scale = np.sqrt(2 * 9.81 / a)
+    frames = []
+    for T in np.linspace(0.0, 3.7, 60):  # a front following Koshizuka & Oka exactly, 5 % ahead of them after T = 1
+        z = np.interp(T, KOSHIZUKA_OKA.T, KOSHIZUKA_OKA.Z, right=KOSHIZUKA_OKA.Z[-1] + (T - 3.096))
+        z = z * (1.05 if T > 1 else 1.0)
+        x = np.array([[0.01, 0.01], [z * a - dx / 2, 0.01]])
+        frames.append((T / scale, {"kind": np.zeros(2, np.int8), "positions": x}))
+    rows, plot = check_dam_break(case, _run_with_frames(frames))
+    ko = next(r for r in rows if "koshizuka" in r["quantity"])
+    assert ko["passed"] and ko["rel_error"] == pytest.approx(0.05, abs=0.01) and FRONT_TOLERANCE == 0.10
+    assert {r["quantity"] for r in rows} == {"surge_front_Z[koshizuka_oka_1996]",
+                                             "surge_front_Z[martin_moyce_1952_a2.25in]"}
+
+
+@needs_sph
+def test_every_scene_at_its_quick_preset_passes(tmp_path):
+    runs = run_verification(out_dir=tmp_path, cases_dir=CASES, workers=2, preset="quick")
+    rows = [row for run in runs for row in run.rows]
+    failed = [f"{r['scene']} {r['quantity']}: {r['value']} vs {r['expected']} ({r['rel_error']}) {r['note']}"
+              for r in rows if not r["passed"]]
+    assert not failed, "\n".join(failed)
+    assert {run.status for run in runs} == {"ok"}
+    by = {(r["scene"], r["quantity"].split("(")[0].split("[")[0]): r for r in rows}
+    assert by[("sph_hydrostatic_tank", "pressure_profile")]["rel_error"] < PRESSURE_TOLERANCE
+    assert by[("sph_penalty_incline", "eq14_wall_force")]["rel_error"] < 1e-9
+    assert by[("sph_penalty_column", "min_distance_to_wall")]["value"] > 0
+    assert len(rows) == 24
+
+
+@needs_sph
+def test_cli_verify_sph_json_and_plot(tmp_path, capsys):
+    cases = tmp_path / "cases"
+    cases.mkdir()
+    shutil.copy(CASES / "sph_penalty_incline.toml", cases)
+    code = main(["verify", "sph", "--cases", str(cases), "--out", str(tmp_path / "out"), "--json"])
+    rows = json.loads(capsys.readouterr().out)
+    assert code == 0
+    assert [tuple(r) for r in rows] == [ROW_KEYS] * 5
+    assert all(r["passed"] and r["engine"] == "sph" for r in rows)
+    assert (tmp_path / "out" / "verify_sph.png").stat().st_size > 10_000
+
+
+def test_cli_verify_sph_refuses_another_engine(capsys):
+    assert main(["verify", "sph", "--engine", "yade"]) == 2
+    assert "sph engine only" in capsys.readouterr().err
