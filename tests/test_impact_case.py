@@ -20,6 +20,7 @@ from orchestrator.case import load_case
 from orchestrator.errors import CaseError
 from orchestrator.scene import build_scene
 from orchestrator.scene.impact import critical_timestep
+from orchestrator.verify import scene_files
 
 ROOT = Path(__file__).parent.parent
 VERIFICATION = ROOT / "cases" / "verification"
@@ -37,7 +38,7 @@ def write_variant(tmp_path, changes: dict, base: dict = BASE) -> Path:
     return path
 
 
-@pytest.mark.parametrize("path", sorted(VERIFICATION.glob("*.toml")), ids=lambda p: p.stem)
+@pytest.mark.parametrize("path", scene_files(VERIFICATION, kind="impact"), ids=lambda p: p.stem)
 def test_every_verification_scene_loads_and_its_closed_forms_evaluate(path):
     loaded = load_case(path)
     assert loaded.kind == "impact" and loaded.model.expected
