@@ -52,7 +52,8 @@ class LiggghtsProfile:
     def banner(self) -> str:
         """First line LIGGGHTS prints ('LIGGGHTS (Version LIGGGHTS-PUBLIC 3.8.0, ...)'), '' if it cannot run."""
         try:
-            out = subprocess.run([self.executable, "-h"], capture_output=True, text=True, timeout=60,
+            # -log none: with only -h LIGGGHTS leaves a log.liggghts in the working directory
+            out = subprocess.run([self.executable, "-log", "none", "-h"], capture_output=True, text=True, timeout=60,
                                  stdin=subprocess.DEVNULL).stdout
         except (OSError, subprocess.SubprocessError):
             return ""
