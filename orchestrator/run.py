@@ -103,10 +103,12 @@ def prepare_run_dir(out_dir: Path | None, case_name: str, engine: str, force: bo
 
 
 def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float | None = None,
-             progress: bool = True, force: bool = False, on_timing=None, extra_attrs=None) -> RunSummary:
+             progress: bool = True, force: bool = False, on_timing=None, extra_attrs=None,
+             mpi_ranks: int | None = None) -> RunSummary:
     """Run a LoadedCase on an engine; writes run_dir/run.h5 whatever happens and returns a RunSummary.
 
-    extra_attrs are added to run.h5's root attributes (a study's run_id).
+    extra_attrs are added to run.h5's root attributes (a study's run_id); mpi_ranks runs the engine
+    under mpirun (engines whose profile takes it: liggghts).
     Raises EngineNotFound before anything runs; EngineTimeout / EngineFailed
     after run.h5 is written (with status and what was measured before).
     """
@@ -118,7 +120,15 @@ def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float |
 
     case = loaded.model
     engine = engine or case.case.engine
-    backend = get_backend(engine, threads=case.numerics.threads)
+    profile = {"threads": case.numerics.threads}
+    if mpi_ranks is not None:
+        profile["mpi_ranks"] = mpi_ranks
+    try:
+        backend = get_backend(engine, **profile)
+    except TypeError:
+        if mpi_ranks is None:
+            raise
+        raise OrchestratorError(f"--mpi {mpi_ranks}: the {engine} engine does not run under MPI; liggghts does") from None
     backend.check_available()
     version = backend.version()
     clock.lap("setup")
