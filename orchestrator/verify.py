@@ -157,21 +157,27 @@ def run_verification(engines=None, out_dir=None, cases_dir=None, overrides=(), w
     names = dem_engines(engines)
     out_dir = Path(out_dir) if out_dir is not None else default_out_dir()
     jobs = [(path, engine) for path in files for engine in names]
+    return run_in_pool(run_scene, [(path, engine, out_dir / path.stem / engine, overrides, timeout_s)
+                                   for path, engine in jobs], workers, on_done)
+
+
+def run_in_pool(function, jobs: list[tuple], workers: int | None = None, on_done=None) -> list:
+    """function(*job) for every job on a process pool of `workers` (default: the number of cores);
+    on_done(result, done, total) as each ends; the results in the order of jobs."""
     workers = workers or max(1, min(len(jobs), os.cpu_count() or 1))
     # processes, not threads: each run writes and reads its run.h5, and HDF5 is safest one file per process
     with ProcessPoolExecutor(max_workers=workers) as pool:
-        futures = [pool.submit(run_scene, path, engine, out_dir / path.stem / engine, overrides, timeout_s)
-                   for path, engine in jobs]
+        futures = [pool.submit(function, *job) for job in jobs]
         if on_done is not None:
             for done, future in enumerate(as_completed(futures), 1):
                 on_done(future.result(), done, len(futures))
         return [future.result() for future in futures]
 
 
-def default_out_dir(root: Path = Path("runs")) -> Path:
-    """runs/verify-dem-<UTC timestamp>."""
+def default_out_dir(root: Path = Path("runs"), suite: str = "dem") -> Path:
+    """runs/verify-<suite>-<UTC timestamp>."""
     stamp = _dt.datetime.now(_dt.timezone.utc).strftime("%Y%m%dT%H%M%S")
-    return root / f"verify-dem-{stamp}"
+    return root / f"verify-{suite}-{stamp}"
 
 
 def rows_of(runs: list[SceneRun]) -> list[dict]:

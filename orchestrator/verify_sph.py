@@ -15,10 +15,7 @@ every scene's profiles, pressures, fronts and wall forces.
 
 from __future__ import annotations
 
-import datetime as _dt
 import math
-import os
-from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -462,25 +459,22 @@ def run_verification(out_dir=None, cases_dir=None, overrides=(), workers: int | 
     cores; each run uses the case's numerics.threads); on_done(run, done, total) as each run ends.
     """
     from .backends import get_backend
+    from .verify import run_in_pool
 
     get_backend(ENGINE).check_available()
     files = scene_files(cases_dir)
     if only:
         files = [f for f in files if f.stem in only]
     out_dir = Path(out_dir) if out_dir is not None else default_out_dir()
-    workers = workers or max(1, min(len(files), os.cpu_count() or 1))
-    with ProcessPoolExecutor(max_workers=workers) as pool:
-        futures = [pool.submit(run_scene, path, out_dir / path.stem, overrides, timeout_s, preset) for path in files]
-        if on_done is not None:
-            for done, future in enumerate(as_completed(futures), 1):
-                on_done(future.result(), done, len(futures))
-        return [future.result() for future in futures]
+    return run_in_pool(run_scene, [(path, out_dir / path.stem, overrides, timeout_s, preset) for path in files],
+                       workers, on_done)
 
 
 def default_out_dir(root: Path = Path("runs")) -> Path:
     """runs/verify-sph-<UTC timestamp>."""
-    stamp = _dt.datetime.now(_dt.timezone.utc).strftime("%Y%m%dT%H%M%S")
-    return root / f"verify-sph-{stamp}"
+    from .verify import default_out_dir as suite_dir
+
+    return suite_dir(root, suite="sph")
 
 
 def unit_of(quantity: str) -> str:
