@@ -93,7 +93,7 @@ def _parser() -> argparse.ArgumentParser:
     verify.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE",
                         help="override a value of every scene, SI units, e.g. --set numerics.timestep_factor=0.1")
     verify.add_argument("--cases", metavar="DIR", help="directory of scenes (default: the shipped cases/verification)")
-    verify.add_argument("--out", metavar="DIR", help="run directories and the PNG (default: runs/verify-dem-<time>)")
+    verify.add_argument("--out", metavar="DIR", help="run directories and the PNG (default: runs/verify-<suite>-<time>)")
     verify.add_argument("--workers", type=int, metavar="N", help="parallel runs (default: the number of cores)")
     verify.add_argument("--json", action="store_true",
                         help="print the rows as a JSON list of objects with the keys scene, engine, quantity, value, "
