@@ -207,7 +207,7 @@ def read_drag_output(scene, workdir: Path) -> Result:
     log = (workdir / LOG_NAME).read_text(errors="replace") if (workdir / LOG_NAME).is_file() else ""
     error = engine_error(log)
     dt, dt_settle = scene.timestep, settling_timestep(case)
-    stiffen_step = int(float(status.get("stiffen_step", -1)))
+    stiffen_step = int(float(status.get("stiffen_start_step", -1)))
     process_start = float(status.get("process_start_time", -1))
     process_start = process_start if process_start >= 0 else math.nan
 

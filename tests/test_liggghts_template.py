@@ -1,0 +1,122 @@
+"""Golden files: the LIGGGHTS decks rendered for the sphere drop, the e_n = 0.2 impact (two wall copies) and the
+tiny bowl (with and without stiffening); the files the decks read; the profile's command line. No engine needed.
+
+Regenerate after an intended change with: UPDATE_GOLDEN=1 pytest tests/test_liggghts_template.py
+"""
+
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+import trimesh
+
+from orchestrator.backends.liggghts import LiggghtsBackend, LiggghtsProfile
+from orchestrator.backends.liggghts_drag import process_chunks
+from orchestrator.case import load_case
+from orchestrator.errors import OrchestratorError
+from orchestrator.scene import build_scene
+
+HERE = Path(__file__).parent
+CASES = HERE.parent / "cases" / "verification"
+TINY = HERE / "data" / "tiny_bowl.toml"
+GOLDEN = {
+    "liggghts_impact_sphere_drop.in": (CASES / "uhlmann2015_sphere_drop.toml", ()),
+    "liggghts_impact_restitution_020.in": (CASES / "chung_ooi_test3_restitution_020.toml", ()),
+    "liggghts_tiny_bowl.in": (TINY, ()),
+    "liggghts_tiny_bowl_stiffen.in": (TINY, ("settling.stiffness_scale=0.0001",)),
+}
+
+
+def backend():
+    return LiggghtsBackend(executable="/nonexistent/liggghts")
+
+
+@pytest.mark.parametrize("golden", sorted(GOLDEN))
+def test_rendered_deck_matches_golden(golden, tmp_path):
+    case_file, overrides = GOLDEN[golden]
+    scene = build_scene(load_case(case_file, overrides=list(overrides)).model)
+    backend().write_input(scene, tmp_path)
+    rendered = (tmp_path / ("impact.in" if "impact" in golden else "drag_finishing.in")).read_text()
+    path = HERE / "golden" / golden
+    if os.environ.get("UPDATE_GOLDEN"):
+        path.write_text(rendered)
+    assert rendered == path.read_text()
+    assert "{{" not in rendered and "{%" not in rendered
+
+
+def _data_atoms(path: Path) -> np.ndarray:
+    lines = path.read_text().splitlines()
+    start = lines.index("Atoms") + 2
+    end = lines.index("Velocities") - 1 if "Velocities" in lines else len(lines)
+    return np.array([line.split() for line in lines[start:end] if line.strip()], dtype=float)
+
+
+def test_the_cloud_and_meshes_reach_liggghts_unchanged(tmp_path):
+    scene = build_scene(load_case(TINY).model)
+    backend().write_input(scene, tmp_path)
+    atoms = _data_atoms(tmp_path / "balls.data")  # id type diameter density x y z
+    np.testing.assert_array_equal(atoms[:, 0], np.arange(1, scene.n_particles + 1))
+    np.testing.assert_array_equal(atoms[:, 2] / 2.0, scene.radii)
+    np.testing.assert_array_equal(atoms[:, 4:7], scene.positions)
+    for name in ("bowl", "rod"):
+        mesh = trimesh.load_mesh(tmp_path / f"{name}.stl", process=False)
+        np.testing.assert_allclose(mesh.triangles, scene.meshes[name].mesh.triangles, rtol=0, atol=1e-15)
+        assert (tmp_path / f"{name}.stl").read_text().startswith(f"solid {name}")  # ASCII: 3.8 reads no binary
+
+
+def test_impact_spheres_carry_velocity_and_spin(tmp_path):
+    scene = build_scene(load_case(CASES / "chung_ooi_test4_oblique_30deg.toml").model)
+    backend().write_input(scene, tmp_path)
+    text = (tmp_path / "spheres.data").read_text().splitlines()
+    velocities = np.array(text[text.index("Velocities") + 2].split()[1:], dtype=float)
+    np.testing.assert_array_equal(velocities, np.concatenate([scene.velocities[0], scene.angular_velocities[0]]))
+    triangle = trimesh.load_mesh(tmp_path / "plane.stl", process=False).triangles[0]
+    assert np.allclose(triangle[:, 2], 0.0)  # in the plane z = 0
+
+
+def test_two_spheres_damped_beyond_liggghts_limit_are_refused():
+    case = load_case(CASES / "chung_ooi_test1_sphere_sphere.toml",
+                     overrides=["contacts=[{pair=['glass', 'glass'], restitution=0.2, friction=0.0}]",
+                                "model.damping='exact'"]).model
+    with pytest.raises(OrchestratorError, match=r"contacts \(glass, glass\).*beta = 0\.731.*at most 0\.667"):
+        backend().check_scene(build_scene(case))
+
+
+def test_process_chunks_cut_at_timing_and_snapshots():
+    assert process_chunks(4000, [1500]) == [{"steps": 500, "timing": True, "networks": []},
+                                            {"steps": 1000, "timing": False, "networks": [0]},
+                                            {"steps": 2500, "timing": False, "networks": []}]
+    chunks = process_chunks(300, [300, 100])
+    assert [c["steps"] for c in chunks] == [100, 200] and chunks[0]["networks"] == [1]
+    assert chunks[1]["networks"] == [0] and sum(c["steps"] for c in chunks) == 300
+
+
+def test_profile_command_single_and_mpi(monkeypatch, tmp_path):
+    fake = tmp_path / "liggghts"
+    fake.write_text("#!/bin/sh\n")
+    monkeypatch.setenv("ORCHESTRATOR_LIGGGHTS", str(fake))
+    monkeypatch.setenv("ORCHESTRATOR_MPIRUN", "/usr/bin/mpirun")
+    monkeypatch.delenv("ORCHESTRATOR_LIGGGHTS_MPI", raising=False)
+    command, env = LiggghtsProfile().command("impact.in")
+    assert command[-7:] == [str(fake), "-in", "impact.in", "-log", "none", "-echo", "none"]
+    assert "mpirun" not in " ".join(command) and env["OMP_WAIT_POLICY"] == "PASSIVE"
+    monkeypatch.setattr(os, "geteuid", lambda: 0)
+    command, env = LiggghtsProfile(mpi_ranks=2).command("impact.in")
+    assert command[:4] == ["/usr/bin/mpirun", "-np", "2", "--allow-run-as-root"]
+    assert env["OMPI_MCA_mpi_yield_when_idle"] == "1"
+    monkeypatch.setattr(os, "geteuid", lambda: 1000)
+    monkeypatch.setenv("ORCHESTRATOR_LIGGGHTS_MPI", "3")
+    command, _ = LiggghtsProfile().command("impact.in")
+    assert command[:3] == ["/usr/bin/mpirun", "-np", "3"] and "--allow-run-as-root" not in command
+    with pytest.raises(OrchestratorError, match="MPI ranks = 0"):
+        LiggghtsProfile(mpi_ranks=0)
+
+
+def test_mpi_on_an_engine_without_it_is_refused(tmp_path):
+    from orchestrator.run import run_case
+
+    with pytest.raises(OrchestratorError, match="--mpi 2: the reference engine does not run under MPI"):
+        run_case(load_case(CASES / "chung_ooi_test2_sphere_plane.toml"), engine="reference", out_dir=tmp_path,
+                 progress=False, mpi_ranks=2)
+    assert not (tmp_path / "run.h5").exists()
