@@ -16,9 +16,12 @@ included (engines/sph/README.md):
   (eq. 14, orchestrator.reference.sph_walls);
 - periodic axes: every image within 2h (the executable's cell lists find the
   same ones when the periodic length is at least 4h);
-- the predictor-corrector leapfrog of Monaghan, Kos & Issa 2003:
-  x* = x + dt/2 v, v* = v + dt/2 a, rho* = rho + dt/2 Drho; then
-  v' = v + dt a*, rho' = rho + dt Drho*, x' = x + dt (v + dt/2 a*).
+- Monaghan's predictor-corrector leapfrog with one rate evaluation per step,
+  at the half step; a, Drho are the rates of the previous step's evaluation
+  (of the initial state before the first step):
+  x* = x + dt/2 v, v* = v + dt/2 a, rho* = rho + dt/2 Drho; a*, Drho* at
+  (x*, v*, rho*); then v' = v + dt a*, rho' = rho + dt Drho*,
+  x' = x + dt (v + dt/2 a*); a*, Drho* are the next step's a, Drho.
 Inlets and outlets are not modelled here.
 """
 
@@ -62,13 +65,16 @@ class SphModel:
 
 @dataclass(frozen=True)
 class SphState:
-    """Particle state: x (n, D) m, v (n, D) m/s, rho (n) kg/m^3, mass (n) kg, kind (n) 0 fluid / 1 boundary."""
+    """Particle state: x (n, D) m, v (n, D) m/s, rho (n) kg/m^3, mass (n) kg, kind (n) 0 fluid / 1 boundary;
+    acc (n, D) m/s^2 and drho (n) kg/m^3/s: the rates of the last evaluation (None before the first step)."""
 
     x: np.ndarray
     v: np.ndarray
     rho: np.ndarray
     mass: np.ndarray
     kind: np.ndarray
+    acc: np.ndarray | None = None
+    drho: np.ndarray | None = None
 
 
 def kernel_value(r, h: float, dimension: int):
@@ -230,10 +236,19 @@ def _pairs_including_coincident(targets: np.ndarray, sources: np.ndarray, model:
     return tuple(np.concatenate(items) for items in zip(*parts))
 
 
+def last_rates(state: SphState, model: SphModel) -> tuple[np.ndarray, np.ndarray]:
+    """The rates of the state's last evaluation, or of the state itself before the first step
+    ((n, D) m/s^2, (n) kg/m^3/s)."""
+    if state.acc is None or state.drho is None:
+        return rates(state, model)
+    return state.acc, state.drho
+
+
 def step(state: SphState, model: SphModel, dt: float) -> SphState:
-    """One predictor-corrector step of dt seconds (two rate evaluations); boundary particles keep x and v."""
+    """One predictor-corrector step of dt seconds with one rate evaluation, at the half step; the
+    predictor uses the rates of the last evaluation. Boundary particles keep x and v."""
     moves = state.kind == FLUID
-    acc0, drho0 = rates(state, model)
+    acc0, drho0 = last_rates(state, model)
     half = 0.5 * dt
     x_half = state.x.copy()
     x_half[moves] = wrap(state.x[moves] + half * state.v[moves], model)
@@ -242,13 +257,14 @@ def step(state: SphState, model: SphModel, dt: float) -> SphState:
     acc1, drho1 = rates(mid, model)
     x_new = state.x.copy()
     x_new[moves] = wrap(state.x[moves] + dt * (state.v[moves] + half * acc1[moves]), model)
-    return replace(state, x=x_new, v=state.v + dt * acc1, rho=state.rho + dt * drho1)
+    return replace(state, x=x_new, v=state.v + dt * acc1, rho=state.rho + dt * drho1, acc=acc1, drho=drho1)
 
 
 def adaptive_dt(state: SphState, model: SphModel, cfl: float = 0.25, viscous: float = 0.125,
                 force: float = 0.25) -> float:
-    """Eq. 13 extended, s: min(cfl h/(c0 + |v|max), viscous h^2/nu, force sqrt(h/|a|max)) over the fluid."""
-    acc, _ = rates(state, model)
+    """Eq. 13 extended, s: min(cfl h/(c0 + |v|max), viscous h^2/nu, force sqrt(h/|a|max)) over the fluid,
+    with the accelerations of the last evaluation (as the executable)."""
+    acc, _ = last_rates(state, model)
     fluid = state.kind == FLUID
     v_max = float(np.max(np.linalg.norm(state.v[fluid], axis=1), initial=0.0))
     a_max = float(np.max(np.linalg.norm(acc[fluid], axis=1), initial=0.0))

@@ -20,10 +20,12 @@ struct Particles {
   std::vector<double> rho, mass;  // kg/m^3, kg
   std::vector<Kind> kind;
   std::vector<std::int64_t> id;   // input row, or a new number for inflow (stable across reordering)
+  // Rates of the last evaluation (the previous half step), used by the next predictor:
+  std::vector<Vec<D>> acc;         // dv/dt, m/s^2
+  std::vector<double> drho;        // drho/dt, kg/m^3/s
   // Derived each evaluation:
-  std::vector<double> p, c, drho;  // pressure Pa, sound speed m/s, drho/dt
+  std::vector<double> p, c;         // pressure Pa, sound speed m/s
   std::vector<double> vol, p_rho2;  // m/rho m^D, p/rho^2 (saves divisions in the pair loop)
-  std::vector<Vec<D>> acc;         // m/s^2
   std::vector<Vec<D>> v_noslip;    // velocity seen by the viscous term: v for fluid, mirrored for boundary
   // Start-of-step state of the predictor-corrector:
   std::vector<Vec<D>> x0, v0;
@@ -55,19 +57,20 @@ struct Particles {
     x[i] = pos, v[i] = vel, rho[i] = density, mass[i] = m, kind[i] = k, id[i] = ident;
   }
 
-  // Keep the particles for which keep(i) holds, in order (persistent state only).
+  // Keep the particles for which keep(i) holds, in order (persistent state and last rates).
   template <class Keep>
   void compact(Keep&& keep) {
     std::size_t k = 0;
     for (std::size_t i = 0; i < size(); ++i) {
       if (!keep(i)) continue;
       x[k] = x[i], v[k] = v[i], rho[k] = rho[i], mass[k] = mass[i], kind[k] = kind[i], id[k] = id[i];
+      acc[k] = acc[i], drho[k] = drho[i];
       ++k;
     }
     resize(k);
   }
 
-  // Reorder the persistent state by `order` (new index k takes old index order[k]).
+  // Reorder the persistent state and last rates by `order` (new index k takes old index order[k]).
   // Scratch buffers keep their capacity, so this does not allocate once warmed up.
   void reorder(const std::vector<int>& order) {
     const std::size_t n = size();
@@ -77,6 +80,8 @@ struct Particles {
     permute(mass, order, n, scratch_dbl_);
     permute(kind, order, n, scratch_kind_);
     permute(id, order, n, scratch_id_);
+    permute(acc, order, n, scratch_vec_);
+    permute(drho, order, n, scratch_dbl_);
   }
 
  private:

@@ -59,22 +59,17 @@ int run_simulation(const Deck& deck, Particles<D> particles, WallPenalty<D> wall
       status = "unstable", message = "particles spread over too many cells (blow-up)", code = exit_unstable;
       break;
     }
-    sim.compute_rates();
+    sim.ensure_rates();  // the initial state's, before the first step; later the last half step's
     if (!fixed) {
       dt = sim.adaptive_dt();
       const double target = std::min({(series_count + 1) * deck.series_interval,
                                       (frame_count + 1) * deck.frame_interval, deck.t_end});
       if (t + 1.01 * dt >= target) dt = std::max(target - t, 1e-6 * dt);
     }
-    sim.begin_step();
-    const bool binned = sim.predict(dt);
-    if (binned) {
-      sim.compute_rates();
-      if (rec.has_flow_planes())
-        sim.correct(dt, [&](const Vec<D>& x_old, const Vec<D>& dx, double volume) { rec.cross(x_old, dx, volume); });
-      else
-        sim.correct(dt, NoCrossings{});
-    }
+    const bool binned = rec.has_flow_planes()
+                            ? sim.step(dt, [&](const Vec<D>& x_old, const Vec<D>& dx,
+                                               double volume) { rec.cross(x_old, dx, volume); })
+                            : sim.step(dt, NoCrossings{});
     ++step;
     const double t_before = t;
     t = fixed ? step * dt : t + dt;

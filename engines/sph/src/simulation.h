@@ -2,9 +2,13 @@
 //
 // Rates are gathered per particle (each particle sums over its own
 // neighbours), so the result does not depend on the OpenMP schedule. Time
-// integration is the explicit predictor-corrector leapfrog (midpoint form):
-//   predictor  x* = x + dt/2 v,  v* = v + dt/2 a(x, v, rho),  rho* = rho + dt/2 Drho
-//   corrector  v' = v + dt a(x*, v*, rho*),  rho' = rho + dt Drho*,  x' = x + dt (v + dt/2 a*)
+// integration is Monaghan's predictor-corrector leapfrog with one rate
+// evaluation per step, at the half step (a PEC scheme). a^(n-1/2), Drho^(n-1/2)
+// are the rates of the previous step's evaluation (of the initial state before
+// the first step):
+//   predictor  x* = x + dt/2 v,  v* = v + dt/2 a^(n-1/2),  rho* = rho + dt/2 Drho^(n-1/2)
+//   evaluate   a* = a(x*, v*, rho*),  Drho* = Drho(x*, v*, rho*)   (kept as the next step's a^(n-1/2))
+//   corrector  v' = v + dt a*,  rho' = rho + dt Drho*,  x' = x + dt (v + dt/2 a*) = x + dt (v + v')/2
 // Fixed boundary particles keep position and velocity and evolve their density;
 // inlet and outlet buffer particles do the same but move at their velocity.
 #pragma once
@@ -104,6 +108,7 @@ class Simulation {
 
   // acc and drho of every particle at the current x, v, rho; cells must be binned for x.
   void compute_rates() {
+    rates_ready_ = true;
     equation_of_state();
     if constexpr (has(term::morris_viscosity)) no_slip_velocities();
     const std::ptrdiff_t n = P_.size();
@@ -185,14 +190,20 @@ class Simulation {
     return dt;
   }
 
-  // Save the start-of-step state; rates must be current for it.
+  // Rates of the initial state, before the first step (later steps reuse the
+  // rates of the previous step's half-step evaluation); cells must be binned.
+  void ensure_rates() {
+    if (!rates_ready_) compute_rates();
+  }
+
+  // Save the start-of-step state.
   void begin_step() {
     P_.x0 = P_.x;
     P_.v0 = P_.v;
     P_.rho0 = P_.rho;
   }
 
-  // Predictor: half step with the start-of-step rates, then re-bin.
+  // Predictor: half step with the rates of the last evaluation, then re-bin.
   bool predict(double dt) {
     const double half = 0.5 * dt;
     const std::ptrdiff_t n = P_.size();
@@ -226,10 +237,11 @@ class Simulation {
         if (P_.moves(i)) crossed(P_.x0[i], Vec<D>(dt * (P_.v0[i] + 0.5 * dt * P_.acc[i])), P_.mass[i] / P_.rho[i]);
   }
 
-  // One full step (the rates of the current state are computed here).
+  // One full step: one rate evaluation, at the half step. False if the
+  // predicted particles spread over too many cells (blow-up).
   template <class Crossed>
   bool step(double dt, Crossed&& crossed) {
-    compute_rates();
+    ensure_rates();
     begin_step();
     if (!predict(dt)) return false;
     compute_rates();
@@ -328,6 +340,7 @@ class Simulation {
   PeriodicBox<D> box_;
   CellList<D> cells_;
   WallPenalty<D> walls_;
+  bool rates_ready_ = false;  // acc, drho hold the rates of the last evaluation
 };
 
 }  // namespace sph
