@@ -249,9 +249,9 @@ def read_dump(path: Path) -> list[tuple[int, list[str], np.ndarray]]:
     return snapshots
 
 
-def read_table(path: Path) -> dict[str, np.ndarray]:
+def read_table(path: Path, key: str | None = None) -> dict[str, np.ndarray]:
     """A whitespace table with a '# name name ...' title line (fix print output) as name -> column; rows
-    cut off or not numeric are dropped."""
+    cut off or not numeric are dropped, and with a key column only the first row of each key value is kept."""
     path = Path(path)
     if not path.is_file():
         return {}
@@ -269,6 +269,9 @@ def read_table(path: Path) -> dict[str, np.ndarray]:
         except ValueError:
             continue
     data = np.array(rows, dtype=float).reshape(-1, len(names))
+    if key is not None and len(data):  # a row written twice at one step (a record at a phase change) counts once
+        _, first = np.unique(data[:, names.index(key)], return_index=True)
+        data = data[np.sort(first)]
     return {name: data[:, i] for i, name in enumerate(names)}
 
 

@@ -216,7 +216,7 @@ def read_drag_output(scene, workdir: Path) -> Result:
             return step * dt_settle
         return stiffen_step * dt_settle + (step - stiffen_step) * dt
 
-    cols = read_table(out / "series.txt")
+    cols = read_table(out / "series.txt", key="step")
     if cols and len(cols["step"]):
         _fill_series(result, cols, process_start, case.angular_velocity)
     last_step = max(int(cols["step"][-1]) if cols and len(cols["step"]) else 0, int(float(status.get("step", 0))))
