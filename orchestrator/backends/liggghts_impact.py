@@ -20,8 +20,9 @@ from pathlib import Path
 
 import numpy as np
 
+from ..case.impact import RIGID
 from ..errors import OrchestratorError
-from .base import Result, Series
+from .base import Result
 from .liggghts import engine_error, read_dump, read_table, write_data_file, write_stl_ascii
 from .liggghts_physics import (MAX_BETA, beta_for_restitution, liggghts_beta, restitution_for_beta,
                                tangential_damping_ratio, wall_copies, wall_material)
@@ -91,10 +92,16 @@ def liggghts_deviations(case, scene=None) -> str:
         notes.append("model.coulomb_limit = 'total' asked; LIGGGHTS bounds only the elastic tangential force and "
                      "adds the dash-pot while a contact sticks (its tangential history model has no other rule)")
     if sliding:
+        ratios = ""
+        if scene is not None:
+            ratios = ", ".join(f"{tangential_damping_ratio(*_elastic(case, a), *_elastic(case, b)):.3g} for {a}-{b}"
+                               for (a, b), p in sorted(scene.pairs.items()) if p.friction > 0)
         notes.append("LIGGGHTS keeps the total tangential displacement (F_t = -k_t(delta) s) where the paper "
-                     "increments the force, and damps tangentially with c_t = c_n sqrt(k_t / (3/2 k_n))")
+                     "increments the force, and damps tangentially with c_t = c_n sqrt(k_t / (3/2 k_n))"
+                     + (f" ({ratios})" if ratios else ""))
     if scene is not None:
-        unlike = [p for (a, b), p in scene.pairs.items() if a != b and p.friction > 0]
+        # a rigid partner takes Mindlin's limit in the reference too
+        unlike = [p for (a, b), p in scene.pairs.items() if a != b and p.friction > 0 and RIGID not in (a, b)]
         if unlike:
             notes.append("unlike materials in contact get Mindlin's k_t = 8 G* sqrt(R delta), not eq. 5's "
                          "4 G_m / (2 - nu_m)")
