@@ -134,15 +134,12 @@ class LiggghtsBackend(Backend):
             raise EngineNotFound(f"LIGGGHTS is not installed ({where}); {self.install_hint()}")
 
     def check_scene(self, scene) -> None:
-        """Raise OrchestratorError for what LIGGGHTS-PUBLIC 3.8 cannot run (before anything is written)."""
+        """Raise OrchestratorError for what LIGGGHTS-PUBLIC 3.8 cannot run (before anything is written); every
+        drag-finishing scene runs."""
         if scene.case.case.kind == "impact":
             from .liggghts_impact import check_impact_scene
 
             check_impact_scene(scene)
-        else:
-            from .liggghts_drag import check_drag_scene
-
-            check_drag_scene(scene)
 
     # ---- input ----
     def render_context(self, scene) -> dict:

@@ -48,10 +48,6 @@ NETWORK_COLUMNS = ("x1", "y1", "z1", "x2", "y2", "z2", "id1", "id2", "id3", "fx"
                    "ftx", "fty", "ftz")
 
 
-def check_drag_scene(scene) -> None:
-    """Nothing LIGGGHTS 3.8 cannot run in a drag-finishing scene (kept for symmetry with the impact kind)."""
-
-
 def damping_restitution(restitution: float) -> float:
     """coefficientRestitution e* that gives LIGGGHTS the damping Yade's drag script runs for e_n, -."""
     return restitution_for_beta(liggghts_beta(yade_native_alpha(restitution)))
