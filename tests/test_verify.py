@@ -89,17 +89,31 @@ def test_help_states_units_and_the_json_keys():
 
 @pytest.mark.yade
 @pytest.mark.skipif(not YadeBackend().available(), reason="Yade is not installed (apt-get install yade)")
-def test_verify_passes_on_yade_and_the_reference(tmp_path):
+#: How close each engine's values lie to the reference DEM's on every check (same physics), and the scenes
+#: where a documented difference of the tangential law shows (README: what remains different).
+SAME_PHYSICS = {
+    "yade": (2e-3, {"chung_ooi_test4_oblique_10deg"}),
+    # LIGGGHTS reports the damping force half a step apart (sphere-drop peaks 0.4-0.5 % off) and keeps the
+    # total tangential displacement (spin 2.7 % off at 20 degrees).
+    "liggghts": (6e-3, {"chung_ooi_test4_oblique_10deg", "chung_ooi_test4_oblique_20deg"}),
+}
+
+
+def test_verify_passes_on_every_installed_engine(tmp_path):
+    from orchestrator.verify import dem_engines
+
+    engines = set(dem_engines())
     proc = cli("verify", "dem", "--json", "--out", tmp_path)
     assert proc.returncode == 0, proc.stdout + proc.stderr
     rows = json.loads(proc.stdout)
-    assert {row["engine"] for row in rows} == {"reference", "yade"}
-    assert len(rows) == 2 * checks_per_engine() and all(row["passed"] for row in rows)
-    # the same physics: Yade's values lie close to the reference's on every check
+    assert {row["engine"] for row in rows} == engines >= {"reference", "yade"}
+    assert len(rows) == len(engines) * checks_per_engine() and all(row["passed"] for row in rows)
+    # the same physics: each engine's values lie close to the reference's on every check
     by_key = {(row["scene"], row["engine"], row["quantity"]): row["value"] for row in rows}
     for (scene, engine, quantity), value in by_key.items():
-        if engine == "yade" and scene != "chung_ooi_test4_oblique_10deg":
-            assert value == pytest.approx(by_key[(scene, "reference", quantity)], rel=2e-3), (scene, quantity)
+        if engine in SAME_PHYSICS and scene not in SAME_PHYSICS[engine][1]:
+            expected = by_key[(scene, "reference", quantity)]
+            assert value == pytest.approx(expected, rel=SAME_PHYSICS[engine][0]), (engine, scene, quantity)
 
 
 def test_timestep_sweep_gives_error_and_time_per_factor(tmp_path):
