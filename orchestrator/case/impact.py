@@ -88,9 +88,10 @@ class ImpactModel(Frozen):
 
     coulomb_limit: which tangential force the Coulomb law mu F_n bounds; the
     paper does not say. "total" (elastic spring plus dash-pot; the reference
-    DEM's default and LIGGGHTS') or "elastic" (the spring only, the dash-pot
-    added on top while the contact sticks: Yade, the paper's engine). Yade runs
-    "elastic" whatever the case says and notes the deviation in run.h5.
+    DEM's default) or "elastic" (the spring only, the dash-pot added on top
+    while the contact sticks: Yade, the paper's engine, and LIGGGHTS 3.8's
+    tangential history model). Yade and LIGGGHTS run "elastic" whatever the
+    case says and note the deviation in run.h5.
     """
 
     damping: Literal["exact", "eq10", "engine"] = "exact"

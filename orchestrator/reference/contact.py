@@ -12,8 +12,8 @@ Where the paper is silent or loose we choose, and say so at the function:
   ``no_tension=False`` gives the bare eqs. 8-9;
 - "force transmitted in tangential direction ... is limited by the
   Mohr-Coulomb friction law": by default the whole tangential force
-  (elastic plus viscous) is kept within mu F_n, as LIGGGHTS does; Yade
-  limits only the elastic part and adds the dash-pot on top while the
+  (elastic plus viscous) is kept within mu F_n; Yade and LIGGGHTS 3.8
+  limit only the elastic part and add the dash-pot on top while the
   contact sticks (``coulomb_limit="elastic"``). The two differ early in a
   sliding impact, when the dash-pot term c_t v_t is large (about +0.5 % of
   tangential impulse at 70 degrees incidence, mu = 0.092).
