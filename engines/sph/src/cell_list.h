@@ -51,11 +51,14 @@ class CellList {
     cell_of_.reserve(n);
     items_.reserve(n);
   }
+  // Particle indices cell by cell (raw).
+  const int* item_data() const { return items_.data(); }
 
   // Bin positions x[0..n) (counting sort). Afterwards items() lists particle
   // indices cell by cell. Returns false when the particles spread over more
   // than max_cells cells (a blown-up run).
   bool build(const std::vector<Vec<D>>& x, std::size_t n) {
+    sorted_ = false;
     Vec<D> lo = Vec<D>::Constant(std::numeric_limits<double>::infinity());
     Vec<D> hi = -lo;
     for (std::size_t i = 0; i < n; ++i) {
@@ -102,23 +105,51 @@ class CellList {
   // After the particle arrays were reordered by items(): particle k is items()[k].
   void mark_sorted() {
     for (std::size_t k = 0; k < items_.size(); ++k) items_[k] = static_cast<int>(k);
+    sorted_ = true;
   }
+  // True after mark_sorted() until the next build(): items()[k] == k.
+  bool sorted() const { return sorted_; }
 
-  // Call f(b, shift) for every particle b in the cells around point xa, where
-  // the image of b is x_b + shift. xa must be wrapped into the periodic box.
-  template <class F>
-  void for_each_neighbour(const Vec<D>& xa, F&& f) const {
-    std::array<int, D> c = coords_unclamped(xa);
+  // A run of cells [cell_begin, cell_end) contiguous in memory (along axis 0)
+  // around a point, whose particles are seen at x_b + shift.
+  struct Run {
+    int cell_begin, cell_end;
+    Vec<D> shift;
+  };
+  // Most runs around a point: (2 reach + 1)^D for reach <= 2 (a periodic axis
+  // shorter than the stencil splits a row into single cells).
+  static constexpr int max_runs = D == 2 ? 25 : 125;
+
+  // The runs of cells around point xa (wrapped into the periodic box), in a
+  // fixed order: up to three along axis 0 per row of the other axes. Returns their count.
+  int runs(const Vec<D>& xa, Run* out) const { return runs_around(coords_unclamped(xa), out); }
+
+  // The runs around cell `cell` (a linear index) of the last build.
+  int runs_of_cell(std::ptrdiff_t cell, Run* out) const {
+    std::array<int, D> c{};
+    for (int d = 0; d < D; ++d) {
+      c[d] = static_cast<int>(cell % dims_[d]);
+      cell /= dims_[d];
+    }
+    return runs_around(c, out);
+  }
+  // Cells of the last build, and the item range [cell_begin, cell_end) of one.
+  std::ptrdiff_t cell_count() const { return static_cast<std::ptrdiff_t>(start_.size()) - 1; }
+  int cell_begin(std::ptrdiff_t cell) const { return start_[cell]; }
+  int cell_end(std::ptrdiff_t cell) const { return start_[cell + 1]; }
+
+ private:
+  int runs_around(const std::array<int, D>& c, Run* out) const {
     std::array<int, D> o{};
     for (int d = 0; d < D; ++d) o[d] = -reach_;
     o[0] = 0;
-    // Axis 0 is swept as up to three contiguous runs; the others by offsets.
+    int count = 0;
     while (true) {
       std::array<int, D> cc{};
       Vec<D> shift = Vec<D>::Zero();
       bool inside = true;
       for (int d = 1; d < D && inside; ++d) inside = neighbour_index(c[d] + o[d], d, cc[d], shift[d]);
-      if (inside) sweep_axis0(c[0], cc, shift, f);
+      if (inside) sweep_axis0(c[0], cc, shift, out, count);
       int d = 1;
       for (; d < D; ++d) {
         if (++o[d] <= reach_) break;
@@ -126,6 +157,37 @@ class CellList {
       }
       if (d == D) break;
     }
+    return count;
+  }
+
+ public:
+  // Positions [item_begin, item_end) in items() of a run's particles.
+  int item_begin(const Run& r) const { return start_[r.cell_begin]; }
+  int item_end(const Run& r) const { return start_[r.cell_end]; }
+  // Number of marked particles in a run (see mark()).
+  int marked(const Run& r) const { return marked_[r.cell_end] - marked_[r.cell_begin]; }
+
+  // Count, per cell, the particles i for which marked(i) holds (after build()).
+  template <class Pred>
+  void mark(Pred&& is_marked) {
+    const std::size_t ncell = start_.size() - 1;
+    marked_.resize(ncell + 1);
+    marked_[0] = 0;
+    for (std::size_t c = 0; c < ncell; ++c) {
+      int m = 0;
+      for (int k = start_[c]; k < start_[c + 1]; ++k) m += is_marked(items_[k]) ? 1 : 0;
+      marked_[c + 1] = marked_[c] + m;
+    }
+  }
+
+  // Call f(b, shift) for every particle b in the cells around point xa, where
+  // the image of b is x_b + shift. xa must be wrapped into the periodic box.
+  template <class F>
+  void for_each_neighbour(const Vec<D>& xa, F&& f) const {
+    Run r[max_runs];
+    const int nr = runs(xa, r);
+    for (int q = 0; q < nr; ++q)
+      for (int k = item_begin(r[q]); k < item_end(r[q]); ++k) f(items_[k], static_cast<const Vec<D>&>(r[q].shift));
   }
 
   const std::array<int, D>& dims() const { return dims_; }
@@ -134,18 +196,17 @@ class CellList {
   // Cells c0 - reach .. c0 + reach along axis 0 (others fixed in cc) are
   // contiguous in memory: visit them as at most three runs (below the
   // periodic edge, inside, above it), each with its own shift.
-  template <class F>
-  void sweep_axis0(int c0, std::array<int, D>& cc, Vec<D>& shift, F& f) const {
+  void sweep_axis0(int c0, std::array<int, D>& cc, const Vec<D>& shift, Run* out, int& count) const {
     const int n0 = dims_[0];
     const int first = c0 - reach_, last = c0 + reach_;
     auto run = [&](int from, int to, double s) {  // cells from..to (inside 0..n0-1)
       if (from > to) return;
+      Run& r = out[count++];
       cc[0] = from;
-      const int begin = start_[linear(cc)];
-      cc[0] = to;
-      const int end = start_[linear(cc) + 1];
-      shift[0] = s;
-      for (int k = begin; k < end; ++k) f(items_[k], shift);
+      r.cell_begin = linear(cc);
+      r.cell_end = r.cell_begin + (to - from) + 1;
+      r.shift = shift;
+      r.shift[0] = s;
     };
     if (!box_.periodic[0]) {
       run(std::max(first, 0), std::min(last, n0 - 1), 0.0);
@@ -204,6 +265,8 @@ class CellList {
   std::array<int, D> dims_{};
   Vec<D> lo_ = Vec<D>::Zero(), width_ = Vec<D>::Ones(), length_ = Vec<D>::Zero();
   std::vector<int> start_, cell_of_, items_, fill_;
+  std::vector<int> marked_;  // marked_[c]: marked particles in cells before c
+  bool sorted_ = false;
 };
 
 }  // namespace sph

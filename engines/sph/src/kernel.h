@@ -38,6 +38,12 @@ struct WendlandC2 {
     return grad_factor * t * t * t;
   }
 
+  // gradient_factor for r < 2h known (no test at the support's edge).
+  double gradient_factor_inside(double r) const {
+    const double t = 1.0 - 0.5 * (r * inv_h);
+    return grad_factor * (t * t * t);
+  }
+
   // grad_a W(x_a - x_b) for r_ab = x_a - x_b.
   Vec<D> gradient(const Vec<D>& r_ab) const { return gradient_factor(r_ab.norm()) * r_ab; }
 };

@@ -70,7 +70,8 @@ struct Particles {
     resize(k);
   }
 
-  // Reorder the persistent state and last rates by `order` (new index k takes old index order[k]).
+  // Reorder the persistent state, the last rates and the start-of-step state by
+  // `order` (new index k takes old index order[k]).
   // Scratch buffers keep their capacity, so this does not allocate once warmed up.
   void reorder(const std::vector<int>& order) {
     const std::size_t n = size();
@@ -82,6 +83,9 @@ struct Particles {
     permute(id, order, n, scratch_id_);
     permute(acc, order, n, scratch_vec_);
     permute(drho, order, n, scratch_dbl_);
+    permute(x0, order, n, scratch_vec_);
+    permute(v0, order, n, scratch_vec_);
+    permute(rho0, order, n, scratch_dbl_);
   }
 
  private:

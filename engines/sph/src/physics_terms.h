@@ -7,6 +7,7 @@
 // New terms (PTT viscoelastic stress, Johnson-Cook solid stress, rigid grains)
 // get a bit here, a struct, and a line in FluidModel::pair.
 #pragma once
+#include <cmath>
 #include <cstdint>
 
 #include "vec.h"
@@ -37,35 +38,40 @@ inline constexpr Named optional[count] = {{"morris_viscosity", morris_viscosity}
 // velocity, carrying density and pressure like boundary particles.
 enum class Kind : std::int8_t { fluid = 0, boundary = 1, inlet = 2, outlet = 3 };
 
-// Everything a pair term may read about particles a and b.
+// Everything a pair term may read about particles a and b (b within the support 2h of a).
 template <int D>
 struct Pair {
   Vec<D> r_ab;     // x_a - x_b, m
   double r2;       // |r_ab|^2, m^2
-  Vec<D> grad_w;   // grad_a W_ab, 1/m^(D+1)
+  double F;        // kernel gradient factor: grad_a W_ab = F r_ab, 1/m^(D+2)
   Vec<D> v_ab;     // v_a - v_b, m/s
+  double vr;       // v_ab . r_ab, m^2/s (so v_ab . grad_a W_ab = F vr)
   Vec<D> v_ab_noslip;  // v_a - (no-slip velocity of b: mirrored for boundary particles), m/s
   double m_b;      // kg
   double vol_b;    // m_b / rho_b, m^D
   double rho_a, rho_b;        // kg/m^3
-  double p_a, p_b;            // Pa
   double p_rho2_a, p_rho2_b;  // p / rho^2, m^5/(kg s^2)
   double inv_rho_a;           // 1 / rho_a
   double c_a, c_b;            // sound speeds, m/s
 };
 
+// The sums over a particle's neighbours.
 template <int D>
 struct PairRates {
   Vec<D> acc = Vec<D>::Zero();  // dv_a/dt, m/s^2
   double drho = 0.0;            // drho_a/dt, kg/m^3/s
 };
 
+// Terms along r_ab (pressure, artificial viscosity) add the coefficient of
+// r_ab to `radial` (m/s^2 per m), so a pair updates the acceleration once:
+// dv_a/dt += radial r_ab. Other terms add to PairRates directly.
+
 // Eq. 7 with the sign of d rho/dt = -rho div v: drho_a/dt = rho_a sum_b m_b/rho_b v_ab . grad_a W_ab
 // (the paper prints a leading minus, which would make approaching particles lighter).
 struct Continuity {
   template <int D>
   void add(const Pair<D>& p, PairRates<D>& out) const {
-    out.drho += p.rho_a * p.vol_b * p.v_ab.dot(p.grad_w);
+    out.drho += p.rho_a * p.vol_b * (p.F * p.vr);
   }
 };
 
@@ -76,16 +82,15 @@ struct Continuity {
 struct SummationContinuity {
   template <int D>
   void add(const Pair<D>& p, PairRates<D>& out) const {
-    out.drho += p.m_b * p.v_ab.dot(p.grad_w);
+    out.drho += p.m_b * (p.F * p.vr);
   }
 };
 
 // Eq. 9 divided by rho_a: -grad p_a / rho_a = -sum_b m_b (p_a/rho_a^2 + p_b/rho_b^2) grad_a W_ab
 struct PressureGradient {
   template <int D>
-  void add(const Pair<D>& p, PairRates<D>& out) const {
-    const double s = p.m_b * (p.p_rho2_a + p.p_rho2_b);
-    out.acc.noalias() -= s * p.grad_w;
+  void add(const Pair<D>& p, double& radial) const {
+    radial -= p.m_b * (p.p_rho2_a + p.p_rho2_b) * p.F;
   }
 };
 
@@ -97,26 +102,28 @@ struct MorrisViscosity {
   double eta2 = 0.0;  // 0.01 h^2, m^2
   template <int D>
   void add(const Pair<D>& p, PairRates<D>& out) const {
-    const double s = 2.0 * mu * p.vol_b * p.inv_rho_a * p.r_ab.dot(p.grad_w) / (p.r2 + eta2);
+    const double s = 2.0 * mu * p.vol_b * p.inv_rho_a * (p.F * p.r2) / (p.r2 + eta2);
     out.acc.noalias() += s * p.v_ab_noslip;
   }
 };
 
-// Eqs. 11-12: Pi_ab = (-alpha c_ab mu_ab + beta mu_ab^2) / rho_ab for v_ab . r_ab < 0,
+// Eqs. 11-12: Pi_ab = (-alpha c_ab mu_ab + beta mu_ab^2) / rho_ab for v_ab . r_ab < 0 (else 0),
 // mu_ab = h v_ab . r_ab / (r_ab^2 + 0.01 h^2); dv_a/dt -= sum_b m_b Pi_ab grad_a W_ab.
+// Without a branch: mu_ab is taken from min(v_ab . r_ab, 0), which makes Pi_ab
+// zero for separating pairs (a branch on the sign of v_ab . r_ab is
+// mispredicted about every other pair and costs more than the flops).
 struct ArtificialViscosity {
   double alpha = 0.0, beta = 0.0;
   double h = 0.0, eta2 = 0.0;
   template <int D>
-  void add(const Pair<D>& p, PairRates<D>& out) const {
-    const double vr = p.v_ab.dot(p.r_ab);
-    if (vr >= 0.0) return;
+  void add(const Pair<D>& p, double& radial) const {
     const double d = p.r2 + eta2, rho_ab = 0.5 * (p.rho_a + p.rho_b);
     const double inv = 1.0 / (d * rho_ab);  // one division for 1/d and 1/rho_ab
-    const double mu_ab = h * vr * inv * rho_ab;
+    const double vr_in = 0.5 * (p.vr - std::abs(p.vr));  // exactly min(vr, 0), without a branch
+    const double mu_ab = h * vr_in * inv * rho_ab;
     const double c_ab = 0.5 * (p.c_a + p.c_b);
     const double pi_ab = (-alpha * c_ab * mu_ab + beta * mu_ab * mu_ab) * inv * d;
-    out.acc.noalias() -= p.m_b * pi_ab * p.grad_w;
+    radial -= p.m_b * pi_ab * p.F;
   }
 };
 
@@ -141,9 +148,11 @@ struct FluidModel {
   // Pair terms acting on a moving (fluid) particle a.
   void pair(const Pair<D>& p, PairRates<D>& out) const {
     continuity.add(p, out);
-    pressure.add(p, out);
+    double radial = 0.0;
+    pressure.add(p, radial);
+    if constexpr (has(term::artificial_viscosity)) artificial.add(p, radial);
+    out.acc.noalias() += radial * p.r_ab;
     if constexpr (has(term::morris_viscosity)) morris.add(p, out);
-    if constexpr (has(term::artificial_viscosity)) artificial.add(p, out);
   }
   // A fixed boundary particle carries density (and so pressure) but does not move.
   void boundary_pair(const Pair<D>& p, PairRates<D>& out) const { boundary_continuity.add(p, out); }

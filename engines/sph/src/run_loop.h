@@ -47,16 +47,12 @@ int run_simulation(const Deck& deck, Particles<D> particles, WallPenalty<D> wall
   rec.frame(t, step);
   std::string status = "ok", message;
   int code = exit_ok;
-  bool sorted = true, timing_printed = false;
+  bool sorted = true, timing_printed = false;  // sorted: binned at the current positions
   auto last_progress = started;
 
   while (t < deck.t_end * (1.0 - 1e-12) && !(deck.max_steps && step >= deck.max_steps)) {
     if (stop_requested) {
       status = "terminated", message = "stopped by a signal", code = exit_terminated;
-      break;
-    }
-    if (!sorted && !sim.sort_particles()) {
-      status = "unstable", message = "particles spread over too many cells (blow-up)", code = exit_unstable;
       break;
     }
     sim.ensure_rates();  // the initial state's, before the first step; later the last half step's

@@ -13,6 +13,7 @@
 // inlet and outlet buffer particles do the same but move at their velocity.
 #pragma once
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -48,7 +49,7 @@ class Simulation {
 
   // In 3D cells of half the support (5^3 stencil) test fewer far pairs than
   // cells of the full support (3^3); in 2D the 3^2 stencil is faster (measured).
-  static constexpr int cell_reach = D == 3 ? 2 : 1;
+  static constexpr int cell_reach = 2;
 
   Simulation(const Deck& deck, Particles<D> particles, WallPenalty<D> walls = {})
       : deck_(deck), P_(std::move(particles)), kernel_(deck.h), eos_{deck.rho0, deck.c0, deck.gamma,
@@ -67,6 +68,13 @@ class Simulation {
       box_.hi[a] = deck.periodic_hi[i];
     }
     for (auto& x : P_.x) box_.wrap(x);
+    walls_together_ = true;
+    const Vec<D>* wall_velocity = nullptr;
+    for (std::size_t i = 0; i < P_.size(); ++i)
+      if (P_.kind[i] == Kind::boundary) {
+        if (!wall_velocity) wall_velocity = &P_.v[i];
+        walls_together_ = walls_together_ && P_.v[i] == *wall_velocity;
+      }
     const std::size_t n = P_.size();
     P_.resize(n);
     cells_.reserve(P_.x.capacity());
@@ -88,6 +96,8 @@ class Simulation {
     if (!cells_.build(P_.x, P_.size())) return false;
     P_.reorder(cells_.items());
     cells_.mark_sorted();
+    const Kind* const kind = P_.kind.data();
+    cells_.mark([kind](int i) { return kind[i] != Kind::boundary; });
     return true;
   }
 
@@ -111,19 +121,28 @@ class Simulation {
     rates_ready_ = true;
     equation_of_state();
     if constexpr (has(term::morris_viscosity)) no_slip_velocities();
-    const std::ptrdiff_t n = P_.size();
-#pragma omp parallel for schedule(dynamic, 256) if (n >= parallel_min_heavy)
-    for (std::ptrdiff_t a = 0; a < n; ++a) {
-      if (P_.moves(a)) {
-        PairRates<D> r = gather<true>(a);
-        if constexpr (has(term::body_force)) model_.body.add(r.acc);
-        if constexpr (has(term::wall_penalty)) r.acc += walls_.force(P_.x[a]) / P_.mass[a];
-        P_.acc[a] = r.acc;
-        P_.drho[a] = r.drho;
-      } else {
-        P_.acc[a].setZero();
-        // Outlet particles keep the density they left with (a zero-gradient outlet).
-        P_.drho[a] = P_.kind[a] == Kind::outlet ? 0.0 : gather<false>(a).drho;
+    using Run = typename CellList<D>::Run;
+    const std::ptrdiff_t n = P_.size(), ncell = cells_.cell_count();
+    assert(cells_.sorted());
+    // Cell by cell: the particles of a cell share their runs of neighbour cells.
+#pragma omp parallel for schedule(dynamic, 64) if (n >= parallel_min_heavy)
+    for (std::ptrdiff_t cell = 0; cell < ncell; ++cell) {
+      const int first = cells_.cell_begin(cell), last = cells_.cell_end(cell);
+      if (first == last) continue;
+      Run runs[CellList<D>::max_runs];
+      const int nr = cells_.runs_of_cell(cell, runs);
+      for (int a = first; a < last; ++a) {
+        if (P_.moves(a)) {
+          PairRates<D> r = gather<true>(a, runs, nr);
+          if constexpr (has(term::body_force)) model_.body.add(r.acc);
+          if constexpr (has(term::wall_penalty)) r.acc += walls_.force(P_.x[a]) / P_.mass[a];
+          P_.acc[a] = r.acc;
+          P_.drho[a] = r.drho;
+        } else {
+          P_.acc[a].setZero();
+          // Outlet particles keep the density they left with (a zero-gradient outlet).
+          P_.drho[a] = P_.kind[a] == Kind::outlet ? 0.0 : gather<false>(a, runs, nr).drho;
+        }
       }
     }
   }
@@ -203,7 +222,8 @@ class Simulation {
     P_.rho0 = P_.rho;
   }
 
-  // Predictor: half step with the rates of the last evaluation, then re-bin.
+  // Predictor: half step with the rates of the last evaluation, then bin and
+  // reorder the particles by cell of the predicted positions (the only binning of a step).
   bool predict(double dt) {
     const double half = 0.5 * dt;
     const std::ptrdiff_t n = P_.size();
@@ -215,7 +235,7 @@ class Simulation {
       box_.wrap(P_.x[i]);
       P_.v[i] = P_.v0[i] + half * P_.acc[i];
     }
-    return cells_.build(P_.x, P_.size());
+    return sort_particles();
   }
 
   // Corrector with the mid-step rates. Displacements are handed to `crossed`
@@ -283,53 +303,103 @@ class Simulation {
   }
 
  private:
-  // Sum the pair terms over the neighbours of particle a.
+  // Neighbours within 2h summed per batch by gather() (more are summed in several batches).
+  static constexpr int batch = 128;
+
+  // Sum the pair terms over the neighbours of particle a, given the runs of
+  // cells around a's cell (particles sorted by cell: a run is a range of
+  // particle indices). The candidates of the runs are first filtered, without a branch, to those
+  // within 2h into a small batch; the pair terms then run over the batch
+  // without a distance test. The order of the sum is the cell order: fixed
+  // for a given binning, whatever the thread schedule. A fixed boundary
+  // particle (Moves = false) skips the other boundary particles when all walls
+  // move together (`walls_together_`: their pairs add exactly zero), and
+  // gathers nothing when no fluid or buffer particle is in its cells.
   template <bool Moves>
-  PairRates<D> gather(std::ptrdiff_t a) const {
-    // Raw pointers and local copies let the compiler keep them in registers.
+  PairRates<D> gather(int a, const typename CellList<D>::Run* runs, int nr) const {
     const Vec<D>* const x = P_.x.data();
+    const Kind* const kind = P_.kind.data();
+    const double support2 = kernel_.support_radius() * kernel_.support_radius();
+    const bool movers_only = !Moves && walls_together_ && kind[a] == Kind::boundary;
+    PairRates<D> r;
+    if (movers_only) {
+      int movers = 0;
+      for (int q = 0; q < nr; ++q) movers += cells_.marked(runs[q]);
+      if (movers == 0) return r;
+    }
+    const Vec<D> xa = x[a];
+    int nb[batch];
+    Vec<D> rab[batch];
+    double r2s[batch];
+    int n = 0;
+    for (int q = 0; q < nr; ++q) {
+      const Vec<D> xs = xa - runs[q].shift;  // the image of a seen from the run's images of b
+      const int end = cells_.item_end(runs[q]);
+      for (int k = cells_.item_begin(runs[q]); k < end; ++k) {
+        const int b = k;
+        const Vec<D> d = xs - x[b];
+        const double d2 = d.squaredNorm();
+        nb[n] = b;
+        rab[n] = d;
+        r2s[n] = d2;
+        bool keep = (d2 < support2) & (d2 != 0.0);  // within the support, not a itself
+        if constexpr (!Moves) keep &= !movers_only | (kind[b] != Kind::boundary);
+        n += keep;
+        if (n == batch) {
+          sum_pairs<Moves>(a, nb, rab, r2s, n, r);
+          n = 0;
+        }
+      }
+    }
+    sum_pairs<Moves>(a, nb, rab, r2s, n, r);
+    return r;
+  }
+
+  // Add the pair terms of a's neighbours nb[0..n) (r_ab = rab, r_ab^2 = r2s) to r.
+  template <bool Moves>
+  inline __attribute__((always_inline)) void sum_pairs(int a, const int* nb, const Vec<D>* rab,
+                                                        const double* r2s, int n, PairRates<D>& r) const {
+    // Raw pointers and local copies let the compiler keep them in registers.
     const Vec<D>* const v = P_.v.data();
     const Vec<D>* const v_noslip = P_.v_noslip.data();
     const double* const mass = P_.mass.data();
     const double* const rho = P_.rho.data();
-    const double* const p = P_.p.data();
     const double* const c = P_.c.data();
     const double* const vol = P_.vol.data();
     const double* const p_rho2 = P_.p_rho2.data();
     const WendlandC2<D> kernel = kernel_;
     const Model model = model_;
-    PairRates<D> r;
-    const Vec<D> xa = x[a], va = v[a];
-    const double rho_a = rho[a], p_a = p[a], c_a = has(term::artificial_viscosity) ? c[a] : 0.0;
+    const Vec<D> va = v[a];
+    const double rho_a = rho[a], c_a = has(term::artificial_viscosity) ? c[a] : 0.0;
     const double p_rho2_a = p_rho2[a], inv_rho_a = 1.0 / rho_a;
-    const double support2 = kernel.support_radius() * kernel.support_radius();
-    cells_.for_each_neighbour(xa, [&](int b, const Vec<D>& shift) {
+    PairRates<D> sum = r;
+    for (int k = 0; k < n; ++k) {
+      const int b = nb[k];
       Pair<D> pr;
-      pr.r_ab = xa - x[b] - shift;
-      pr.r2 = pr.r_ab.squaredNorm();
-      if (pr.r2 >= support2 || pr.r2 == 0.0) return;
-      pr.grad_w = kernel.gradient_factor(std::sqrt(pr.r2)) * pr.r_ab;
+      pr.r_ab = rab[k];
+      pr.r2 = r2s[k];
+      pr.F = kernel.gradient_factor_inside(std::sqrt(pr.r2));
       pr.v_ab = va - v[b];
-      if constexpr (has(term::morris_viscosity)) pr.v_ab_noslip = va - v_noslip[b];
+      pr.vr = pr.v_ab.dot(pr.r_ab);
       pr.m_b = mass[b];
-      pr.vol_b = vol[b];
-      pr.rho_a = rho_a;
-      pr.inv_rho_a = inv_rho_a;
-      pr.rho_b = rho[b];
-      pr.p_a = p_a;
-      pr.p_b = p[b];
-      pr.p_rho2_a = p_rho2_a;
-      pr.p_rho2_b = p_rho2[b];
-      if constexpr (has(term::artificial_viscosity)) {
-        pr.c_a = c_a;
-        pr.c_b = c[b];
+      if constexpr (Moves) {
+        if constexpr (has(term::morris_viscosity)) pr.v_ab_noslip = va - v_noslip[b];
+        pr.vol_b = vol[b];
+        pr.rho_a = rho_a;
+        pr.inv_rho_a = inv_rho_a;
+        pr.rho_b = rho[b];
+        pr.p_rho2_a = p_rho2_a;
+        pr.p_rho2_b = p_rho2[b];
+        if constexpr (has(term::artificial_viscosity)) {
+          pr.c_a = c_a;
+          pr.c_b = c[b];
+        }
+        model.pair(pr, sum);
+      } else {
+        model.boundary_pair(pr, sum);
       }
-      if constexpr (Moves)
-        model.pair(pr, r);
-      else
-        model.boundary_pair(pr, r);
-    });
-    return r;
+    }
+    r = sum;
   }
 
   Deck deck_;
@@ -340,6 +410,7 @@ class Simulation {
   PeriodicBox<D> box_;
   CellList<D> cells_;
   WallPenalty<D> walls_;
+  bool walls_together_ = false;  // every fixed boundary particle has the same velocity
   bool rates_ready_ = false;  // acc, drho hold the rates of the last evaluation
 };
 
