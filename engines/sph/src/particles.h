@@ -4,15 +4,11 @@
 #include <cstdint>
 #include <vector>
 
+#include "parallel.h"
 #include "physics_terms.h"
 #include "vec.h"
 
 namespace sph {
-
-// Below these particle counts a loop runs on one thread: starting a parallel
-// region costs more than it saves (and spinning threads hurt on a busy machine).
-inline constexpr std::ptrdiff_t parallel_min_light = 16384;  // a few flops per particle
-inline constexpr std::ptrdiff_t parallel_min_heavy = 512;    // a neighbour sum per particle
 
 template <int D>
 struct Particles {
@@ -92,8 +88,7 @@ struct Particles {
   template <class T>
   static void permute(std::vector<T>& a, const std::vector<int>& order, std::size_t n, std::vector<T>& scratch) {
     scratch.resize(n);
-#pragma omp parallel for schedule(static) if (static_cast<std::ptrdiff_t>(n) >= parallel_min_light)
-    for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t>(n); ++k) scratch[k] = a[order[k]];
+    parallel_for(static_cast<std::ptrdiff_t>(n), parallel_min_light, [&](std::ptrdiff_t k) { scratch[k] = a[order[k]]; });
     a.swap(scratch);
   }
   std::vector<Vec<D>> scratch_vec_;

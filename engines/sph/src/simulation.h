@@ -105,44 +105,60 @@ class Simulation {
   // A fixed boundary particle never pulls: its pressure is that of
   // max(rho, rho0), so a wall under a free surface does not suck fluid in.
   void equation_of_state() {
-    const std::ptrdiff_t n = P_.size();
-#pragma omp parallel for schedule(static) if (n >= parallel_min_light)
-    for (std::ptrdiff_t i = 0; i < n; ++i) {
-      const double rho = P_.kind[i] == Kind::boundary ? std::max(P_.rho[i], deck_.rho0) : P_.rho[i];
-      P_.p[i] = eos_.pressure(rho);
-      if constexpr (has(term::artificial_viscosity)) P_.c[i] = eos_.sound_speed(rho);
-      P_.vol[i] = P_.mass[i] / P_.rho[i];
-      P_.p_rho2[i] = P_.p[i] / (P_.rho[i] * P_.rho[i]);
-    }
+    parallel_for(P_.size(), parallel_min_light, [this](std::ptrdiff_t i) { equation_of_state_at(i); });
+  }
+  void equation_of_state_at(std::ptrdiff_t i) {
+    const double rho = P_.kind[i] == Kind::boundary ? std::max(P_.rho[i], deck_.rho0) : P_.rho[i];
+    P_.p[i] = eos_.pressure(rho);
+    if constexpr (has(term::artificial_viscosity)) P_.c[i] = eos_.sound_speed(rho);
+    P_.vol[i] = P_.mass[i] / P_.rho[i];
+    P_.p_rho2[i] = P_.p[i] / (P_.rho[i] * P_.rho[i]);
   }
 
   // acc and drho of every particle at the current x, v, rho; cells must be binned for x.
   void compute_rates() {
     rates_ready_ = true;
-    equation_of_state();
-    if constexpr (has(term::morris_viscosity)) no_slip_velocities();
-    using Run = typename CellList<D>::Run;
     const std::ptrdiff_t n = P_.size(), ncell = cells_.cell_count();
     assert(cells_.sorted());
-    // Cell by cell: the particles of a cell share their runs of neighbour cells.
-#pragma omp parallel for schedule(dynamic, 64) if (n >= parallel_min_heavy)
-    for (std::ptrdiff_t cell = 0; cell < ncell; ++cell) {
-      const int first = cells_.cell_begin(cell), last = cells_.cell_end(cell);
-      if (first == last) continue;
-      Run runs[CellList<D>::max_runs];
-      const int nr = cells_.runs_of_cell(cell, runs);
-      for (int a = first; a < last; ++a) {
-        if (P_.moves(a)) {
-          PairRates<D> r = gather<true>(a, runs, nr);
-          if constexpr (has(term::body_force)) model_.body.add(r.acc);
-          if constexpr (has(term::wall_penalty)) r.acc += walls_.force(P_.x[a]) / P_.mass[a];
-          P_.acc[a] = r.acc;
-          P_.drho[a] = r.drho;
-        } else {
-          P_.acc[a].setZero();
-          // Outlet particles keep the density they left with (a zero-gradient outlet).
-          P_.drho[a] = P_.kind[a] == Kind::outlet ? 0.0 : gather<false>(a, runs, nr).drho;
+    if (go_parallel(n, parallel_min_heavy)) {
+      // One parallel region per evaluation (starting one costs a thread wake-up).
+#pragma omp parallel
+      {
+#pragma omp for schedule(static)
+        for (std::ptrdiff_t i = 0; i < n; ++i) equation_of_state_at(i);
+        if constexpr (has(term::morris_viscosity)) {
+#pragma omp for schedule(dynamic, 256)
+          for (std::ptrdiff_t b = 0; b < n; ++b) no_slip_velocity_at(b);
         }
+#pragma omp for schedule(dynamic, 64) nowait
+        for (std::ptrdiff_t cell = 0; cell < ncell; ++cell) rates_of_cell(cell);
+      }
+    } else {
+      for (std::ptrdiff_t i = 0; i < n; ++i) equation_of_state_at(i);
+      if constexpr (has(term::morris_viscosity))
+        for (std::ptrdiff_t b = 0; b < n; ++b) no_slip_velocity_at(b);
+      for (std::ptrdiff_t cell = 0; cell < ncell; ++cell) rates_of_cell(cell);
+    }
+  }
+
+  // The rates of the particles of one cell: they share their runs of neighbour cells.
+  void rates_of_cell(std::ptrdiff_t cell) {
+    using Run = typename CellList<D>::Run;
+    const int first = cells_.cell_begin(cell), last = cells_.cell_end(cell);
+    if (first == last) return;
+    Run runs[CellList<D>::max_runs];
+    const int nr = cells_.runs_of_cell(cell, runs);
+    for (int a = first; a < last; ++a) {
+      if (P_.moves(a)) {
+        PairRates<D> r = gather<true>(a, runs, nr);
+        if constexpr (has(term::body_force)) model_.body.add(r.acc);
+        if constexpr (has(term::wall_penalty)) r.acc += walls_.force(P_.x[a]) / P_.mass[a];
+        P_.acc[a] = r.acc;
+        P_.drho[a] = r.drho;
+      } else {
+        P_.acc[a].setZero();
+        // Outlet particles keep the density they left with (a zero-gradient outlet).
+        P_.drho[a] = P_.kind[a] == Kind::outlet ? 0.0 : gather<false>(a, runs, nr).drho;
       }
     }
   }
@@ -152,27 +168,26 @@ class Simulation {
   // velocity around it, so the fluid sees the velocity mirrored through the
   // wall (as Adami et al. 2012). Its own v_b (the wall's velocity) is unchanged.
   void no_slip_velocities() {
-    const std::ptrdiff_t n = P_.size();
-    const double support2 = kernel_.support_radius() * kernel_.support_radius();
-#pragma omp parallel for schedule(dynamic, 256) if (n >= parallel_min_heavy)
-    for (std::ptrdiff_t b = 0; b < n; ++b) {
-      if (P_.kind[b] != Kind::boundary) {
-        P_.v_noslip[b] = P_.v[b];
-        continue;
-      }
-      Vec<D> sum = Vec<D>::Zero();
-      double weight = 0.0;
-      const Vec<D> xb = P_.x[b];
-      cells_.for_each_neighbour(xb, [&](int f, const Vec<D>& shift) {
-        if (!P_.moves(f)) return;
-        const double r2 = (xb - P_.x[f] - shift).squaredNorm();
-        if (r2 >= support2) return;
-        const double w = kernel_.value(std::sqrt(r2));
-        sum += w * P_.v[f];
-        weight += w;
-      });
-      P_.v_noslip[b] = weight > 0.0 ? Vec<D>(2.0 * P_.v[b] - sum / weight) : P_.v[b];
+    parallel_for(P_.size(), parallel_min_heavy, [this](std::ptrdiff_t b) { no_slip_velocity_at(b); });
+  }
+  void no_slip_velocity_at(std::ptrdiff_t b) {
+    if (P_.kind[b] != Kind::boundary) {
+      P_.v_noslip[b] = P_.v[b];
+      return;
     }
+    const double support2 = kernel_.support_radius() * kernel_.support_radius();
+    Vec<D> sum = Vec<D>::Zero();
+    double weight = 0.0;
+    const Vec<D> xb = P_.x[b];
+    cells_.for_each_neighbour(xb, [&](int f, const Vec<D>& shift) {
+      if (!P_.moves(f)) return;
+      const double r2 = (xb - P_.x[f] - shift).squaredNorm();
+      if (r2 >= support2) return;
+      const double w = kernel_.value(std::sqrt(r2));
+      sum += w * P_.v[f];
+      weight += w;
+    });
+    P_.v_noslip[b] = weight > 0.0 ? Vec<D>(2.0 * P_.v[b] - sum / weight) : P_.v[b];
   }
 
   // A particle of mass m appears (sign +1) or disappears (-1) at x: change the
@@ -196,11 +211,16 @@ class Simulation {
   double adaptive_dt() const {
     double v2 = 0.0, a2 = 0.0;
     const std::ptrdiff_t n = P_.size();
-#pragma omp parallel for reduction(max : v2, a2) schedule(static) if (n >= parallel_min_light)
-    for (std::ptrdiff_t i = 0; i < n; ++i) {
-      if (!P_.moves(i)) continue;
+    auto body = [this](std::ptrdiff_t i, double& v2, double& a2) {
+      if (!P_.moves(i)) return;
       v2 = std::max(v2, P_.v[i].squaredNorm());
       a2 = std::max(a2, P_.acc[i].squaredNorm());
+    };
+    if (go_parallel(n, parallel_min_light)) {
+#pragma omp parallel for reduction(max : v2, a2) schedule(static)
+      for (std::ptrdiff_t i = 0; i < n; ++i) body(i, v2, a2);
+    } else {
+      for (std::ptrdiff_t i = 0; i < n; ++i) body(i, v2, a2);
     }
     const double h = deck_.h;
     double dt = deck_.cfl * h / (deck_.c0 + std::sqrt(v2));
@@ -226,15 +246,13 @@ class Simulation {
   // reorder the particles by cell of the predicted positions (the only binning of a step).
   bool predict(double dt) {
     const double half = 0.5 * dt;
-    const std::ptrdiff_t n = P_.size();
-#pragma omp parallel for schedule(static) if (n >= parallel_min_light)
-    for (std::ptrdiff_t i = 0; i < n; ++i) {
+    parallel_for(P_.size(), parallel_min_light, [this, half](std::ptrdiff_t i) {
       P_.rho[i] = P_.rho0[i] + half * P_.drho[i];
-      if (!P_.advects(i)) continue;  // acc is zero for all but fluid
+      if (!P_.advects(i)) return;  // acc is zero for all but fluid
       P_.x[i] = P_.x0[i] + half * P_.v0[i];
       box_.wrap(P_.x[i]);
       P_.v[i] = P_.v0[i] + half * P_.acc[i];
-    }
+    });
     return sort_particles();
   }
 
@@ -243,15 +261,14 @@ class Simulation {
   template <class Crossed>
   void correct(double dt, Crossed&& crossed) {
     const std::ptrdiff_t n = P_.size();
-#pragma omp parallel for schedule(static) if (n >= parallel_min_light)
-    for (std::ptrdiff_t i = 0; i < n; ++i) {
+    parallel_for(n, parallel_min_light, [this, dt](std::ptrdiff_t i) {
       P_.rho[i] = P_.rho0[i] + dt * P_.drho[i];
-      if (!P_.advects(i)) continue;
+      if (!P_.advects(i)) return;
       const Vec<D> dx = dt * (P_.v0[i] + 0.5 * dt * P_.acc[i]);
       P_.v[i] = P_.v0[i] + dt * P_.acc[i];
       P_.x[i] = P_.x0[i] + dx;
       box_.wrap(P_.x[i]);
-    }
+    });
     if constexpr (!std::is_same_v<std::decay_t<Crossed>, NoCrossings>)
       for (std::ptrdiff_t i = 0; i < n; ++i)
         if (P_.moves(i)) crossed(P_.x0[i], Vec<D>(dt * (P_.v0[i] + 0.5 * dt * P_.acc[i])), P_.mass[i] / P_.rho[i]);
@@ -276,13 +293,17 @@ class Simulation {
     const std::ptrdiff_t n = P_.size();
     double worst_rho = 0.0, worst_v2 = 0.0;
     bool finite = true;
-#pragma omp parallel for reduction(max : worst_rho, worst_v2) reduction(&& : finite) schedule(static) \
-    if (n >= parallel_min_light)
-    for (std::ptrdiff_t i = 0; i < n; ++i) {
+    auto body = [this](std::ptrdiff_t i, double& worst_rho, double& worst_v2, bool& finite) {
       finite = finite && std::isfinite(P_.rho[i]) && P_.x[i].allFinite() && P_.v[i].allFinite();
-      if (!P_.moves(i)) continue;
+      if (!P_.moves(i)) return;
       worst_rho = std::max(worst_rho, std::abs(P_.rho[i] / deck_.rho0 - 1.0));
       worst_v2 = std::max(worst_v2, P_.v[i].squaredNorm());
+    };
+    if (go_parallel(n, parallel_min_light)) {
+#pragma omp parallel for reduction(max : worst_rho, worst_v2) reduction(&& : finite) schedule(static)
+      for (std::ptrdiff_t i = 0; i < n; ++i) body(i, worst_rho, worst_v2, finite);
+    } else {
+      for (std::ptrdiff_t i = 0; i < n; ++i) body(i, worst_rho, worst_v2, finite);
     }
     if (!finite) return {false, "a particle's position, velocity or density is not finite"};
     if (worst_rho > deck_.max_density_deviation)
