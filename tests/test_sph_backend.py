@@ -302,9 +302,15 @@ def test_unstable_run_keeps_its_last_good_frame(capsys, tmp_path):
     from orchestrator.runh5 import read_run
 
     run = read_run(out)
-    assert run["attrs"]["status"] == "unstable" and run["attrs"]["last_good_frame"] == 2
-    last = run["frames"]["2"]
-    assert last["attrs"]["time"] == pytest.approx(0.006) and np.all(np.isfinite(last["positions"]))
+    attrs = run["attrs"]
+    assert attrs["status"] == "unstable" and f"step {attrs['n_steps']}" in attrs["message"]
+    # the last good frame is the state one step before the step that failed, and it is the last frame kept
+    k = attrs["last_good_frame"]
+    assert k == max(int(key) for key in run["frames"] if key != "attrs")
+    last = run["frames"][str(k)]
+    assert last["attrs"]["step"] == attrs["n_steps"] - 1
+    assert last["attrs"]["time"] == pytest.approx(attrs["simulated_time"] - 2e-3, rel=1e-9)
+    assert np.all(np.isfinite(last["positions"]))
 
 
 @needs_sph
