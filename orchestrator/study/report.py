@@ -107,18 +107,18 @@ def write_study_report(study_dir, quantity: str = "fn_mean", reference: str = "f
     ax.legend()
     pareto_png = _png(fig)
 
+    varied = [k for k in rows[0] if k.startswith("param:") and len({r.get(k) for r in rows}) > 1]
     candidates = [(w, e, r) for w, e, r in zip(walls, errors, ok) if e <= tolerance and r is not ref_row]
     recommendation = ""
     if candidates:
         wall, err, best = min(candidates, key=lambda item: item[0])
-        recommendation = (f"{_label(best, varied=None)} on {best['engine']}: {quantity} within {100 * tolerance:g} % "
+        recommendation = (f"{_label(best, varied or None)} on {best['engine']}: {quantity} within {100 * tolerance:g} % "
                           f"of the reference ({100 * err:.1f} %) in {wall:.1f} s")
         if ref_row is not None:
             recommendation += f", {_float(ref_row['wall_time_s']) / wall:.0f} x faster than the reference run"
     elif ok:
         recommendation = f"no run other than the reference is within {100 * tolerance:g} % of it"
     noise = _noise_note(ref_row, quantity, tolerance)
-    varied = [k for k in rows[0] if k.startswith("param:") and len({r.get(k) for r in rows}) > 1]
     quantities_png = _quantities_plot(ok, varied)
     info_path = study_dir / STUDY_INFO
     description = json.loads(info_path.read_text()).get("description", "") if info_path.is_file() else ""
@@ -181,10 +181,14 @@ def _noise_note(ref_row: dict | None, quantity: str, tolerance: float) -> str:
         return ""
     sem, value = _float(ref_row["fn_sem"]), _float(ref_row["fn_mean"])
     rel = abs(sem / value)
-    verdict = ("smaller than the tolerance: differences beyond it are resolved" if 2 * rel < tolerance else
-               "not much smaller than the tolerance: differences of that size are partly noise")
+    # the difference of two runs' means has about sqrt(2) times one run's error; two of those is what resolves
+    resolvable = 2 * math.sqrt(2) * rel
+    verdict = ("differences larger than the tolerance are resolved" if resolvable < tolerance else
+               f"differences below about {100 * resolvable:.0f} % are within the noise, so the tolerance of "
+               f"{100 * tolerance:g} % cannot be resolved with runs this short")
     return (f"The reference's mean F_n has a standard error of {sem:.3g} N ({100 * rel:.1f} %, block averaging "
-            f"over 10 blocks), {verdict}.")
+            f"over 10 blocks; an underestimate when a block is shorter than the force's correlation time); "
+            f"{verdict}.")
 
 
 def _quantities_plot(ok: list[dict], varied: list[str]) -> str:
