@@ -10,6 +10,7 @@
 #pragma once
 #include <algorithm>
 #include <array>
+#include <cassert>
 #include <cmath>
 #include <cstddef>
 #include <limits>
@@ -41,6 +42,7 @@ class CellList {
   // Cells are at least support / reach wide; a point's neighbours lie within
   // `reach` cells of its own along each axis.
   void configure(double support, int reach, const PeriodicBox<D>& box, std::size_t max_cells) {
+    assert(reach >= 1 && reach <= 2);  // max_runs
     reach_ = reach;
     min_cell_ = support / reach;
     box_ = box;
@@ -51,8 +53,6 @@ class CellList {
     cell_of_.reserve(n);
     items_.reserve(n);
   }
-  // Particle indices cell by cell (raw).
-  const int* item_data() const { return items_.data(); }
 
   // Bin positions x[0..n) (counting sort). Afterwards items() lists particle
   // indices cell by cell. Returns false when the particles spread over more
