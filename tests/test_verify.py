@@ -87,8 +87,6 @@ def test_help_states_units_and_the_json_keys():
         assert words in proc.stdout
 
 
-@pytest.mark.yade
-@pytest.mark.skipif(not YadeBackend().available(), reason="Yade is not installed (apt-get install yade)")
 #: How close each engine's values lie to the reference DEM's on every check (same physics), and the scenes
 #: where a documented difference of the tangential law shows (README: what remains different).
 SAME_PHYSICS = {
@@ -99,6 +97,8 @@ SAME_PHYSICS = {
 }
 
 
+@pytest.mark.yade
+@pytest.mark.skipif(not YadeBackend().available(), reason="Yade is not installed (apt-get install yade)")
 def test_verify_passes_on_every_installed_engine(tmp_path):
     from orchestrator.verify import dem_engines
 
