@@ -11,9 +11,8 @@ default WCSPH scheme): a water column of 34 x 67 particles (1.02 m x 2.01 m)
 at dx = 0.03 m in a 4 m tank held by four layers of boundary particles,
 h = 1.3 dx (Wendland C2, support 2h), c0 = 10 sqrt(2 g 2 m), alpha = 0.1,
 gravity. Our run goes through the sph_flow case and the SphBackend, with the
-same dx, h, kernel, fluid particle count and number of steps. One difference
-is in the schemes, not the codes: our predictor-corrector evaluates the rates
-twice per step, PySPH's PEC integrator once.
+same dx, h, kernel, fluid particle count and number of steps. Both codes
+evaluate the rates once per step (predict-evaluate-correct).
 """
 
 from __future__ import annotations
@@ -319,7 +318,7 @@ def format_report(rows: list[BenchRow]) -> str:
     if "ratio_per_core" in s:
         lines.append(f"2D dam break, 1 thread, sph / PySPH: {s['ratio_per_core']:.2f} per CPU second "
                      f"({s['ratio_per_core_fluid']:.2f} counting fluid particles only), {s['ratio_wall']:.2f} per "
-                     "wall second; one sph step evaluates the rates twice, one PySPH (PEC) step once")
+                     "wall second; both codes evaluate the rates once per step")
     elif not any(r.engine.startswith("pysph") for r in rows):
         lines.append("PySPH is not installed in this Python ('make pysph' installs it into .venv): no side-by-side")
     return "\n".join(lines)
