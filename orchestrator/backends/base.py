@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import abc
+import os
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -115,3 +116,38 @@ class Backend(abc.ABC):
     @abc.abstractmethod
     def read_output(self, scene, workdir: Path) -> Result:
         """Parse what the engine wrote (complete or partial) into a Result."""
+
+
+class ExecutableBackend(Backend):
+    """A Backend whose engine is an executable found by its profile (self.profile.executable).
+
+    Subclasses set `label` (the engine's name in messages), `env_var` (the
+    variable that overrides the path), `not_found` (where else it was looked
+    for) and `templates` (case kind -> template path under templates/), and
+    implement version(), install_hint() and the file methods.
+    """
+
+    label = "the engine"
+    env_var = ""
+    not_found = ""
+    templates: dict[str, str] = {}
+
+    def available(self) -> bool:
+        return bool(self.profile.executable) and Path(self.profile.executable).is_file()
+
+    def where(self) -> str:
+        return self.profile.executable or ""
+
+    def template_files(self, kind: str) -> list[Path]:
+        from ..templating import template_root
+
+        return [template_root() / self.templates[kind]]
+
+    def check_available(self) -> None:
+        """Raise EngineNotFound, with what to do, when the executable is missing."""
+        from ..errors import EngineNotFound
+
+        if not self.available():
+            env = os.environ.get(self.env_var)
+            where = f"{self.env_var}={env} does not exist" if env else self.not_found
+            raise EngineNotFound(f"{self.label} is not installed ({where}); {self.install_hint()}")

@@ -29,8 +29,8 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import EngineNotFound, OrchestratorError, ReadError
-from ..templating import render, template_root
-from .base import Backend, Result
+from ..templating import render
+from .base import ExecutableBackend, Result
 
 TEMPLATES = {"drag_finishing": "liggghts/drag_finishing.in.j2", "impact": "liggghts/impact.in.j2"}
 DECK_NAME = {"drag_finishing": "drag_finishing.in", "impact": "impact.in"}
@@ -101,37 +101,23 @@ def _ranks(value) -> int:
     return ranks
 
 
-class LiggghtsBackend(Backend):
+class LiggghtsBackend(ExecutableBackend):
     """Template (decks under templates/liggghts/) plus profile (LiggghtsProfile)."""
 
     name = "liggghts"
     case_kinds = ("drag_finishing", "impact")
+    label, env_var, not_found, templates = ("LIGGGHTS", "ORCHESTRATOR_LIGGGHTS", "no 'liggghts' on PATH",
+                                            TEMPLATES)
 
     def __init__(self, executable: str | None = None, threads: int = 1, mpi_ranks: int | None = None):
         self.profile = LiggghtsProfile(executable, threads, mpi_ranks)
         self._kind = "drag_finishing"  # set by write_input; command() runs that kind's deck
 
-    def available(self) -> bool:
-        return bool(self.profile.executable) and Path(self.profile.executable).exists()
-
     def version(self) -> str:
         return self.profile.version()
 
-    def where(self) -> str:
-        return self.profile.executable or ""
-
     def install_hint(self) -> str:
         return "install it with 'sudo apt-get install liggghts' (Debian 12 / Ubuntu), or set ORCHESTRATOR_LIGGGHTS"
-
-    def template_files(self, kind: str) -> list[Path]:
-        return [template_root() / TEMPLATES[kind]]
-
-    def check_available(self) -> None:
-        """Raise EngineNotFound, with what to do, when LIGGGHTS is missing."""
-        if not self.available():
-            where = (f"ORCHESTRATOR_LIGGGHTS={os.environ['ORCHESTRATOR_LIGGGHTS']} does not exist"
-                     if os.environ.get("ORCHESTRATOR_LIGGGHTS") else "no 'liggghts' on PATH")
-            raise EngineNotFound(f"LIGGGHTS is not installed ({where}); {self.install_hint()}")
 
     def check_scene(self, scene) -> None:
         """Raise OrchestratorError for what LIGGGHTS-PUBLIC 3.8 cannot run (before anything is written); every

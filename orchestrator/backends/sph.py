@@ -16,9 +16,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import EngineNotFound, OrchestratorError
-from ..templating import render, template_root
-from .base import Backend, Result, Series
+from ..errors import OrchestratorError
+from ..templating import render
+from .base import ExecutableBackend, Result, Series
 
 TEMPLATE = "sph/deck.json.j2"
 DECK = "deck.json"
@@ -60,37 +60,24 @@ def _default_executable() -> str | None:
     return shutil.which("sph")
 
 
-class SphBackend(Backend):
+class SphBackend(ExecutableBackend):
     """Template (templates/sph/deck.json.j2 and HDF5 inputs) plus profile (SphProfile)."""
 
     name = "sph"
     case_kinds = ("sph_flow",)
+    label, env_var = "the sph executable", "ORCHESTRATOR_SPH"
+    not_found = f"neither {BUILT_EXECUTABLE} nor 'sph' on PATH"
+    templates = {"sph_flow": TEMPLATE}
 
     def __init__(self, executable: str | None = None, threads: int = 1):
         self.profile = SphProfile(executable, threads)
 
-    def available(self) -> bool:
-        return bool(self.profile.executable) and Path(self.profile.executable).is_file()
-
     def version(self) -> str:
         return self.profile.version
-
-    def where(self) -> str:
-        return self.profile.executable or ""
 
     def install_hint(self) -> str:
         return "build it with 'make sph' (needs g++, cmake, libeigen3-dev, libhdf5-dev, nlohmann-json3-dev)"
 
-    def check_available(self) -> None:
-        """Raise EngineNotFound, with what to do, when the executable is missing."""
-        if not self.available():
-            env = os.environ.get("ORCHESTRATOR_SPH")
-            where = f"ORCHESTRATOR_SPH={env} does not exist" if env else \
-                f"neither {BUILT_EXECUTABLE} nor 'sph' on PATH"
-            raise EngineNotFound(f"the sph executable is not installed ({where}); {self.install_hint()}")
-
-    def template_files(self, kind: str) -> list[Path]:
-        return [template_root() / TEMPLATE]
 
     def check_scene(self, scene) -> None:
         """Raise OrchestratorError (exit 2) for a scene that is not an SPH flow."""

@@ -21,10 +21,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import EngineNotFound, ReadError
+from ..errors import ReadError
 from ..scene.build import settling_timestep
-from ..templating import render, template_root
-from .base import Backend, Result, Series
+from ..templating import render
+from .base import ExecutableBackend, Result, Series
 
 TEMPLATES = {"drag_finishing": "yade/drag_finishing.py.j2", "impact": "yade/impact.py.j2"}
 SCRIPT_NAME = {"drag_finishing": "drag_finishing.py", "impact": "impact.py"}
@@ -79,37 +79,22 @@ class YadeProfile:
         return [self.executable, "-n", "-x", "-j", str(self.threads), script], env
 
 
-class YadeBackend(Backend):
+class YadeBackend(ExecutableBackend):
     """Template (Yade scripts under templates/yade/) plus profile (YadeProfile)."""
 
     name = "yade"
     case_kinds = ("drag_finishing", "impact")
+    label, env_var, not_found, templates = "Yade", "ORCHESTRATOR_YADE", "no 'yade' on PATH", TEMPLATES
 
     def __init__(self, executable: str | None = None, threads: int = 1):
         self.profile = YadeProfile(executable, threads)
         self._kind = "drag_finishing"  # set by write_input; command() runs that kind's script
 
-    def available(self) -> bool:
-        return bool(self.profile.executable) and Path(self.profile.executable).exists()
-
     def version(self) -> str:
         return self.profile.version()
 
-    def where(self) -> str:
-        return self.profile.executable or ""
-
     def install_hint(self) -> str:
         return "install it with 'sudo apt-get install yade' (Debian 12 / Ubuntu), or run 'make demo'"
-
-    def template_files(self, kind: str) -> list[Path]:
-        return [template_root() / TEMPLATES[kind]]
-
-    def check_available(self) -> None:
-        """Raise EngineNotFound, with what to do, when Yade is missing."""
-        if not self.available():
-            where = f"ORCHESTRATOR_YADE={os.environ['ORCHESTRATOR_YADE']} does not exist" if os.environ.get(
-                "ORCHESTRATOR_YADE") else "no 'yade' on PATH"
-            raise EngineNotFound(f"Yade is not installed ({where}); {self.install_hint()}")
 
     # ---- input ----
     def render_context(self, scene) -> dict:
