@@ -90,10 +90,8 @@ def test_dam_break_check_compares_over_the_measured_range():
                                              "surge_front_Z[martin_moyce_1952_a2.25in]"}
 
 
-#: Checks that fail today, with the largest error accepted until they are fixed (issue 5 stays open on them):
-#: since the one-evaluation predictor-corrector the 2D dam-break front at T = 2.72 runs 10.3 % ahead of
-#: Koshizuka & Oka (tolerance 10 %; 10.2-10.5 % with either scheme at cfl 0.1).
-KNOWN_FAILURES = {("sph_dam_break_2d", "surge_front_Z[koshizuka_oka_1996]"): 0.11}
+#: Checks that fail today, with the largest error accepted until they are fixed (none now).
+KNOWN_FAILURES: dict[tuple[str, str], float] = {}
 
 
 @needs_sph
