@@ -2,8 +2,10 @@
 
 Particle-steps per second (particles x steps / the engine's loop wall time)
 of a 2D dam break and a 3D dam break (a slab periodic across the flow), on
-1 and 2 OpenMP threads, with the mean number of neighbours per fluid
-particle; and, in the same run, the same 2D dam break in PySPH when PySPH is
+1 OpenMP thread and on 2, the 2-thread runs once with idle threads spinning
+briefly (numerics.thread_wait = "spin", for an otherwise idle machine) and
+once sleeping at once ("passive", the default, safe on shared cores), with
+the mean number of neighbours per fluid particle; and, in the same run, the same 2D dam break in PySPH when PySPH is
 importable, with the ratio of the two per core.
 
 The 2D dam break is PySPH's own example (pysph/examples/dam_break_2d.py, its
@@ -34,6 +36,8 @@ PYSPH_DX, PYSPH_HDX = 0.03, 1.3
 COLUMN_CELLS_2D = (34, 67)  # PySPH's get_2d_block(dx, 1.0, 2.0) holds 34 x 67 particles
 TANK_2D, WALL_LAYERS_2D = (4.02, 4.02), 4  # m (134 dx), layers
 THREADS = (1, 2)
+#: How the 2-thread runs wait (numerics.thread_wait); a 1-thread run never waits.
+WAITS = ("spin", "passive")
 
 
 @dataclass
@@ -54,9 +58,15 @@ class BenchRow:
     per_core: float
     status: str = "ok"
     note: str = ""
+    wait: str = "-"  # numerics.thread_wait of a run on several threads
 
 
-def dam_break_2d_case(steps: int, threads: int, dx: float = PYSPH_DX) -> dict:
+def _runs(threads) -> list[tuple[int, str]]:
+    """(threads, thread_wait) of the timed runs of one scene: one thread, then each wait on more."""
+    return [(n, w) for n in threads for w in (WAITS if n > 1 else ("-",))]
+
+
+def dam_break_2d_case(steps: int, threads: int, dx: float = PYSPH_DX, thread_wait: str = "passive") -> dict:
     """PySPH's 2D dam break as an sph_flow case dict (SI units), stopped after `steps` steps."""
     cx, cy = COLUMN_CELLS_2D
     layers = WALL_LAYERS_2D * dx
@@ -76,13 +86,14 @@ def dam_break_2d_case(steps: int, threads: int, dx: float = PYSPH_DX) -> dict:
             {"name": "left", "kind": "boundary", "lo": [-layers, 0.0], "hi": [0.0, height]},
             {"name": "right", "kind": "boundary", "lo": [width, 0.0], "hi": [width + layers, height]},
         ],
-        "numerics": {"dx": dx, "h_over_dx": PYSPH_HDX, "max_steps": steps, "threads": threads},
+        "numerics": {"dx": dx, "h_over_dx": PYSPH_HDX, "max_steps": steps, "threads": threads,
+                     "thread_wait": thread_wait},
         "simulation": {"duration": 10.0},
         "output": {"frame_interval": 10.0},
     }
 
 
-def dam_break_3d_case(steps: int, threads: int, dx: float = 0.02) -> dict:
+def dam_break_3d_case(steps: int, threads: int, dx: float = 0.02, thread_wait: str = "passive") -> dict:
     """A 3D dam break: a 0.4 x 0.4 x 0.8 m column in a 1.2 m tank, periodic across (y), three wall layers."""
     layers, depth, length, wall = 3 * dx, 0.4, 1.2, 0.9
     c0 = 10.0 * math.sqrt(2.0 * GRAVITY * 0.8)
@@ -101,7 +112,8 @@ def dam_break_3d_case(steps: int, threads: int, dx: float = 0.02) -> dict:
             {"name": "left", "kind": "boundary", "lo": [-layers, 0.0, 0.0], "hi": [0.0, depth, wall]},
             {"name": "right", "kind": "boundary", "lo": [length, 0.0, 0.0], "hi": [length + layers, depth, wall]},
         ],
-        "numerics": {"dx": dx, "h_over_dx": 1.3, "max_steps": steps, "threads": threads},
+        "numerics": {"dx": dx, "h_over_dx": 1.3, "max_steps": steps, "threads": threads,
+                     "thread_wait": thread_wait},
         "simulation": {"duration": 10.0},
         "output": {"frame_interval": 10.0},
     }
@@ -160,9 +172,11 @@ def run_ours(case_dict: dict, out_dir: Path) -> BenchRow:
     steps = int(attrs.get("n_steps", 0))
     wall = float(attrs.get("engine_wall_time_s", math.nan))
     work = scene.n_particles * steps
-    return BenchRow(case.case.name, f"sph {attrs.get('engine_version', '')}".strip(), case.numerics.threads,
+    threads = case.numerics.threads
+    return BenchRow(case.case.name, f"sph {attrs.get('engine_version', '')}".strip(), threads,
                     scene.n_particles, scene.n_fluid, steps, neighbours, wall, cpu,
-                    work / wall if wall > 0 else math.nan, work / cpu if cpu > 0 else math.nan, status, note)
+                    work / wall if wall > 0 else math.nan, work / cpu if cpu > 0 else math.nan, status, note,
+                    case.numerics.thread_wait if threads > 1 else "-")
 
 
 def pysph_available() -> bool:
@@ -239,7 +253,8 @@ def _pysph_version() -> str:
 
 def run_bench(out_dir: Path | None = None, steps_2d: int = 2000, steps_3d: int = 200, threads=THREADS,
               with_pysph: bool | None = None, on_done=None) -> list[BenchRow]:
-    """Every timed run: 2D and 3D dam breaks on each thread count, then PySPH's 2D dam break if importable.
+    """Every timed run: 2D and 3D dam breaks on one thread and on each larger thread count with each
+    wait (WAITS), then PySPH's 2D dam break if importable.
 
     with_pysph: None = when importable; on_done(row) is called after each run.
     """
@@ -249,8 +264,10 @@ def run_bench(out_dir: Path | None = None, steps_2d: int = 2000, steps_3d: int =
     out_dir = Path(out_dir) if out_dir is not None else default_out_dir()
     rows = []
     for name, make, steps in (("2d", dam_break_2d_case, steps_2d), ("3d", dam_break_3d_case, steps_3d)):
-        for n in threads:
-            rows.append(run_ours(make(steps, n), out_dir / f"dam_break_{name}_{n}t"))
+        for n, wait in _runs(threads):
+            suffix = "" if n == 1 else f"_{wait}"
+            rows.append(run_ours(make(steps, n, thread_wait=wait if n > 1 else "passive"),
+                                 out_dir / f"dam_break_{name}_{n}t{suffix}"))
             if on_done is not None:
                 on_done(rows[-1])
     if with_pysph is None:
@@ -263,19 +280,22 @@ def run_bench(out_dir: Path | None = None, steps_2d: int = 2000, steps_3d: int =
 
 
 def summary(rows: list[BenchRow]) -> dict:
-    """Ratios: 2 threads over 1 per scene (wall-time speed-up), and ours over PySPH on the 2D dam break.
+    """Ratios: 2 threads over 1 per scene (wall-time speed-up; speedup_2_threads_<scene> with spinning
+    threads, speedup_2_threads_passive_<scene> with passive ones), and ours over PySPH on the 2D dam break.
 
     ratio_per_core: our 1-thread particle-steps per CPU second over PySPH's (CPU time is the steadier
     measure on a shared machine); ratio_wall: the same over loop wall time; *_fluid: counting fluid
     particles only (the two codes' wall layers differ).
     """
     out: dict = {}
-    by = {(r.scene, r.threads): r for r in rows if r.status == "ok"}
+    by = {(r.scene, r.threads, r.wait): r for r in rows if r.status == "ok"}
     for scene in dict.fromkeys(r.scene for r in rows if r.engine.startswith("sph")):
-        one, two = by.get((scene, 1)), by.get((scene, 2))
-        if one and two:
-            out[f"speedup_2_threads_{scene}"] = two.particle_steps_per_s / one.particle_steps_per_s
-    ours, theirs = by.get(("bench_dam_break_2d", 1)), by.get(("pysph_dam_break_2d", 1))
+        one = by.get((scene, 1, "-"))
+        for wait, key in (("spin", f"speedup_2_threads_{scene}"), ("passive", f"speedup_2_threads_passive_{scene}")):
+            two = by.get((scene, 2, wait))
+            if one and two:
+                out[key] = two.particle_steps_per_s / one.particle_steps_per_s
+    ours, theirs = by.get(("bench_dam_break_2d", 1, "-")), by.get(("pysph_dam_break_2d", 1, "-"))
     if ours and theirs:
         fluid = (ours.fluid / ours.particles) / (theirs.fluid / theirs.particles)
         out["ratio_per_core"] = ours.per_core / theirs.per_core
@@ -302,9 +322,9 @@ def json_report(rows: list[BenchRow]) -> dict:
 
 def format_report(rows: list[BenchRow]) -> str:
     """Plain-text table of the runs and the ratios."""
-    header = ("scene", "engine", "threads", "particles", "fluid", "steps", "neighbours", "wall_s", "cpu_s",
+    header = ("scene", "engine", "threads", "wait", "particles", "fluid", "steps", "neighbours", "wall_s", "cpu_s",
               "particle-steps/s", "per core (cpu)", "status")
-    table = [[r.scene, r.engine, str(r.threads), str(r.particles), str(r.fluid), str(r.steps), _fmt(r.neighbours, ".1f"),
+    table = [[r.scene, r.engine, str(r.threads), r.wait, str(r.particles), str(r.fluid), str(r.steps), _fmt(r.neighbours, ".1f"),
               _fmt(r.wall_s, ".2f"), _fmt(r.cpu_s, ".2f"), _rate(r.particle_steps_per_s), _rate(r.per_core),
               r.status] for r in rows]
     widths = [max(len(h), *(len(t[i]) for t in table)) if table else len(h) for i, h in enumerate(header)]
@@ -313,8 +333,12 @@ def format_report(rows: list[BenchRow]) -> str:
     lines += [f"note: {r.scene} ({r.engine}, {r.threads} thread): {r.note}" for r in rows if r.note]
     s = summary(rows)
     for key, value in s.items():
-        if key.startswith("speedup"):
-            lines.append(f"{key.removeprefix('speedup_2_threads_')}: 2 threads run {value:.2f} x as fast as 1")
+        if key.startswith("speedup_2_threads_passive_"):
+            lines.append(f"{key.removeprefix('speedup_2_threads_passive_')}: 2 threads sleeping when idle (passive, "
+                         f"for shared cores) run {value:.2f} x as fast as 1")
+        elif key.startswith("speedup"):
+            lines.append(f"{key.removeprefix('speedup_2_threads_')}: 2 threads spinning briefly when idle (spin, "
+                         f"for an otherwise idle machine) run {value:.2f} x as fast as 1")
     if "ratio_per_core" in s:
         lines.append(f"2D dam break, 1 thread, sph / PySPH: {s['ratio_per_core']:.2f} per CPU second "
                      f"({s['ratio_per_core_fluid']:.2f} counting fluid particles only), {s['ratio_wall']:.2f} per "

@@ -147,10 +147,12 @@ def _parser() -> argparse.ArgumentParser:
     bench = sub.add_parser(
         "bench", help="speed of an engine: particle-steps per second on standard scenes",
         description="bench sph: time the sph executable on a 2D dam break (PySPH's dam_break_2d: dx = 0.03 m, "
-        "h = 1.3 dx, 2278 fluid particles) and a 3D dam break (25 360 particles), each on 1 and 2 threads, and, "
+        "h = 1.3 dx, 2278 fluid particles) and a 3D dam break (25 360 particles), each on 1 thread and on 2 threads "
+        "(idle threads spinning briefly, numerics.thread_wait = spin, and sleeping at once, passive), and, "
         "when PySPH is importable ('make pysph'), the same 2D dam break in PySPH on one core. Prints particle-steps "
         "per second (over the loop's wall time and per CPU second), mean neighbours per fluid particle, the "
-        "2-thread speed-up and the ratio to PySPH. On a shared machine set OMP_WAIT_POLICY=passive.")
+        "2-thread speed-ups and the ratio to PySPH. Run it on an otherwise idle machine: spinning threads on "
+        "shared cores run many times slower.")
     bench.add_argument("suite", choices=["sph"], help="which engine: sph")
     bench.add_argument("--steps-2d", type=int, default=2000, metavar="N", help="steps of the 2D runs (default 2000)")
     bench.add_argument("--steps-3d", type=int, default=200, metavar="N", help="steps of the 3D runs (default 200)")
@@ -158,7 +160,8 @@ def _parser() -> argparse.ArgumentParser:
     bench.add_argument("--out", metavar="DIR", help="run directories (default: runs/bench-sph-<time>)")
     bench.add_argument("--json", action="store_true",
                        help="print one JSON object: rows (scene, engine, threads, particles, fluid, steps, neighbours, "
-                       "wall_s, cpu_s, particle_steps_per_s, per_core, status, note) and summary (speed-ups, ratios)")
+                       "wall_s, cpu_s, particle_steps_per_s, per_core, status, note, wait) and summary (speed-ups, "
+                       "ratios)")
 
     doctor = sub.add_parser("doctor", help="which engines are installed, their versions and paths")
     doctor.add_argument("--json", action="store_true", help="print a JSON list")
@@ -483,7 +486,8 @@ def _cmd_bench(args) -> int:
         raise OrchestratorError("--steps-2d and --steps-3d must be at least 1")
 
     def done(row):
-        print(f"bench: {row.scene} on {row.engine}, {row.threads} thread(s): {row.status}", file=sys.stderr,
+        wait = f" ({row.wait})" if row.wait != "-" else ""
+        print(f"bench: {row.scene} on {row.engine}, {row.threads} thread(s){wait}: {row.status}", file=sys.stderr,
               flush=True)
 
     rows = run_bench(args.out, steps_2d=args.steps_2d, steps_3d=args.steps_3d,

@@ -9,6 +9,7 @@ import pytest
 from orchestrator.backends.sph import SphBackend
 from orchestrator.bench_sph import (
     BenchRow,
+    _runs,
     dam_break_2d_case,
     format_report,
     mean_neighbours,
@@ -41,17 +42,26 @@ def test_the_2d_scene_is_pysphs_column():
 
 
 def test_summary_ratios():
-    def row(scene, engine, threads, rate, per_core, particles=100, fluid=50):
-        return BenchRow(scene, engine, threads, particles, fluid, 10, 20.0, 1.0, 1.0, rate, per_core)
+    def row(scene, engine, threads, rate, per_core, particles=100, fluid=50, wait="-"):
+        return BenchRow(scene, engine, threads, particles, fluid, 10, 20.0, 1.0, 1.0, rate, per_core, wait=wait)
 
-    rows = [row("bench_dam_break_2d", "sph 0.1.0", 1, 4e6, 5e6), row("bench_dam_break_2d", "sph 0.1.0", 2, 7e6, 4.5e6),
+    rows = [row("bench_dam_break_2d", "sph 0.1.0", 1, 4e6, 5e6),
+            row("bench_dam_break_2d", "sph 0.1.0", 2, 7e6, 4.5e6, wait="spin"),
+            row("bench_dam_break_2d", "sph 0.1.0", 2, 5e6, 3e6, wait="passive"),
             row("pysph_dam_break_2d", "pysph 1.0b2", 1, 1e6, 1.25e6, particles=100, fluid=60)]
     s = summary(rows)
     assert s["speedup_2_threads_bench_dam_break_2d"] == pytest.approx(1.75)
+    assert s["speedup_2_threads_passive_bench_dam_break_2d"] == pytest.approx(1.25)
     assert s["ratio_per_core"] == pytest.approx(4.0)
     assert s["ratio_per_core_fluid"] == pytest.approx(4.0 * 0.5 / 0.6)
     assert s["ratio_wall"] == pytest.approx(4.0)
-    assert "1.75 x as fast" in format_report(rows)
+    report = format_report(rows)
+    assert "(spin, for an otherwise idle machine) run 1.75 x as fast" in report
+    assert "(passive, for shared cores) run 1.25 x as fast" in report
+
+
+def test_each_two_thread_run_once_per_wait():
+    assert _runs((1, 2)) == [(1, "-"), (2, "spin"), (2, "passive")]
 
 
 @needs_sph

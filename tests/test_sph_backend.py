@@ -51,6 +51,16 @@ def test_rendered_deck_matches_golden(case_path, golden, tmp_path):
     assert deck["c0"] == pytest.approx(scene.case.fluid.c0) and deck["h"] == pytest.approx(scene.h)
 
 
+@pytest.mark.parametrize("wait,expected", [("passive", {"OMP_WAIT_POLICY": "PASSIVE"}),
+                                           ("spin", {"OMP_WAIT_POLICY": "ACTIVE", "GOMP_SPINCOUNT": "10000"})])
+def test_thread_wait_sets_the_openmp_environment(wait, expected, tmp_path):
+    case = load_case(CHANNEL, overrides=[f"numerics.thread_wait={wait}", "numerics.threads=2"]).model
+    backend = SphBackend(executable="/nonexistent/sph", threads=2)
+    backend.write_input(build_scene(case), tmp_path)
+    _, env = backend.command(tmp_path)
+    assert env == {"OMP_NUM_THREADS": "2", **expected}
+
+
 def test_deck_says_what_the_case_says(tmp_path):
     case = load_case(CHANNEL).model
     scene = build_scene(case)

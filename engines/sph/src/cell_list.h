@@ -58,13 +58,24 @@ class CellList {
   // indices cell by cell. Returns false when the particles spread over more
   // than max_cells cells (a blown-up run).
   bool build(const std::vector<Vec<D>>& x, std::size_t n) {
-    sorted_ = false;
     Vec<D> lo = Vec<D>::Constant(std::numeric_limits<double>::infinity());
     Vec<D> hi = -lo;
     for (std::size_t i = 0; i < n; ++i) {
       lo = lo.cwiseMin(x[i]);
       hi = hi.cwiseMax(x[i]);
     }
+    if (!lay_out(lo, hi, n)) return false;
+    for (std::size_t i = 0; i < n; ++i) assign(i, x[i]);
+    sort_assigned();
+    return true;
+  }
+
+  // build() in three parts, so a caller can run the per-particle part on
+  // threads: lay_out the grid over the bounding box [lo, hi] of n positions
+  // (false for a blown-up run), assign(i, x_i) for every i (independent per
+  // i), then sort_assigned() (the counting sort, serial: its order is fixed).
+  bool lay_out(const Vec<D>& lo, const Vec<D>& hi, std::size_t n) {
+    sorted_ = false;
     double cells = 1.0;
     for (int d = 0; d < D; ++d) {
       if (box_.periodic[d]) {
@@ -86,19 +97,18 @@ class CellList {
       cells *= dims_[d];
     }
     if (cells > static_cast<double>(max_cells_)) return false;
-    const std::size_t ncell = static_cast<std::size_t>(cells);
-    start_.assign(ncell + 1, 0);
+    start_.assign(static_cast<std::size_t>(cells) + 1, 0);
     cell_of_.resize(n);
     items_.resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      const int c = linear(coords(x[i]));
-      cell_of_[i] = c;
-      ++start_[c + 1];
-    }
+    return true;
+  }
+  void assign(std::size_t i, const Vec<D>& x) { cell_of_[i] = linear(coords(x)); }
+  void sort_assigned() {
+    const std::size_t n = cell_of_.size(), ncell = start_.size() - 1;
+    for (std::size_t i = 0; i < n; ++i) ++start_[cell_of_[i] + 1];
     for (std::size_t c = 0; c < ncell; ++c) start_[c + 1] += start_[c];
     fill_.assign(start_.begin(), start_.end() - 1);
     for (std::size_t i = 0; i < n; ++i) items_[fill_[cell_of_[i]]++] = static_cast<int>(i);
-    return true;
   }
 
   const std::vector<int>& items() const { return items_; }
@@ -107,6 +117,10 @@ class CellList {
     for (std::size_t k = 0; k < items_.size(); ++k) items_[k] = static_cast<int>(k);
     sorted_ = true;
   }
+  // The same when the caller already wrote items()[k] = k (see items_for_reorder).
+  void mark_sorted_in_place() { sorted_ = true; }
+  // items() for a reorder that sets items_for_reorder()[k] = k as it goes (k by one thread).
+  std::vector<int>& items_for_reorder() { return items_; }
   // True after mark_sorted() until the next build(): items()[k] == k.
   bool sorted() const { return sorted_; }
 

@@ -2,14 +2,32 @@
 #pragma once
 #include <omp.h>
 
+#include <strings.h>
+
 #include <cstddef>
+#include <cstdlib>
 
 namespace sph {
 
 // Below these particle counts a loop runs on one thread: starting a parallel
 // region costs more than it saves (and spinning threads hurt on a busy machine).
-inline constexpr std::ptrdiff_t parallel_min_light = 16384;  // a few flops per particle
-inline constexpr std::ptrdiff_t parallel_min_heavy = 512;    // a neighbour sum per particle
+inline constexpr std::ptrdiff_t parallel_min_heavy = 512;  // a neighbour sum per particle
+
+// Light loops (a few flops per particle: predictor, reorder, corrector) run on
+// the threads from this many particles. Idle OpenMP threads that spin a
+// little before sleeping (GOMP_SPINCOUNT) pick the next loop up within a
+// microsecond, so 2048 pays; threads that sleep at once
+// (OMP_WAIT_POLICY=passive, for shared cores) take tens of microseconds to
+// wake (about 45 us measured on a 2-core VM), as long as a light loop over
+// ~10^4 particles, so there the light loops stay serial below 16384.
+inline std::ptrdiff_t parallel_min_light = 2048;
+inline constexpr std::ptrdiff_t parallel_min_light_passive = 16384;
+
+// Set parallel_min_light from the OpenMP wait policy of this process (call once, at start-up).
+inline void configure_parallel() {
+  const char* policy = std::getenv("OMP_WAIT_POLICY");
+  if (policy && strcasecmp(policy, "passive") == 0) parallel_min_light = parallel_min_light_passive;
+}
 
 // Whether a loop over n items opens a parallel region: enough work to pay for
 // waking the threads, and more than one thread. Otherwise no region is

@@ -26,6 +26,14 @@ struct Particles {
   // Start-of-step state of the predictor-corrector:
   std::vector<Vec<D>> x0, v0;
   std::vector<double> rho0;
+  // Second buffers of the persistent state: a reorder that reads the arrays
+  // and writes these in the same pass (on several threads), then swap_next().
+  struct Next {
+    std::vector<Vec<D>> x, v, acc;
+    std::vector<double> rho, mass, drho;
+    std::vector<Kind> kind;
+    std::vector<std::int64_t> id;
+  } next;
 
   std::size_t size() const { return x.size(); }
 
@@ -41,10 +49,26 @@ struct Particles {
 
   // Capacity for n particles in every array, so later growth up to n does not allocate.
   void reserve(std::size_t n) {
-    for (auto* a : {&x, &v, &acc, &v_noslip, &x0, &v0, &scratch_vec_}) a->reserve(n);
-    for (auto* a : {&rho, &mass, &p, &c, &drho, &vol, &p_rho2, &rho0, &scratch_dbl_}) a->reserve(n);
-    kind.reserve(n), scratch_kind_.reserve(n);
-    id.reserve(n), scratch_id_.reserve(n);
+    for (auto* a : {&x, &v, &acc, &v_noslip, &x0, &v0, &scratch_vec_, &next.x, &next.v, &next.acc}) a->reserve(n);
+    for (auto* a : {&rho, &mass, &p, &c, &drho, &vol, &p_rho2, &rho0, &scratch_dbl_, &next.rho, &next.mass, &next.drho})
+      a->reserve(n);
+    kind.reserve(n), scratch_kind_.reserve(n), next.kind.reserve(n);
+    id.reserve(n), scratch_id_.reserve(n), next.id.reserve(n);
+  }
+
+  // Size the second buffers for the current particle count (no allocation within the reserved capacity).
+  void size_next() {
+    const std::size_t n = size();
+    for (auto* a : {&next.x, &next.v, &next.acc}) a->resize(n);
+    for (auto* a : {&next.rho, &next.mass, &next.drho}) a->resize(n);
+    next.kind.resize(n);
+    next.id.resize(n);
+  }
+  // The second buffers become the persistent state (after a pass filled them).
+  void swap_next() {
+    x.swap(next.x), v.swap(next.v), acc.swap(next.acc);
+    rho.swap(next.rho), mass.swap(next.mass), drho.swap(next.drho);
+    kind.swap(next.kind), id.swap(next.id);
   }
 
   void append(const Vec<D>& pos, const Vec<D>& vel, double density, double m, Kind k, std::int64_t ident) {

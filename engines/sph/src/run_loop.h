@@ -79,10 +79,12 @@ int run_simulation(const Deck& deck, Particles<D> particles, WallPenalty<D> wall
       rec.last_good_frame(t_before, step - 1);
       break;
     }
-    if (!open.empty())
+    if (!open.empty()) {
       next_id = open.update(sim.particles(), next_id, [&](const Vec<D>& x, double m, double sign) {
         sim.boundary_density_event(x, m, sign);
       });
+      sim.forget_maxima();  // particles came in, turned fluid or left
+    }
     const double tol = 1e-6 * dt;
     const bool series_due = t >= (series_count + 1) * deck.series_interval - tol;
     const bool frame_due = t >= (frame_count + 1) * deck.frame_interval - tol;
@@ -145,6 +147,7 @@ int dispatch_terms(unsigned terms, const Deck& deck, Particles<D> P, WallPenalty
 template <int D>
 int run_dimension(const Deck& deck) {
   if (deck.threads > 0) omp_set_num_threads(deck.threads);
+  configure_parallel();
   const ParticleInput in = read_particles(deck.particles_file, D);
   OpenBoundaries<D> open(deck);
   Particles<D> P = make_particles<D>(deck, in, open.extra_capacity(deck.t_end));

@@ -79,6 +79,7 @@ class Simulation {
     const std::size_t n = P_.size();
     P_.resize(n);
     cells_.reserve(P_.x.capacity());
+    x_pred_.reserve(P_.x.capacity());
     cells_.configure(kernel_.support_radius(), cell_reach, box_, std::max<std::size_t>(64 * n, 1u << 22));
     sort_particles();
     equation_of_state();
@@ -97,8 +98,7 @@ class Simulation {
     if (!cells_.build(P_.x, P_.size())) return false;
     P_.reorder(cells_.items());
     cells_.mark_sorted();
-    const Kind* const kind = P_.kind.data();
-    cells_.mark([kind](int i) { return kind[i] != Kind::boundary; });
+    mark_cells();
     return true;
   }
 
@@ -119,6 +119,7 @@ class Simulation {
   // acc and drho of every particle at the current x, v, rho; cells must be binned for x.
   void compute_rates() {
     rates_ready_ = true;
+    maxima_.valid = false;  // acc changes
     const std::ptrdiff_t n = P_.size(), ncell = cells_.cell_count();
     assert(cells_.sorted());
     if (go_parallel(n, parallel_min_heavy)) {
@@ -131,7 +132,7 @@ class Simulation {
 #pragma omp for schedule(dynamic, 256)
           for (std::ptrdiff_t b = 0; b < n; ++b) no_slip_velocity_at(b);
         }
-#pragma omp for schedule(dynamic, 64) nowait
+#pragma omp for schedule(dynamic, 16) nowait
         for (std::ptrdiff_t cell = 0; cell < ncell; ++cell) rates_of_cell(cell);
       }
     } else {
@@ -209,26 +210,17 @@ class Simulation {
 
   // Time step of eq. 13 extended by the viscous and force criteria, from the
   // rates just computed: min(cfl h/(c0 + v_max), viscous h^2/nu, force sqrt(h/a_max)).
-  double adaptive_dt() const {
-    double v2 = 0.0, a2 = 0.0;
-    const std::ptrdiff_t n = P_.size();
-    auto body = [this](std::ptrdiff_t i, double& v2, double& a2) {
-      if (!P_.moves(i)) return;
-      v2 = std::max(v2, P_.v[i].squaredNorm());
-      a2 = std::max(a2, P_.acc[i].squaredNorm());
-    };
-    if (go_parallel(n, parallel_min_light)) {
-#pragma omp parallel for reduction(max : v2, a2) schedule(static)
-      for (std::ptrdiff_t i = 0; i < n; ++i) body(i, v2, a2);
-    } else {
-      for (std::ptrdiff_t i = 0; i < n; ++i) body(i, v2, a2);
-    }
+  double adaptive_dt() {
+    const StepMaxima& m = maxima();
     const double h = deck_.h;
-    double dt = deck_.cfl * h / (deck_.c0 + std::sqrt(v2));
+    double dt = deck_.cfl * h / (deck_.c0 + std::sqrt(m.v2));
     if constexpr (has(term::morris_viscosity)) dt = std::min(dt, deck_.viscous_factor * h * h / deck_.viscosity);
-    if (a2 > 0.0) dt = std::min(dt, deck_.force_factor * std::sqrt(h / std::sqrt(a2)));
+    if (m.a2 > 0.0) dt = std::min(dt, deck_.force_factor * std::sqrt(h / std::sqrt(m.a2)));
     return dt;
   }
+
+  // Forget the maxima the corrector took (call after adding, removing or changing particles).
+  void forget_maxima() { maxima_.valid = false; }
 
   // Rates of the initial state, before the first step (later steps reuse the
   // rates of the previous step's half-step evaluation); cells must be binned.
@@ -236,40 +228,86 @@ class Simulation {
     if (!rates_ready_) compute_rates();
   }
 
-  // Save the start-of-step state.
-  void begin_step() {
-    P_.x0 = P_.x;
-    P_.v0 = P_.v;
-    P_.rho0 = P_.rho;
-  }
-
-  // Predictor: half step with the rates of the last evaluation, then bin and
-  // reorder the particles by cell of the predicted positions (the only binning of a step).
+  // Predictor: half step with the rates of the last evaluation, binning of the
+  // predicted positions, and reordering by cell (the only binning of a step),
+  // in three passes over the particles, each on the threads:
+  //   1. predicted positions (by old index) and their bounding box;
+  //   2. their cells (then the counting sort, serial);
+  //   3. for each new index k, from old index o: the start-of-step state
+  //      x0, v0, rho0, the persistent state and the predicted v, rho.
+  // False if the predicted particles spread over too many cells (blow-up);
+  // then x0, v0, rho0 hold the start-of-step state, for the last good frame.
   bool predict(double dt) {
     const double half = 0.5 * dt;
-    parallel_for(P_.size(), parallel_min_light, [this, half](std::ptrdiff_t i) {
-      P_.rho[i] = P_.rho0[i] + half * P_.drho[i];
-      if (!P_.advects(i)) return;  // acc is zero for all but fluid
-      P_.x[i] = P_.x0[i] + half * P_.v0[i];
-      box_.wrap(P_.x[i]);
-      P_.v[i] = P_.v0[i] + half * P_.acc[i];
+    const std::ptrdiff_t n = P_.size();
+    x_pred_.resize(n);
+    double lo[D], hi[D];
+    for (int d = 0; d < D; ++d) lo[d] = std::numeric_limits<double>::infinity(), hi[d] = -lo[d];
+    auto position = [this, half](std::ptrdiff_t i, double* lo, double* hi) {
+      Vec<D> x = P_.x[i];
+      if (P_.advects(i)) {  // fixed boundary particles stay
+        x += half * P_.v[i];
+        box_.wrap(x);
+      }
+      x_pred_[i] = x;
+      for (int d = 0; d < D; ++d) lo[d] = std::min(lo[d], x[d]), hi[d] = std::max(hi[d], x[d]);
+    };
+    if (go_parallel(n, parallel_min_light)) {
+#pragma omp parallel for reduction(min : lo[:D]) reduction(max : hi[:D]) schedule(static)
+      for (std::ptrdiff_t i = 0; i < n; ++i) position(i, lo, hi);
+    } else {
+      for (std::ptrdiff_t i = 0; i < n; ++i) position(i, lo, hi);
+    }
+    if (!cells_.lay_out(Eigen::Map<const Vec<D>>(lo), Eigen::Map<const Vec<D>>(hi), n)) {
+      P_.x0 = P_.x, P_.v0 = P_.v, P_.rho0 = P_.rho;
+      return false;
+    }
+    parallel_for(n, parallel_min_light, [this](std::ptrdiff_t i) { cells_.assign(i, x_pred_[i]); });
+    cells_.sort_assigned();
+    std::vector<int>& order = cells_.items_for_reorder();
+    P_.size_next();
+    auto& N = P_.next;
+    parallel_for(n, parallel_min_light, [&, half](std::ptrdiff_t k) {
+      const int o = order[k];
+      order[k] = static_cast<int>(k);
+      P_.x0[k] = P_.x[o], P_.v0[k] = P_.v[o], P_.rho0[k] = P_.rho[o];
+      N.mass[k] = P_.mass[o], N.kind[k] = P_.kind[o], N.id[k] = P_.id[o];
+      N.acc[k] = P_.acc[o], N.drho[k] = P_.drho[o];
+      N.x[k] = x_pred_[o];
+      N.rho[k] = P_.rho[o] + half * P_.drho[o];
+      N.v[k] = P_.advects(o) ? Vec<D>(P_.v[o] + half * P_.acc[o]) : P_.v[o];  // acc is zero for all but fluid
     });
-    return sort_particles();
+    P_.swap_next();
+    cells_.mark_sorted_in_place();
+    mark_cells();
+    return true;
   }
 
-  // Corrector with the mid-step rates. Displacements are handed to `crossed`
-  // (x_old, dx, volume) before wrapping, for flow-rate planes.
+  // Corrector with the mid-step rates; in the same pass, the maxima that the
+  // stability check and the next adaptive step read. Displacements are handed
+  // to `crossed` (x_old, dx, volume) before wrapping, for flow-rate planes.
   template <class Crossed>
   void correct(double dt, Crossed&& crossed) {
     const std::ptrdiff_t n = P_.size();
-    parallel_for(n, parallel_min_light, [this, dt](std::ptrdiff_t i) {
+    auto body = [this, dt](std::ptrdiff_t i, double& worst_rho, double& v2, double& a2, bool& finite) {
       P_.rho[i] = P_.rho0[i] + dt * P_.drho[i];
-      if (!P_.advects(i)) return;
-      const Vec<D> dx = dt * (P_.v0[i] + 0.5 * dt * P_.acc[i]);
-      P_.v[i] = P_.v0[i] + dt * P_.acc[i];
-      P_.x[i] = P_.x0[i] + dx;
-      box_.wrap(P_.x[i]);
-    });
+      if (P_.advects(i)) {
+        const Vec<D> dx = dt * (P_.v0[i] + 0.5 * dt * P_.acc[i]);
+        P_.v[i] = P_.v0[i] + dt * P_.acc[i];
+        P_.x[i] = P_.x0[i] + dx;
+        box_.wrap(P_.x[i]);
+      }
+      take_maxima(i, worst_rho, v2, a2, finite);
+    };
+    double worst_rho = 0.0, v2 = 0.0, a2 = 0.0;
+    bool finite = true;
+    if (go_parallel(n, parallel_min_light)) {
+#pragma omp parallel for reduction(max : worst_rho, v2, a2) reduction(&& : finite) schedule(static)
+      for (std::ptrdiff_t i = 0; i < n; ++i) body(i, worst_rho, v2, a2, finite);
+    } else {
+      for (std::ptrdiff_t i = 0; i < n; ++i) body(i, worst_rho, v2, a2, finite);
+    }
+    maxima_ = {worst_rho, v2, a2, finite, true};
     if constexpr (!std::is_same_v<std::decay_t<Crossed>, NoCrossings>)
       for (std::ptrdiff_t i = 0; i < n; ++i)
         if (P_.moves(i)) crossed(P_.x0[i], Vec<D>(dt * (P_.v0[i] + 0.5 * dt * P_.acc[i])), P_.mass[i] / P_.rho[i]);
@@ -280,7 +318,6 @@ class Simulation {
   template <class Crossed>
   bool step(double dt, Crossed&& crossed) {
     ensure_rates();
-    begin_step();
     if (!predict(dt)) return false;
     compute_rates();
     correct(dt, crossed);
@@ -290,28 +327,14 @@ class Simulation {
   // NaN anywhere, or a fluid particle whose density deviates from rho0 by more
   // than the threshold or that is faster than c0. (Boundary and buffer
   // densities are devices of the wall and open-boundary models.)
-  StabilityReport check_stability() const {
-    const std::ptrdiff_t n = P_.size();
-    double worst_rho = 0.0, worst_v2 = 0.0;
-    bool finite = true;
-    auto body = [this](std::ptrdiff_t i, double& worst_rho, double& worst_v2, bool& finite) {
-      finite = finite && std::isfinite(P_.rho[i]) && P_.x[i].allFinite() && P_.v[i].allFinite();
-      if (!P_.moves(i)) return;
-      worst_rho = std::max(worst_rho, std::abs(P_.rho[i] / deck_.rho0 - 1.0));
-      worst_v2 = std::max(worst_v2, P_.v[i].squaredNorm());
-    };
-    if (go_parallel(n, parallel_min_light)) {
-#pragma omp parallel for reduction(max : worst_rho, worst_v2) reduction(&& : finite) schedule(static)
-      for (std::ptrdiff_t i = 0; i < n; ++i) body(i, worst_rho, worst_v2, finite);
-    } else {
-      for (std::ptrdiff_t i = 0; i < n; ++i) body(i, worst_rho, worst_v2, finite);
-    }
-    if (!finite) return {false, "a particle's position, velocity or density is not finite"};
-    if (worst_rho > deck_.max_density_deviation)
-      return {false, "density deviates from rho0 by " + std::to_string(100.0 * worst_rho) + " % (limit " +
+  StabilityReport check_stability() {
+    const StepMaxima& m = maxima();
+    if (!m.finite) return {false, "a particle's position, velocity or density is not finite"};
+    if (m.worst_rho > deck_.max_density_deviation)
+      return {false, "density deviates from rho0 by " + std::to_string(100.0 * m.worst_rho) + " % (limit " +
                          std::to_string(100.0 * deck_.max_density_deviation) + " %)"};
-    if (worst_v2 > deck_.c0 * deck_.c0)
-      return {false, "a particle moves at " + std::to_string(std::sqrt(worst_v2)) + " m/s, faster than c0 = " +
+    if (m.v2 > deck_.c0 * deck_.c0)
+      return {false, "a particle moves at " + std::to_string(std::sqrt(m.v2)) + " m/s, faster than c0 = " +
                          std::to_string(deck_.c0) + " m/s"};
     return {};
   }
@@ -325,6 +348,43 @@ class Simulation {
   }
 
  private:
+  // Per cell, the particles that are not fixed boundary particles (gather<false> skips cells without them).
+  void mark_cells() {
+    const Kind* const kind = P_.kind.data();
+    cells_.mark([kind](int i) { return kind[i] != Kind::boundary; });
+  }
+
+  // Over the particles after a corrector: largest |rho/rho0 - 1| and |v|^2 of
+  // the fluid, largest |dv/dt|^2 of the fluid (last evaluation), and whether
+  // every position, velocity and density is finite.
+  struct StepMaxima {
+    double worst_rho = 0.0, v2 = 0.0, a2 = 0.0;
+    bool finite = true;
+    bool valid = false;
+  };
+  void take_maxima(std::ptrdiff_t i, double& worst_rho, double& v2, double& a2, bool& finite) const {
+    finite = finite && std::isfinite(P_.rho[i]) && P_.x[i].allFinite() && P_.v[i].allFinite();
+    if (!P_.moves(i)) return;
+    worst_rho = std::max(worst_rho, std::abs(P_.rho[i] / deck_.rho0 - 1.0));
+    v2 = std::max(v2, P_.v[i].squaredNorm());
+    a2 = std::max(a2, P_.acc[i].squaredNorm());
+  }
+  // The maxima of the current state: the corrector's, or taken now.
+  const StepMaxima& maxima() {
+    if (maxima_.valid) return maxima_;
+    const std::ptrdiff_t n = P_.size();
+    double worst_rho = 0.0, v2 = 0.0, a2 = 0.0;
+    bool finite = true;
+    if (go_parallel(n, parallel_min_light)) {
+#pragma omp parallel for reduction(max : worst_rho, v2, a2) reduction(&& : finite) schedule(static)
+      for (std::ptrdiff_t i = 0; i < n; ++i) take_maxima(i, worst_rho, v2, a2, finite);
+    } else {
+      for (std::ptrdiff_t i = 0; i < n; ++i) take_maxima(i, worst_rho, v2, a2, finite);
+    }
+    maxima_ = {worst_rho, v2, a2, finite, true};
+    return maxima_;
+  }
+
   // Neighbours within 2h summed per batch by gather() (more are summed in several batches).
   static constexpr int batch = 128;
 
@@ -434,6 +494,8 @@ class Simulation {
   WallPenalty<D> walls_;
   bool walls_together_ = false;  // every fixed boundary particle has the same velocity
   bool rates_ready_ = false;  // acc, drho hold the rates of the last evaluation
+  StepMaxima maxima_;         // of the current state when valid
+  std::vector<Vec<D>> x_pred_;  // predicted positions by index before the reorder (scratch of predict)
 };
 
 }  // namespace sph

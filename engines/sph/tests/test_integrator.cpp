@@ -79,11 +79,16 @@ TEST(predictor_corrector_is_second_order) {
 TEST(whole_steps_do_not_depend_on_the_thread_count) {
   const Particles<2> P = block(24, 24);  // above the size where the rates run in parallel
   const int before = omp_get_max_threads();
+  const std::ptrdiff_t light = parallel_min_light;
   omp_set_num_threads(1);
   const auto one = advance(P, 1e-5, 30);
   omp_set_num_threads(2);
   const auto two = advance(P, 1e-5, 30);
+  parallel_min_light = 64;  // the predictor, reorder and corrector on the threads too
+  const auto two_light = advance(P, 1e-5, 30);
+  parallel_min_light = light;
   omp_set_num_threads(before);
   CHECK(one == two);
+  CHECK(one == two_light);
   CHECK(max_difference(one, advance(P, 1e-5, 0)) > 1e-6);  // the particles moved
 }
