@@ -156,11 +156,13 @@ def _parser() -> argparse.ArgumentParser:
     bench.add_argument("suite", choices=["sph"], help="which engine: sph")
     bench.add_argument("--steps-2d", type=int, default=2000, metavar="N", help="steps of the 2D runs (default 2000)")
     bench.add_argument("--steps-3d", type=int, default=200, metavar="N", help="steps of the 3D runs (default 200)")
+    bench.add_argument("--repeat", type=int, default=3, metavar="N",
+                       help="make every run N times, round after round, and keep the fastest of each (default 3)")
     bench.add_argument("--no-pysph", action="store_true", help="skip PySPH even when it is installed")
     bench.add_argument("--out", metavar="DIR", help="run directories (default: runs/bench-sph-<time>)")
     bench.add_argument("--json", action="store_true",
                        help="print one JSON object: rows (scene, engine, threads, particles, fluid, steps, neighbours, "
-                       "wall_s, cpu_s, particle_steps_per_s, per_core, status, note, wait) and summary (speed-ups, "
+                       "wall_s, cpu_s, particle_steps_per_s, per_core, status, note, wait, repeats) and summary (speed-ups, "
                        "ratios)")
 
     doctor = sub.add_parser("doctor", help="which engines are installed, their versions and paths")
@@ -482,8 +484,8 @@ def _cmd_bench(args) -> int:
     from .bench_sph import format_report, json_report, run_bench
     from .errors import OrchestratorError
 
-    if args.steps_2d < 1 or args.steps_3d < 1:
-        raise OrchestratorError("--steps-2d and --steps-3d must be at least 1")
+    if args.steps_2d < 1 or args.steps_3d < 1 or args.repeat < 1:
+        raise OrchestratorError("--steps-2d, --steps-3d and --repeat must be at least 1")
 
     def done(row):
         wait = f" ({row.wait})" if row.wait != "-" else ""
@@ -491,7 +493,7 @@ def _cmd_bench(args) -> int:
               flush=True)
 
     rows = run_bench(args.out, steps_2d=args.steps_2d, steps_3d=args.steps_3d,
-                     with_pysph=False if args.no_pysph else None, on_done=done)
+                     with_pysph=False if args.no_pysph else None, on_done=done, repeats=args.repeat)
     if args.json:
         print(json.dumps(json_report(rows)))
     else:

@@ -60,6 +60,13 @@ def test_summary_ratios():
     assert "(passive, for shared cores) run 1.25 x as fast" in report
 
 
+@needs_sph
+def test_repeats_keep_the_fastest_run(tmp_path):
+    rows = run_bench(tmp_path, steps_2d=5, steps_3d=1, threads=(1,), with_pysph=False, repeats=2)
+    assert [r.repeats for r in rows] == [2, 2]
+    assert all(r.status == "ok" and r.steps in (5, 1) for r in rows)
+
+
 def test_each_two_thread_run_once_per_wait():
     assert _runs((1, 2)) == [(1, "-"), (2, "spin"), (2, "passive")]
 
