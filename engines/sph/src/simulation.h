@@ -289,25 +289,14 @@ class Simulation {
   template <class Crossed>
   void correct(double dt, Crossed&& crossed) {
     const std::ptrdiff_t n = P_.size();
-    auto body = [this, dt](std::ptrdiff_t i, double& worst_rho, double& v2, double& a2, bool& finite) {
+    maxima_ = sweep_maxima([this, dt](std::ptrdiff_t i) {
       P_.rho[i] = P_.rho0[i] + dt * P_.drho[i];
-      if (P_.advects(i)) {
-        const Vec<D> dx = dt * (P_.v0[i] + 0.5 * dt * P_.acc[i]);
-        P_.v[i] = P_.v0[i] + dt * P_.acc[i];
-        P_.x[i] = P_.x0[i] + dx;
-        box_.wrap(P_.x[i]);
-      }
-      take_maxima(i, worst_rho, v2, a2, finite);
-    };
-    double worst_rho = 0.0, v2 = 0.0, a2 = 0.0;
-    bool finite = true;
-    if (go_parallel(n, parallel_min_light)) {
-#pragma omp parallel for reduction(max : worst_rho, v2, a2) reduction(&& : finite) schedule(static)
-      for (std::ptrdiff_t i = 0; i < n; ++i) body(i, worst_rho, v2, a2, finite);
-    } else {
-      for (std::ptrdiff_t i = 0; i < n; ++i) body(i, worst_rho, v2, a2, finite);
-    }
-    maxima_ = {worst_rho, v2, a2, finite, true};
+      if (!P_.advects(i)) return;
+      const Vec<D> dx = dt * (P_.v0[i] + 0.5 * dt * P_.acc[i]);
+      P_.v[i] = P_.v0[i] + dt * P_.acc[i];
+      P_.x[i] = P_.x0[i] + dx;
+      box_.wrap(P_.x[i]);
+    });
     if constexpr (!std::is_same_v<std::decay_t<Crossed>, NoCrossings>)
       for (std::ptrdiff_t i = 0; i < n; ++i)
         if (P_.moves(i)) crossed(P_.x0[i], Vec<D>(dt * (P_.v0[i] + 0.5 * dt * P_.acc[i])), P_.mass[i] / P_.rho[i]);
@@ -370,19 +359,27 @@ class Simulation {
     v2 = std::max(v2, P_.v[i].squaredNorm());
     a2 = std::max(a2, P_.acc[i].squaredNorm());
   }
-  // The maxima of the current state: the corrector's, or taken now.
-  const StepMaxima& maxima() {
-    if (maxima_.valid) return maxima_;
+  // update(i) for every particle, then its part of the maxima (one pass, on the threads).
+  template <class Update>
+  StepMaxima sweep_maxima(Update&& update) {
     const std::ptrdiff_t n = P_.size();
     double worst_rho = 0.0, v2 = 0.0, a2 = 0.0;
     bool finite = true;
+    auto body = [&](std::ptrdiff_t i, double& w, double& v, double& a, bool& f) {
+      update(i);
+      take_maxima(i, w, v, a, f);
+    };
     if (go_parallel(n, parallel_min_light)) {
 #pragma omp parallel for reduction(max : worst_rho, v2, a2) reduction(&& : finite) schedule(static)
-      for (std::ptrdiff_t i = 0; i < n; ++i) take_maxima(i, worst_rho, v2, a2, finite);
+      for (std::ptrdiff_t i = 0; i < n; ++i) body(i, worst_rho, v2, a2, finite);
     } else {
-      for (std::ptrdiff_t i = 0; i < n; ++i) take_maxima(i, worst_rho, v2, a2, finite);
+      for (std::ptrdiff_t i = 0; i < n; ++i) body(i, worst_rho, v2, a2, finite);
     }
-    maxima_ = {worst_rho, v2, a2, finite, true};
+    return {worst_rho, v2, a2, finite, true};
+  }
+  // The maxima of the current state: the corrector's, or taken now.
+  const StepMaxima& maxima() {
+    if (!maxima_.valid) maxima_ = sweep_maxima([](std::ptrdiff_t) {});
     return maxima_;
   }
 
