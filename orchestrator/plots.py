@@ -19,6 +19,19 @@ DEFAULT_BALL_RADIUS = 3.27e-3
 MIN_TUBE_FRACTION = 0.04
 
 
+def save_pyplot_figure(fig, path, dpi: int = 110) -> Path:
+    """Lay out a pyplot figure, write it as a PNG at path (parent folders made; dpi in dots per inch),
+    close it (pyplot keeps open figures alive) and return the path."""
+    import matplotlib.pyplot as plt
+
+    fig.tight_layout()
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=dpi)
+    plt.close(fig)
+    return path
+
+
 # ---------------------------------------------------------------- force series
 
 

@@ -122,9 +122,6 @@ def plot_sweep(points: list[SweepPoint], path: Path) -> Path:
     for ax in (left, right):
         ax.legend(fontsize=8)
         ax.grid(True, which="both", alpha=0.3)
-    fig.tight_layout()
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    from .plots import save_pyplot_figure
+
+    return save_pyplot_figure(fig, path)

@@ -263,9 +263,6 @@ def plot_force_curves(runs: list[SceneRun], path: Path) -> Path:
         ax.set_visible(False)
     title = "contact normal force per verification scene (lines: recorded series; circles: each contact's peak)"
     fig.suptitle(title if columns > 1 else title.replace(" (", "\n("), fontsize=9)  # one panel: too narrow
-    fig.tight_layout()
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    from .plots import save_pyplot_figure
+
+    return save_pyplot_figure(fig, path)

@@ -510,9 +510,6 @@ def plot_scenes(runs: list[SphSceneRun], path: Path) -> Path:
         ax.legend(fontsize=6)
     for ax in axes.ravel()[len(runs):]:
         ax.set_visible(False)
-    fig.tight_layout()
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    from .plots import save_pyplot_figure
+
+    return save_pyplot_figure(fig, path)
