@@ -110,19 +110,6 @@ def liggghts_deviations(case, scene=None) -> str:
     return "; ".join(notes)
 
 
-def _plane_triangle(scene, reach: float) -> np.ndarray:
-    """One equilateral triangle (3, 3) in the plane whose inscribed circle covers what the spheres can reach, m."""
-    normal, point = scene.plane_normal, scene.plane_point
-    u = np.cross(normal, [1.0, 0.0, 0.0] if abs(normal[0]) < 0.9 else [0.0, 1.0, 0.0])
-    u /= np.linalg.norm(u)
-    w = np.cross(normal, u)
-    centre = scene.positions.mean(axis=0)
-    centre = centre - ((centre - point) @ normal) * normal
-    size = 2.0 * reach + 4.0 * float(np.linalg.norm(scene.positions - centre, axis=1).max())
-    return np.array([centre + size * (math.cos(a) * u + math.sin(a) * w)
-                     for a in (0.0, 2 * math.pi / 3, 4 * math.pi / 3)])
-
-
 def _types(scene) -> tuple[list[str], dict[str, int]]:
     kinds = sorted(set(scene.sphere_materials))
     return kinds, {name: k + 1 for k, name in enumerate(kinds)}
@@ -216,7 +203,7 @@ def write_impact_files(scene, workdir: Path) -> None:
                     np.array([type_of[m] for m in scene.sphere_materials]), scene.radii, densities, scene.positions,
                     scene.velocities, scene.angular_velocities)
     if scene.plane_material is not None:
-        triangle = _plane_triangle(scene, reach)
+        triangle = scene.plane_triangle(reach)
         # LIGGGHTS meshes are two-sided; the corner order only fixes the STL normal, which it ignores
         write_stl_ascii(Path(workdir) / PLANE_STL, triangle, np.array([[0, 1, 2]]), "plane")
 

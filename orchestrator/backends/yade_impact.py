@@ -109,15 +109,7 @@ def _plane_context(scene, reach: float) -> dict | None:
     if abs(abs(normal[axis]) - 1.0) < 1e-12:
         context.update(axis=axis, position=repr(float(point[axis])), sense=1 if normal[axis] > 0 else -1)
         return context
-    # equilateral triangle in the plane whose inscribed circle (radius L/2) covers the reach
-    u = np.cross(normal, [1.0, 0.0, 0.0] if abs(normal[0]) < 0.9 else [0.0, 1.0, 0.0])
-    u /= np.linalg.norm(u)
-    w = np.cross(normal, u)
-    centre = scene.positions.mean(axis=0)
-    centre = centre - ((centre - point) @ normal) * normal
-    size = 2.0 * reach + 4.0 * float(np.linalg.norm(scene.positions - centre, axis=1).max())
-    corners = [tuple(float(c) for c in centre + size * (math.cos(a) * u + math.sin(a) * w))
-               for a in (0.0, 2 * math.pi / 3, 4 * math.pi / 3)]
+    corners = [tuple(float(c) for c in corner) for corner in scene.plane_triangle(reach)]
     context["corners"] = repr(corners)
     return context
 

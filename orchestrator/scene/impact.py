@@ -80,6 +80,20 @@ class ImpactScene:
         """Constants of the material pair (a, b), order free."""
         return self.pairs[tuple(sorted((a, b)))]
 
+    def plane_triangle(self, reach: float) -> np.ndarray:
+        """Corners (3, 3), m, of an equilateral triangle in the plane (for engines that take a wall as a mesh),
+        centred under the spheres, whose inscribed circle covers what they can reach: 2 reach (m) plus four
+        times the spheres' spread about that centre."""
+        normal, point = self.plane_normal, self.plane_point
+        u = np.cross(normal, [1.0, 0.0, 0.0] if abs(normal[0]) < 0.9 else [0.0, 1.0, 0.0])
+        u /= np.linalg.norm(u)
+        w = np.cross(normal, u)
+        centre = self.positions.mean(axis=0)
+        centre = centre - ((centre - point) @ normal) * normal
+        size = 2.0 * reach + 4.0 * float(np.linalg.norm(self.positions - centre, axis=1).max())
+        return np.array([centre + size * (math.cos(a) * u + math.sin(a) * w)
+                         for a in (0.0, 2 * math.pi / 3, 4 * math.pi / 3)])
+
 
 def young_modulus(case: ImpactCase, name: str) -> float:
     """E of a material, Pa, times numerics.stiffness_scale (inf for the rigid wall)."""
