@@ -84,8 +84,9 @@ def dem_engine_names() -> list[str]:
 
 
 @dataclass
-class SceneRun:
-    """One scene on one engine: its rows, status and the curves to plot."""
+class CheckedRun:
+    """One verification scene run on one engine: status, check rows (ROW_KEYS) and run directory;
+    wall_time_s: the engine's compute time, s."""
 
     scene: str
     engine: str
@@ -93,10 +94,16 @@ class SceneRun:
     message: str
     run_dir: Path
     rows: list[dict] = field(default_factory=list)
+    wall_time_s: float = math.nan
+
+
+@dataclass
+class SceneRun(CheckedRun):
+    """One DEM scene on one engine: its rows, status and the curves to plot."""
+
     time: object = None  # (n,) s
     normal_force: object = None  # (n,) N
     peaks: object = None  # (k, 2): peak time s, peak force N of each contact
-    wall_time_s: float = math.nan
 
 
 def run_scene(case_file: Path, engine: str, out_dir: Path, overrides=(), timeout_s: float | None = 600.0) -> SceneRun:

@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import EngineNotFound, OrchestratorError
+from .verify import CheckedRun
 
 ENGINE = "sph"
 #: Times of the velocity profiles compared with the series (s), besides the run's end.
@@ -47,17 +48,10 @@ UNITS = {"u_profile": "m/s", "pressure_profile": "Pa", "particle_pressure": "Pa"
 
 
 @dataclass
-class SphSceneRun:
+class SphSceneRun(CheckedRun):
     """One SPH scene's run: status, check rows (verify.ROW_KEYS plus source and note) and what to plot."""
 
-    scene: str
-    engine: str
-    status: str
-    message: str
-    run_dir: Path
-    rows: list[dict] = field(default_factory=list)
     plot: dict = field(default_factory=dict)  # title, xlabel, ylabel, lines: [(x, y, fmt, label)]
-    wall_time_s: float = math.nan
 
 
 def _row(scene, quantity, value, expected, rel_error, tolerance, passed=None, note="", source=""):
