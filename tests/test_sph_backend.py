@@ -2,6 +2,7 @@
 outputs (no engine needed), bad case values, and real tiny runs through
 `orchestrator run` and `orchestrator export` (skipped without the executable).
 
+Numbers in the golden decks are compared within a relative 1e-9 (tests/golden.py).
 Regenerate the golden decks after an intended template change with:
 UPDATE_GOLDEN=1 pytest tests/test_sph_backend.py
 """
@@ -9,7 +10,6 @@ UPDATE_GOLDEN=1 pytest tests/test_sph_backend.py
 from __future__ import annotations
 
 import json
-import os
 import shutil
 from pathlib import Path
 
@@ -21,6 +21,8 @@ from orchestrator.backends.sph import SphBackend, read_sph_output
 from orchestrator.case import load_case
 from orchestrator.cli import main
 from orchestrator.scene import build_scene
+
+from golden import assert_matches_golden
 
 HERE = Path(__file__).parent
 ROOT = HERE.parent
@@ -43,10 +45,7 @@ def test_rendered_deck_matches_golden(case_path, golden, tmp_path):
     scene = build_scene(load_case(case_path).model)
     _backend().write_input(scene, tmp_path)
     rendered = (tmp_path / "deck.json").read_text()
-    path = HERE / "golden" / golden
-    if os.environ.get("UPDATE_GOLDEN"):
-        path.write_text(rendered)
-    assert rendered == path.read_text()
+    assert_matches_golden(rendered, HERE / "golden" / golden)
     deck = json.loads(rendered)  # valid JSON
     assert deck["c0"] == pytest.approx(scene.case.fluid.c0) and deck["h"] == pytest.approx(scene.h)
 
