@@ -1,6 +1,7 @@
 # make demo : whole set-up (apt engines, SPH build, .venv, package), then the drag-finishing quick run
 # make test : the same set-up, then the test suite (slow runs excluded)
 # Both are idempotent: what is already installed or built is not redone.
+# make lock : refresh constraints.txt (the Python packages the tests ran with) from a fresh, unconstrained install
 SHELL := /bin/bash
 PYTHON ?= python3
 VENV := .venv
@@ -11,7 +12,7 @@ APT_PACKAGES := yade liggghts g++ cmake make pkg-config libeigen3-dev libhdf5-de
 DEMO_CASE := cases/drag_finishing_uhlmann2015.toml
 DEMO_DIR := runs/demo
 
-.PHONY: demo test setup apt sph venv clean pysph
+.PHONY: demo test setup apt sph venv clean pysph lock
 
 setup: apt sph venv
 
@@ -33,11 +34,24 @@ sph:
 
 venv: $(BIN)/.installed
 
-$(BIN)/.installed: pyproject.toml
+# Installs exactly the versions in constraints.txt (what the tests ran with); 'make lock' refreshes them.
+$(BIN)/.installed: pyproject.toml constraints.txt
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install -q --upgrade pip
-	$(BIN)/python -m pip install -q -e '.[dev]'
+	$(BIN)/python -m pip install -q -c constraints.txt -e '.[dev]'
 	@touch $@
+
+# The newest versions pyproject.toml allows, installed into a scratch venv without constraints, frozen into
+# constraints.txt (the package itself left out). Run the tests (make test) before committing the new file.
+LOCK_VENV := .lock-venv
+lock:
+	rm -rf $(LOCK_VENV)
+	$(PYTHON) -m venv $(LOCK_VENV)
+	$(LOCK_VENV)/bin/python -m pip install -q --upgrade pip
+	$(LOCK_VENV)/bin/python -m pip install -q -e '.[dev]'
+	{ echo "# Python packages the tests ran with (make venv installs these); refresh with: make lock"; \
+	  $(LOCK_VENV)/bin/python -m pip freeze --exclude-editable; } > constraints.txt
+	rm -rf $(LOCK_VENV)
 
 demo: setup $(DEMO_DIR)/run.h5
 	$(BIN)/orchestrator analyze $(DEMO_DIR)
@@ -58,4 +72,4 @@ pysph: venv
 	  $(BIN)/pip install -q --no-build-isolation pysph; }
 
 clean:
-	rm -rf $(VENV) engines/sph/build runs *.egg-info
+	rm -rf $(VENV) $(LOCK_VENV) engines/sph/build runs *.egg-info
