@@ -3,13 +3,14 @@
 from __future__ import annotations
 
 import datetime as _dt
-import sys
+import math
 import time
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
-from . import __version__
-from .errors import EngineFailed, EngineTimeout, EngineUnstable, OrchestratorError
+from . import __version__, signals
+from .errors import EngineFailed, EngineTimeout, EngineUnstable, OrchestratorError, ReadError
+from .rundir import RunDirectory
 from .runh5 import RUN_FILE, write_run
 
 
@@ -88,36 +89,26 @@ def default_run_dir(case_name: str, engine: str, root: Path = Path("runs")) -> P
     return path
 
 
-def prepare_run_dir(out_dir: Path | None, case_name: str, engine: str, force: bool) -> Path:
-    """Create the run directory; refuse one that already holds a run unless force."""
-    run_dir = Path(out_dir) if out_dir is not None else default_run_dir(case_name, engine)
-    if (run_dir / RUN_FILE).exists() and not force:
-        raise OrchestratorError(
-            f"{run_dir} already holds a run ({RUN_FILE}); choose another --out, or pass --force to overwrite it"
-        )
-    try:
-        run_dir.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise OrchestratorError(f"cannot create the run directory {run_dir}: {exc.strerror}") from None
-    return run_dir
-
-
 def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float | None = None,
              progress: bool = True, force: bool = False, on_timing=None, extra_attrs=None,
              mpi_ranks: int | None = None) -> RunSummary:
     """Run a LoadedCase on an engine; writes run_dir/run.h5 whatever happens and returns a RunSummary.
 
-    extra_attrs are added to run.h5's root attributes (a study's run_id); mpi_ranks runs the engine
-    under mpirun (engines whose profile takes it: liggghts).
-    Raises EngineNotFound before anything runs; EngineTimeout / EngineFailed
-    after run.h5 is written (with status and what was measured before).
+    out_dir must be new, empty or a run directory of ours (rundir.RunDirectory: locked while the run lasts;
+    force empties it first). extra_attrs are added to run.h5's root attributes (a study's run_id); mpi_ranks runs
+    the engine under mpirun (engines whose profile takes it: liggghts).
+    Raises EngineNotFound before anything runs; EngineTimeout / EngineFailed / EngineUnstable after run.h5 is
+    written (with status and what was measured before); KeyboardInterrupt (signals.Interrupted for SIGINT,
+    SIGTERM, SIGHUP) after the engine was stopped, with `run_h5` set on it when run.h5 was written.
     """
+    if timeout_s is not None and not (math.isfinite(timeout_s) and timeout_s > 0):
+        raise OrchestratorError(f"--timeout {timeout_s:g}: the wall-time limit must be a positive number of seconds")
     clock = PhaseClock()  # the first phase, setup, includes importing what a run needs
     from .analysis import measure
     from .backends import get_backend
-    from .runner import execute
     from .scene import build_scene
 
+    signals.check()
     case = loaded.model
     engine = engine or case.case.engine
     profile = {"threads": case.numerics.threads}
@@ -139,66 +130,41 @@ def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float |
     if hasattr(backend, "check_scene"):
         backend.check_scene(scene)  # e.g. a scene too big for the reference DEM: refused before anything is written
     clock.lap("scene")
-    run_dir = prepare_run_dir(out_dir, case.case.name, engine, force)
-    (run_dir / "case.toml").write_text(loaded.toml_text)
-    started = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
-    backend.write_input(scene, run_dir)
-    command, env = backend.command(run_dir)
-    clock.lap("input")
-    if hasattr(backend, "probe_command") and backend.planned_steps(scene) > PROBE_ABOVE_STEPS:
-        probe_dir = run_dir / "probe"
-        probe_dir.mkdir(exist_ok=True)
-        for name in run_dir.iterdir():
-            if name.is_file() and name.suffix in (".py", ".npz", ".stl"):
-                (probe_dir / name.name).write_bytes(name.read_bytes())
-        probe_cmd, probe_env = backend.probe_command(probe_dir)
-        execute(probe_cmd, probe_env, probe_dir, timeout_s=600, progress=False, label="timing probe",
-                on_timing=on_timing)
-    interrupted = None
-    clock.skip()  # the timing probe is the engine's time
-    try:
-        execution = execute(command, env, run_dir, timeout_s, progress, label=f"{engine} {case.case.name}",
-                            on_timing=on_timing)
-    except KeyboardInterrupt as exc:
-        interrupted, execution = exc, exc.execution
-    clock.skip()
-    result = backend.read_output(scene, run_dir)
-    if interrupted is not None:
-        result.status, result.message = "failed", "interrupted by the user (Ctrl-C)"
-    elif execution.timed_out:
-        result.status = "timeout"
-        result.message = f"stopped after the {timeout_s:g} s timeout"
-    elif execution.returncode != 0 and result.status == "ok":
-        result.status = "failed"
-        result.message = f"the engine exited with code {execution.returncode}"
-    elif result.status == "failed" and execution.returncode == 0:
-        result.message = result.message or "the engine ended without finishing"
-    clock.lap("parse")
-    result.measured = measure(case, result)
-    clock.lap("analysis")
-    root = {
-        "engine": engine,
-        "engine_version": version,
-        "case_name": case.case.name,
-        "case_kind": case.case.kind,
-        "case_hash": loaded.hash,
-        "case_source": str(loaded.source),
-        "preset": loaded.preset or "",
-        "wall_time_s": execution.wall_time_s,
-        **clock.attrs(),  # overhead_write_s and the total are rewritten once run.h5 is written
-        "n_particles": scene.n_particles,
-        "started": started,
-        "finished": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
-        "orchestrator_version": __version__,
-        "command": " ".join(command),
-        "template_hash": _template_hash(backend, case.case.kind),
-        **(extra_attrs or {}),
-    }
-    # A stopped engine wrote no final status: take the steps from its last progress line.
-    result.attrs.setdefault("n_steps", execution.last_progress.done if execution.last_progress else 0)
-    result.attrs.setdefault("dt", scene.timestep)
-    write_run(run_dir / RUN_FILE, result, root, loaded.toml_text, loaded.resolved, execution.log_tail(200))
-    overhead = _store_write_time(run_dir / RUN_FILE, clock)
+    signals.check()
+    with RunDirectory(out_dir if out_dir is not None else default_run_dir(case.case.name, engine),
+                      force) as run_dir:
+        (run_dir / "case.toml").write_text(loaded.toml_text)
+        started = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
+        command, execution, interrupted = _run_engine(backend, scene, run_dir, clock, timeout_s, progress,
+                                                      f"{engine} {case.case.name}", on_timing)
+        with signals.shielded():  # a signal now is remembered: run.h5 is written first
+            result = _read_result(backend, scene, run_dir, execution, interrupted, timeout_s)
+            clock.lap("parse")
+            result.measured = measure(case, result)
+            clock.lap("analysis")
+            root = {
+                "engine": engine,
+                "engine_version": version,
+                "case_name": case.case.name,
+                "case_kind": case.case.kind,
+                "case_hash": loaded.hash,
+                "case_source": str(loaded.source),
+                "preset": loaded.preset or "",
+                "wall_time_s": execution.wall_time_s,
+                **clock.attrs(),  # overhead_write_s and the total are rewritten once run.h5 is written
+                "n_particles": scene.n_particles,
+                "started": started,
+                "finished": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
+                "orchestrator_version": __version__,
+                "command": " ".join(command),
+                "template_hash": _template_hash(backend, case.case.kind),
+                **(extra_attrs or {}),
+            }
+            # A stopped engine wrote no final status: take the steps from its last progress line.
+            result.attrs.setdefault("n_steps", execution.last_progress.done if execution.last_progress else 0)
+            result.attrs.setdefault("dt", scene.timestep)
+            write_run(run_dir / RUN_FILE, result, root, loaded.toml_text, loaded.resolved, execution.log_tail(200))
+            overhead = _store_write_time(run_dir / RUN_FILE, clock)
     summary = RunSummary(
         status=result.status, engine=engine, engine_version=version, case_name=case.case.name,
         wall_time_s=round(execution.wall_time_s, 3), n_particles=scene.n_particles,
@@ -208,24 +174,116 @@ def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float |
         overhead_s=round(overhead["orchestrator_overhead_s"], 6),
         overhead_phases_s={name: round(overhead[f"overhead_{name}_s"], 6) for name in OVERHEAD_PHASES},
     )
+    if interrupted is None and signals.pending() is not None:
+        interrupted = signals.Interrupted(signals.pending())  # arrived while run.h5 was written
     if interrupted is not None:
+        interrupted.run_h5 = run_dir / RUN_FILE
+        interrupted.summary = summary
         raise interrupted
-    if result.status == "timeout":
+    _raise_for_status(summary, engine, timeout_s, execution)
+    return summary
+
+
+def _run_engine(backend, scene, run_dir: Path, clock: PhaseClock, timeout_s, progress: bool, label: str,
+                on_timing):
+    """Write the engine's input, run the timing probe (long runs) and the engine.
+
+    Returns (command, Execution, the KeyboardInterrupt that stopped it or None).
+    """
+    from .runner import LOG_NAME, Execution, execute
+
+    command: list[str] = []
+    try:
+        backend.write_input(scene, run_dir)
+        command, env = backend.command(run_dir)
+        clock.lap("input")
+        if hasattr(backend, "probe_command") and backend.planned_steps(scene) > PROBE_ABOVE_STEPS:
+            _run_probe(backend, run_dir, on_timing)
+        clock.skip()  # the timing probe is the engine's time
+        execution = execute(command, env, run_dir, timeout_s, progress, label=label, on_timing=on_timing)
+        clock.skip()
+        return command, execution, None
+    except KeyboardInterrupt as exc:
+        clock.skip()
+        execution = getattr(exc, "execution", None)
+        if execution is None:  # stopped before the engine started
+            execution = Execution(None, False, True, 0.0, None, run_dir / LOG_NAME)
+        return command, execution, exc
+
+
+def _run_probe(backend, run_dir: Path, on_timing) -> None:
+    """A few steps of the same script on a dense lattice in run_dir/probe: estimates the whole run's time."""
+    from .runner import execute
+
+    probe_dir = run_dir / "probe"
+    probe_dir.mkdir(exist_ok=True)
+    for name in run_dir.iterdir():
+        if name.is_file() and name.suffix in (".py", ".npz", ".stl"):
+            (probe_dir / name.name).write_bytes(name.read_bytes())
+    probe_cmd, probe_env = backend.probe_command(probe_dir)
+    try:
+        execute(probe_cmd, probe_env, probe_dir, timeout_s=600, progress=False, label="timing probe",
+                on_timing=on_timing)
+    except KeyboardInterrupt as exc:
+        exc.execution = None  # the run itself never started
+        raise
+
+
+def _read_result(backend, scene, run_dir: Path, execution, interrupted, timeout_s):
+    """The engine's output as a Result with the run's status: ok, failed, timeout, unstable or terminated."""
+    from .backends.base import Result
+
+    try:
+        result = backend.read_output(scene, run_dir)
+    except ReadError as exc:
+        if interrupted is None:
+            raise
+        result = Result(status="failed", message=str(exc))
+    if interrupted is not None:
+        how = interrupted.describe() if isinstance(interrupted, signals.Interrupted) else "Ctrl-C"
+        when = " before the engine started" if execution.returncode is None else ""
+        result.status, result.message = "terminated", f"stopped by {how}{when}"
+    elif execution.timed_out:
+        result.status = "timeout"
+        result.message = f"stopped after the {timeout_s:g} s timeout"
+    elif execution.returncode is not None and execution.returncode < 0:
+        result.status = "failed"
+        result.message = f"the engine was killed by {_signal_name(-execution.returncode)}"
+    elif execution.returncode != 0 and result.status == "ok":
+        result.status = "failed"
+        result.message = f"the engine exited with code {execution.returncode}"
+    elif result.status == "failed" and execution.returncode == 0:
+        result.message = result.message or "the engine ended without finishing"
+    return result
+
+
+def _signal_name(number: int) -> str:
+    import signal
+
+    try:
+        return f"signal {signal.Signals(number).name} ({number})"
+    except ValueError:
+        return f"signal {number}"
+
+
+def _raise_for_status(summary: RunSummary, engine: str, timeout_s, execution) -> None:
+    """The typed error of a run that did not end ok (run.h5 is written already)."""
+    run_dir = summary.run_dir
+    if summary.status == "timeout":
         raise EngineTimeout(
             f"{engine} was stopped after {timeout_s:g} s (--timeout); run.h5 in {run_dir} keeps what was measured. "
             f"Last lines of the log:\n{execution.log_tail(15)}"
         ).with_summary(summary)
-    if result.status == "unstable":
+    if summary.status == "unstable":
         raise EngineUnstable(
-            f"{engine} run became numerically unstable: {result.message}. "
+            f"{engine} run became numerically unstable: {summary.message}. "
             f"run.h5 in {run_dir} keeps the data recorded before the stop"
         ).with_summary(summary)
-    if result.status == "failed":
+    if summary.status == "failed":
         raise EngineFailed(
-            f"{engine} failed: {result.message}. Input, log and run.h5 are in {run_dir}. "
+            f"{engine} failed: {summary.message}. Input, log and run.h5 are in {run_dir}. "
             f"Last lines of the log:\n{execution.log_tail(15)}"
         ).with_summary(summary)
-    return summary
 
 
 def _store_write_time(path: Path, clock: PhaseClock) -> dict[str, float]:

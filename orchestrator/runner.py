@@ -11,6 +11,7 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
+from . import signals
 from .backends.base import Progress, Timing, parse_progress_line
 
 LOG_NAME = "engine.log"
@@ -89,9 +90,10 @@ def execute(command: list[str], env: dict[str, str], workdir: Path, timeout_s: f
 
     Progress and timing lines (see backends.base.parse_progress_line) drive a
     progress bar; on_timing(Timing) is called once when the engine reports its
-    timing probe. The engine is killed (its whole process group) on timeout or
-    Ctrl-C; KeyboardInterrupt is re-raised after the kill with `interrupted` set
-    on the exception's `execution` attribute.
+    timing probe. The engine is killed (its whole process group) on timeout,
+    Ctrl-C, SIGTERM or SIGHUP (signals.Interrupted); the KeyboardInterrupt is
+    re-raised after the kill with the Execution (interrupted set) as its
+    `execution` attribute.
     """
     workdir = Path(workdir)
     log_path = workdir / LOG_NAME
@@ -100,7 +102,8 @@ def execute(command: list[str], env: dict[str, str], workdir: Path, timeout_s: f
     bar = _Bar(label, progress)
     timing = None
     last_progress = None
-    with open(log_path, "wb") as log:
+    signals.check()  # a signal that a library swallowed earlier stops the run before the engine starts
+    with signals.shielded(), open(log_path, "wb") as log:
         proc = subprocess.Popen(command, cwd=workdir, env=full_env, stdout=log, stderr=subprocess.STDOUT,
                                 stdin=subprocess.DEVNULL, start_new_session=True)
     timed_out = False
@@ -108,6 +111,7 @@ def execute(command: list[str], env: dict[str, str], workdir: Path, timeout_s: f
         with open(log_path, "rb") as reader:
             pending = b""
             while True:
+                signals.check()
                 returncode = proc.poll()
                 chunk = reader.read()
                 if chunk:
@@ -130,8 +134,9 @@ def execute(command: list[str], env: dict[str, str], workdir: Path, timeout_s: f
                     break
                 time.sleep(0.2)
     except KeyboardInterrupt as exc:
-        _kill(proc)
-        bar.close()
+        with signals.shielded():  # a second signal must not leave the engine running
+            _kill(proc)
+            bar.close()
         exc.execution = Execution(proc.returncode, False, True, time.monotonic() - start, timing, log_path,
                                   last_progress)
         raise
@@ -145,6 +150,7 @@ def _kill(proc: subprocess.Popen) -> None:
         try:
             os.killpg(proc.pid, sig)
         except ProcessLookupError:
+            proc.poll()
             return
         try:
             proc.wait(wait)

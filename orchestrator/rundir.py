@@ -1,0 +1,142 @@
+"""A run directory of ours: recognised by a marker, held by one run at a time, emptied by --force.
+
+A run directory holds the engine's input and output, the resolved case and run.h5. Three rules keep runs from
+hurting each other or the user's files:
+
+- a folder that is not empty and holds no marker of ours (``.orchestrator-run``, ``.orchestrator.lock`` or a
+  run.h5) is the user's: it is refused, with or without --force;
+- a run holds an exclusive lock (``fcntl.flock`` on ``.orchestrator.lock``) from before it writes anything until
+  run.h5 is written; a second run into the same folder fails at once naming the first (pid, start time, command);
+- --force empties the directory (outputs of the old run included) under that lock, before the engine starts, so
+  a new run.h5 never carries the old run's samples.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import errno
+import fcntl
+import json
+import os
+import shutil
+import sys
+from pathlib import Path
+
+from .errors import OrchestratorError
+from .runh5 import RUN_FILE
+
+MARKER = ".orchestrator-run"
+LOCK = ".orchestrator.lock"
+#: Names that make a folder a run directory of ours.
+OURS = (MARKER, LOCK, RUN_FILE)
+
+
+class RunDirBusy(OrchestratorError):
+    """Another run holds the directory's lock (exit 2)."""
+
+
+def _os_problem(path: Path, exc: OSError) -> str:
+    reasons = {
+        errno.EACCES: "permission denied",
+        errno.EPERM: "permission denied",
+        errno.EROFS: "the file system is read-only",
+        errno.ENAMETOOLONG: "a name in the path is longer than the file system allows (255 bytes)",
+        errno.ENOTDIR: "a part of the path is a file, not a folder",
+        errno.ENOSPC: "no space left on the device",
+        errno.EEXIST: "a file of that name exists",
+    }
+    return reasons.get(exc.errno, exc.strerror or str(exc))
+
+
+def _is_ours(path: Path) -> bool:
+    return any((path / name).exists() for name in OURS)
+
+
+class RunDirectory:
+    """Context manager: create or take over a run directory and hold its lock while the run lasts.
+
+    ``with RunDirectory(path, force) as run_dir:`` raises OrchestratorError (exit 2) when path is a file, cannot be
+    created, is a non-empty folder of the user's, already holds a run (without force) or is locked by another run.
+    """
+
+    def __init__(self, path: str | Path, force: bool = False):
+        if str(path).strip() == "":
+            raise OrchestratorError("--out is empty; give the path of a new or empty folder")
+        self.path = Path(path)
+        self.force = force
+        self._fd: int | None = None
+
+    def __enter__(self) -> Path:
+        path = self.path
+        if path.exists() and not path.is_dir():
+            raise OrchestratorError(f"--out {path} is a file, not a folder; give a new or empty folder")
+        if path.is_dir() and any(path.iterdir()) and not _is_ours(path):
+            raise OrchestratorError(
+                f"{path} is not empty and is not a run directory of orchestrator (no {MARKER}); refusing to write "
+                "into it, with or without --force: give a new or empty folder as --out"
+            )
+        try:
+            path.mkdir(parents=True, exist_ok=True)
+            self._fd = os.open(path / LOCK, os.O_RDWR | os.O_CREAT, 0o644)
+        except OSError as exc:
+            raise OrchestratorError(f"cannot create the run directory {path}: {_os_problem(path, exc)}") from None
+        try:
+            fcntl.flock(self._fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            holder = _read_holder(self._fd)
+            self._release()
+            raise RunDirBusy(f"{path} is in use by another run ({holder}); wait for it to end or choose another "
+                             "--out") from None
+        try:
+            if (path / RUN_FILE).exists() and not self.force:
+                raise OrchestratorError(f"{path} already holds a run ({RUN_FILE}); choose another --out, or pass "
+                                        "--force to replace it")
+            if self.force:
+                self._empty()
+            self._write_holder()
+            (path / MARKER).write_text(json.dumps({"created": _now()}) + "\n")
+        except OSError as exc:
+            self._release()
+            raise OrchestratorError(f"cannot write into the run directory {path}: {_os_problem(path, exc)}") from None
+        except BaseException:
+            self._release()
+            raise
+        return path
+
+    def __exit__(self, *exc_info) -> None:
+        self._release()
+
+    def _empty(self) -> None:
+        """Remove everything but the lock: the old run's input, outputs and run.h5."""
+        for entry in self.path.iterdir():
+            if entry.name == LOCK:
+                continue
+            if entry.is_dir() and not entry.is_symlink():
+                shutil.rmtree(entry)
+            else:
+                entry.unlink()
+
+    def _write_holder(self) -> None:
+        text = json.dumps({"pid": os.getpid(), "started": _now(), "command": " ".join(sys.argv)}) + "\n"
+        os.ftruncate(self._fd, 0)
+        os.pwrite(self._fd, text.encode(), 0)
+
+    def _release(self) -> None:
+        if self._fd is not None:
+            os.close(self._fd)  # closing the descriptor releases the flock
+            self._fd = None
+
+
+def _read_holder(fd: int) -> str:
+    """'pid N, started T, command C' from the lock file of the run that holds it."""
+    try:
+        info = json.loads(os.pread(fd, 4096, 0).decode() or "{}")
+    except (OSError, ValueError, UnicodeDecodeError):
+        info = {}
+    if not info:
+        return "its details are not written yet"
+    return f"pid {info.get('pid')}, started {info.get('started')}, command: {info.get('command')}"
+
+
+def _now() -> str:
+    return _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")

@@ -1,0 +1,93 @@
+"""SIGINT, SIGTERM and SIGHUP as one exception, Interrupted, that cannot be swallowed.
+
+`orchestrator` is stopped by Ctrl-C (SIGINT), by `timeout`, a batch scheduler or `docker stop` (SIGTERM) and by a
+closed terminal (SIGHUP). Each is turned into Interrupted (a KeyboardInterrupt), so the engine's process group is
+stopped and run.h5 written with status ``terminated`` on every path that handles Ctrl-C. Some libraries catch
+BaseException while they import (trimesh's import of scipy does), which would swallow the exception: the signal is
+therefore also remembered, and `check()` raises it again at the next safe point. Inside `deferred()` (while run.h5
+is written) a signal is only remembered and raised when the block ends.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import signal
+
+HANDLED = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+
+_pending: int | None = None
+_deferring = 0
+
+
+class Interrupted(KeyboardInterrupt):
+    """The orchestrator received signum; exit code 128 + signum."""
+
+    def __init__(self, signum: int):
+        super().__init__(signal.Signals(signum).name)
+        self.signum = signum
+
+    @property
+    def signal_name(self) -> str:
+        """SIGINT, SIGTERM or SIGHUP."""
+        return signal.Signals(self.signum).name
+
+    @property
+    def exit_code(self) -> int:
+        """128 + the signal number (130 for Ctrl-C, 143 for SIGTERM, 129 for SIGHUP)."""
+        return 128 + self.signum
+
+    def describe(self) -> str:
+        """'Ctrl-C (SIGINT)' or the signal's name."""
+        return "Ctrl-C (SIGINT)" if self.signum == signal.SIGINT else self.signal_name
+
+
+def _handler(signum, frame) -> None:
+    global _pending
+    if _pending is None:
+        _pending = signum
+    if not _deferring:
+        raise Interrupted(_pending)
+
+
+@contextlib.contextmanager
+def installed():
+    """Handle HANDLED signals as Interrupted inside the block; restores the previous handlers after it."""
+    global _pending
+    _pending = None
+    previous = {sig: signal.signal(sig, _handler) for sig in HANDLED}
+    try:
+        yield
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+        _pending = None
+
+
+def pending() -> int | None:
+    """The first signal received and not yet acted on (None if none)."""
+    return _pending
+
+
+def check() -> None:
+    """Raise Interrupted if a signal arrived (e.g. one a library's `except BaseException` swallowed)."""
+    if _pending is not None and not _deferring:
+        raise Interrupted(_pending)
+
+
+@contextlib.contextmanager
+def shielded():
+    """Signals inside the block are remembered, not raised (e.g. while an engine is being stopped)."""
+    global _deferring
+    _deferring += 1
+    try:
+        yield
+    finally:
+        _deferring -= 1
+
+
+@contextlib.contextmanager
+def deferred():
+    """Signals inside the block are remembered, not raised; Interrupted is raised when it ends without error."""
+    with shielded():
+        yield
+    check()

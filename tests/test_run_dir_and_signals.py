@@ -1,0 +1,209 @@
+"""Run directories are never shared, clobbered or mixed; SIGINT, SIGTERM and SIGHUP stop a run cleanly.
+
+In-process tests use the reference DEM engine (pure Python, always installed); the real-signal tests run
+`python -m orchestrator` as a subprocess on the sph executable and are skipped without it.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import h5py
+import pytest
+
+from orchestrator import signals
+from orchestrator.backends.sph import SphBackend
+from orchestrator.cli import main
+from orchestrator.rundir import LOCK, MARKER, RunDirectory
+
+ROOT = Path(__file__).resolve().parent.parent
+SPHERE_PLANE = ROOT / "cases" / "verification" / "chung_ooi_test2_sphere_plane.toml"
+DAM_BREAK = ROOT / "cases" / "sph" / "dam_break_2d.toml"
+needs_sph = pytest.mark.skipif(not SphBackend().available(),
+                               reason="the sph executable is not built (make sph)")
+
+
+def _run_reference(out: Path, *extra: str) -> int:
+    return main(["run", str(SPHERE_PLANE), "--engine", "reference", "--out", str(out), "--no-progress", *extra])
+
+
+def _tree(path: Path) -> dict[str, bytes]:
+    return {str(p.relative_to(path)): p.read_bytes() for p in sorted(path.rglob("*")) if p.is_file()}
+
+
+def test_a_locked_run_directory_is_refused_at_once_naming_the_other_run(tmp_path, capsys):
+    out = tmp_path / "run"
+    with RunDirectory(out):  # another run holds it
+        start = time.monotonic()
+        code = _run_reference(out)
+        elapsed = time.monotonic() - start
+    err = capsys.readouterr().err
+    assert code == 2 and elapsed < 5.0
+    assert err.count("error:") == 1 and "in use by another run" in err and f"pid {os.getpid()}" in err
+    assert not (out / "run.h5").exists()
+    assert _run_reference(out) == 0  # released: the next run goes ahead
+    with h5py.File(out / "run.h5") as h5:
+        assert h5.attrs["status"] == "ok" and "normal_force" in h5["series"]
+
+
+@pytest.mark.parametrize("where", ["cwd", "folder"])
+def test_a_users_folder_is_never_written_into(tmp_path, capsys, monkeypatch, where):
+    users = tmp_path / "mine"
+    users.mkdir()
+    (users / "case.toml").write_text("my own case\n")
+    (users / "notes").mkdir()
+    (users / "notes" / "a.txt").write_text("keep me\n")
+    before = _tree(users)
+    if where == "cwd":
+        monkeypatch.chdir(users)
+        out = "."
+    else:
+        out = str(users)
+    for extra in ((), ("--force",)):
+        code = main(["run", str(SPHERE_PLANE), "--engine", "reference", "--out", out, "--no-progress", *extra])
+        err = capsys.readouterr().err
+        assert code == 2 and "not a run directory of orchestrator" in err and "Traceback" not in err
+        assert _tree(users) == before
+
+
+def test_empty_out_and_a_file_as_out_are_refused(tmp_path, capsys):
+    assert main(["run", str(SPHERE_PLANE), "--engine", "reference", "--out", "", "--no-progress"]) == 2
+    assert "--out is empty" in capsys.readouterr().err
+    target = tmp_path / "file.txt"
+    target.write_text("x")
+    assert _run_reference(target) == 2
+    assert "is a file, not a folder" in capsys.readouterr().err
+    assert target.read_text() == "x"
+
+
+def test_force_removes_the_old_run_before_the_engine_starts(tmp_path, capsys, monkeypatch):
+    """A forced rerun whose engine takes no step must not carry the old run's samples or numbers."""
+    out = tmp_path / "run"
+    assert _run_reference(out) == 0
+    with h5py.File(out / "run.h5") as h5:
+        assert h5.attrs["n_steps"] > 100 and len(h5["series"]["time"]) > 10
+    assert _run_reference(out) == 2  # without --force: refused, kept
+    assert "already holds a run" in capsys.readouterr().err
+
+    from orchestrator.backends.reference import ReferenceBackend
+
+    monkeypatch.setattr(ReferenceBackend, "command", lambda self, workdir: (["false"], {}))
+    code = _run_reference(out, "--force")
+    assert code == 4
+    with h5py.File(out / "run.h5") as h5:
+        assert h5.attrs["status"] == "failed"
+        assert h5.attrs["n_steps"] == 0
+        assert "series" not in h5 or "time" not in h5["series"] or len(h5["series"]["time"]) == 0
+        assert not h5["measured"].attrs.keys() if "measured" in h5 else True
+    assert not (out / "output").exists() or not any((out / "output").iterdir())
+    assert (out / MARKER).is_file() and (out / LOCK).is_file()
+
+
+def test_a_swallowed_signal_is_raised_again_at_the_next_check():
+    with signals.installed():
+        try:
+            os.kill(os.getpid(), signal.SIGTERM)
+            time.sleep(0.1)
+        except BaseException:  # what a library's `except BaseException` does during an import
+            pass
+        with pytest.raises(signals.Interrupted) as caught:
+            signals.check()
+        assert caught.value.signum == signal.SIGTERM and caught.value.exit_code == 143
+    signals.check()  # outside the block the signal is forgotten
+
+
+def test_a_signal_while_run_h5_is_written_is_raised_after_it():
+    with signals.installed():
+        with pytest.raises(signals.Interrupted):
+            with signals.deferred():
+                os.kill(os.getpid(), signal.SIGHUP)
+                time.sleep(0.05)
+                finished = True  # the block runs to its end
+        assert finished
+
+
+# ---- real signals to a real run (sph executable) ----
+
+def _start(out: Path, duration: float = 2.0) -> subprocess.Popen:
+    env = {**os.environ, "OMP_WAIT_POLICY": "PASSIVE"}
+    return subprocess.Popen(
+        [sys.executable, "-m", "orchestrator", "run", str(DAM_BREAK), "--preset", "tiny", "--set",
+         f"simulation.duration={duration}", "--out", str(out), "--no-progress"],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env, start_new_session=True)
+
+
+def _engine_pids(out: Path) -> list[int]:
+    """Processes whose working directory is the run directory (the engine)."""
+    pids = []
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            try:
+                if Path(os.readlink(entry / "cwd")) == out.resolve():
+                    pids.append(int(entry.name))
+            except OSError:
+                continue
+    return pids
+
+
+def _wait_for_engine(out: Path, proc: subprocess.Popen, timeout: float = 60.0) -> None:
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if (out / "engine.log").is_file() and (out / "engine.log").stat().st_size > 0 and _engine_pids(out):
+            return
+        assert proc.poll() is None, proc.communicate()
+        time.sleep(0.05)
+    raise AssertionError("the engine did not start")
+
+
+@needs_sph
+@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGHUP, signal.SIGINT])
+def test_a_signal_mid_run_keeps_what_was_measured_and_leaves_no_engine(tmp_path, sig):
+    out = tmp_path / "run"
+    proc = _start(out)
+    _wait_for_engine(out, proc)
+    time.sleep(0.5)
+    proc.send_signal(sig)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 128 + sig, err
+    assert err.count("error:") == 1 and "Traceback" not in err
+    assert f"stopped by {'Ctrl-C (SIGINT)' if sig == signal.SIGINT else signal.Signals(sig).name}" in err
+    assert "run.h5" in err and "records what was measured" in err
+    with h5py.File(out / "run.h5") as h5:
+        assert h5.attrs["status"] == "terminated"
+        assert len(h5["series"]["time"]) >= 1 and h5.attrs["n_steps"] > 0
+    assert _engine_pids(out) == []
+
+
+def test_an_early_ctrl_c_is_never_swallowed(tmp_path):
+    """Ctrl-C at any moment of the start-up (imports, scene, input) ends the command with 130, and the message
+    says whether a run.h5 exists."""
+    outcomes = []
+    for delay in (0.2, 0.5, 0.8, 1.1):
+        out = tmp_path / f"run-{delay}"
+        proc = subprocess.Popen(
+            [sys.executable, "-m", "orchestrator", "run", str(SPHERE_PLANE), "--engine", "reference",
+             "--out", str(out), "--no-progress"],
+            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+        time.sleep(delay)
+        proc.send_signal(signal.SIGINT)
+        _, err = proc.communicate(timeout=120)
+        if proc.returncode == 0:  # it had already finished: that is fine, but then run.h5 is complete
+            with h5py.File(out / "run.h5") as h5:
+                assert h5.attrs["status"] == "ok"
+            continue
+        assert proc.returncode == 130, err
+        assert "Traceback" not in err and err.count("error:") == 1
+        written = (out / "run.h5").is_file()
+        assert ("records what was measured" in err) == written, err
+        assert ("no run.h5 was written" in err) == (not written), err
+        if written:
+            with h5py.File(out / "run.h5") as h5:
+                assert h5.attrs["status"] == "terminated"
+        outcomes.append(written)
+    assert outcomes, "every run finished before its Ctrl-C"
