@@ -175,7 +175,23 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def main(argv=None) -> int:
-    """Entry point of the console script; returns the exit code."""
+    """Entry point of the console script; returns the exit code.
+
+    SIGINT, SIGTERM and SIGHUP stop a running engine, keep what was measured in run.h5 (status terminated) and
+    exit with 128 + the signal's number.
+    """
+    from . import signals
+
+    with signals.installed():
+        try:
+            code = _main(argv)
+            signals.check()  # a signal that a library swallowed still ends the command
+            return code
+        except KeyboardInterrupt as exc:
+            return _interrupted(exc)
+
+
+def _main(argv) -> int:
     from .errors import OrchestratorError
 
     parser = _parser()
@@ -193,9 +209,10 @@ def main(argv=None) -> int:
             print(json.dumps(_jsonable(exc.summary.as_dict())))
         print(f"error: {exc}", file=sys.stderr)
         return exc.exit_code
-    except KeyboardInterrupt:
-        print("error: interrupted; the engine was stopped and run.h5 records what was measured", file=sys.stderr)
-        return 130
+    except KeyboardInterrupt as exc:
+        if getattr(args, "json", False) and getattr(exc, "summary", None) is not None:
+            print(json.dumps(_jsonable(exc.summary.as_dict())))
+        raise
     except Exception as exc:  # a bug of ours: keep the traceback in a file, show one line
         import tempfile
         import traceback
@@ -205,6 +222,20 @@ def main(argv=None) -> int:
         print(f"error: internal error ({type(exc).__name__}: {exc}); this is a bug in orchestrator, "
               f"please report it with the traceback saved in {fh.name}", file=sys.stderr)
         return 70
+
+
+def _interrupted(exc: KeyboardInterrupt) -> int:
+    """Say what a signal stopped and what is on disk; the exit code is 128 + the signal's number."""
+    from .signals import Interrupted
+
+    how = exc.describe() if isinstance(exc, Interrupted) else "Ctrl-C (SIGINT)"
+    run_h5 = getattr(exc, "run_h5", None)
+    if run_h5 is not None:
+        print(f"error: stopped by {how}; the engine was stopped and {run_h5} records what was measured "
+              "(status terminated)", file=sys.stderr)
+    else:
+        print(f"error: stopped by {how}; no run.h5 was written by this command", file=sys.stderr)
+    return exc.exit_code if isinstance(exc, Interrupted) else 130
 
 
 def _jsonable(value):
