@@ -229,10 +229,9 @@ def _interrupted(exc: KeyboardInterrupt) -> int:
     from .signals import Interrupted
 
     how = exc.describe() if isinstance(exc, Interrupted) else "Ctrl-C (SIGINT)"
-    run_h5 = getattr(exc, "run_h5", None)
-    if run_h5 is not None:
-        print(f"error: stopped by {how}; the engine was stopped and {run_h5} records what was measured "
-              "(status terminated)", file=sys.stderr)
+    kept = getattr(exc, "kept", None)
+    if kept is not None:
+        print(f"error: stopped by {how}; the engine was stopped and {kept}", file=sys.stderr)
     else:
         print(f"error: stopped by {how}; no run.h5 was written by this command", file=sys.stderr)
     return exc.exit_code if isinstance(exc, Interrupted) else 130

@@ -99,7 +99,7 @@ def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float |
     the engine under mpirun (engines whose profile takes it: liggghts).
     Raises EngineNotFound before anything runs; EngineTimeout / EngineFailed / EngineUnstable after run.h5 is
     written (with status and what was measured before); KeyboardInterrupt (signals.Interrupted for SIGINT,
-    SIGTERM, SIGHUP) after the engine was stopped, with `run_h5` set on it when run.h5 was written.
+    SIGTERM, SIGHUP) after the engine was stopped, with `kept` (what is on disk) set on it when run.h5 was written.
     """
     if timeout_s is not None and not (math.isfinite(timeout_s) and timeout_s > 0):
         raise OrchestratorError(f"--timeout {timeout_s:g}: the wall-time limit must be a positive number of seconds")
@@ -177,7 +177,7 @@ def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float |
     if interrupted is None and signals.pending() is not None:
         interrupted = signals.Interrupted(signals.pending())  # arrived while run.h5 was written
     if interrupted is not None:
-        interrupted.run_h5 = run_dir / RUN_FILE
+        interrupted.kept = f"{run_dir / RUN_FILE} records what was measured (status {result.status})"
         interrupted.summary = summary
         raise interrupted
     _raise_for_status(summary, engine, timeout_s, execution)

@@ -91,3 +91,33 @@ def deferred():
     with shielded():
         yield
     check()
+
+
+_in_task = 0
+
+
+def _worker_handler(signum, frame) -> None:
+    if _in_task:
+        _handler(signum, frame)
+    else:  # an idle pool worker: leave quietly
+        raise SystemExit(128 + signum)
+
+
+def install_in_worker() -> None:
+    """Initializer of a process pool's workers: a signal stops the task running in `task()` like a run in the
+    main process (engine stopped, run.h5 written), and ends an idle worker quietly (no traceback)."""
+    global _pending
+    _pending = None
+    for sig in HANDLED:
+        signal.signal(sig, _worker_handler)
+
+
+@contextlib.contextmanager
+def task():
+    """A pool worker's unit of work: inside it a signal raises Interrupted (see install_in_worker)."""
+    global _in_task
+    _in_task += 1
+    try:
+        yield
+    finally:
+        _in_task -= 1

@@ -207,3 +207,34 @@ def test_an_early_ctrl_c_is_never_swallowed(tmp_path):
                 assert h5.attrs["status"] == "terminated"
         outcomes.append(written)
     assert outcomes, "every run finished before its Ctrl-C"
+
+
+def test_sigterm_to_a_study_stops_its_workers_engines_and_keeps_the_finished_runs(tmp_path):
+    """SIGTERM to `orchestrator study` reaches the workers: every engine stops, the stopped runs keep a run.h5
+    with status terminated, and the command exits 143 saying what is on disk."""
+    study = tmp_path / "study.toml"
+    study.write_text(
+        "[study]\nname = \"stop_me\"\n"
+        f"case = \"{SPHERE_PLANE}\"\nengines = [\"reference\"]\n\n"
+        "[sweep]\nmode = \"grid\"\n[sweep.parameters]\n"
+        "\"numerics.timestep_factor\" = [0.0004, 0.0005, 0.0006, 0.0007]\n")
+    out = tmp_path / "out"
+    proc = subprocess.Popen([sys.executable, "-m", "orchestrator", "study", str(study), "--out", str(out),
+                             "--workers", "2", "--no-progress"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline and len(list(out.glob("*/engine.log"))) < 2:
+        assert proc.poll() is None, proc.communicate()
+        time.sleep(0.1)
+    time.sleep(1.0)
+    proc.send_signal(signal.SIGTERM)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 143, err
+    assert "Traceback" not in err and "stopped by SIGTERM" in err and "index.csv" in err
+    statuses = []
+    for run_dir in out.glob("*/"):
+        assert _engine_pids(run_dir) == []
+        if (run_dir / "run.h5").is_file():
+            with h5py.File(run_dir / "run.h5") as h5:
+                statuses.append(h5.attrs["status"])
+    assert "terminated" in statuses

@@ -15,11 +15,13 @@ import hashlib
 import json
 import os
 import shutil
+import signal
 from concurrent.futures import Executor, ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from .. import signals
 from ..errors import CaseError, OrchestratorError
 
 INDEX_NAME = "index.csv"
@@ -131,7 +133,8 @@ class Study:
         if own_pool:
             threads = max((r.threads for r in todo), default=1)
             workers = max_workers or max(1, (os.cpu_count() or 1) // threads)
-            executor = ProcessPoolExecutor(max_workers=min(workers, max(1, len(todo))))
+            executor = ProcessPoolExecutor(max_workers=min(workers, max(1, len(todo))),
+                                           initializer=signals.install_in_worker)
         bar = _bar(len(planned), len(rows), progress, self.name)
         try:
             futures = {
@@ -147,6 +150,14 @@ class Study:
                     failed = sum(1 for row in rows.values() if row["status"] != "ok")
                     bar.set_postfix_str(f"failed {failed}", refresh=False)
                     bar.update(1)
+        except KeyboardInterrupt as exc:
+            if own_pool:
+                _stop_workers(executor, getattr(exc, "signum", signal.SIGINT))
+            finished = (f"{self.out_dir / INDEX_NAME} lists the {len(rows)} runs finished or reused before it"
+                        if rows else "no run of the study had finished")
+            exc.kept = (f"{finished}; the stopped runs keep their run.h5 (status terminated) and run again when the "
+                        "study is run again")
+            raise
         finally:
             if bar is not None:
                 bar.close()
@@ -162,6 +173,15 @@ class Study:
     def results(self):
         """The study's index: a pandas DataFrame when pandas is installed, else a numpy structured array."""
         return read_index(self.out_dir, as_frame=True)
+
+
+def _stop_workers(executor: ProcessPoolExecutor, signum: int) -> None:
+    """Pass the signal on to the pool's workers: each stops its engine and writes its run.h5 (status terminated)."""
+    for process in list(getattr(executor, "_processes", {}).values()):  # no public API lists a pool's processes
+        try:
+            os.kill(process.pid, signum)
+        except (ProcessLookupError, TypeError):
+            continue
 
 
 def grid(parameters: dict[str, list]) -> list[dict]:
@@ -190,9 +210,10 @@ def execute_run(case_path: str, preset: str | None, point: dict, engine: str, ru
     overrides = [f"{key}={_toml_value(value)}" for key, value in point.items()]
     base = {"run_id": run_id, "engine": engine, "run_dir": run_dir, **{f"param:{k}": v for k, v in point.items()}}
     try:
-        loaded = load_case(case_path, preset=preset, overrides=overrides)
-        summary = run_case(loaded, engine=engine, out_dir=run_path, timeout_s=timeout_s, progress=False,
-                           force=True, extra_attrs={"run_id": run_id})
+        with signals.task():
+            loaded = load_case(case_path, preset=preset, overrides=overrides)
+            summary = run_case(loaded, engine=engine, out_dir=run_path, timeout_s=timeout_s, progress=False,
+                               force=True, extra_attrs={"run_id": run_id})
     except OrchestratorError as exc:
         summary = exc.summary
         if summary is None:
