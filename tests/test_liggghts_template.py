@@ -6,13 +6,15 @@ Regenerate after an intended change with: UPDATE_GOLDEN=1 pytest tests/test_ligg
 """
 
 import os
+import subprocess
 from pathlib import Path
 
 import numpy as np
 import pytest
 import trimesh
 
-from orchestrator.backends.liggghts import LiggghtsBackend, LiggghtsProfile
+from orchestrator.backends import liggghts
+from orchestrator.backends.liggghts import LOCAL_MPI_ENV, SINGLETON_ENV, LiggghtsBackend, LiggghtsProfile
 from orchestrator.backends.liggghts_drag import process_chunks
 from orchestrator.case import load_case
 from orchestrator.errors import OrchestratorError
@@ -97,20 +99,47 @@ def test_profile_command_single_and_mpi(monkeypatch, tmp_path):
     fake.write_text("#!/bin/sh\n")
     monkeypatch.setenv("ORCHESTRATOR_LIGGGHTS", str(fake))
     monkeypatch.setenv("ORCHESTRATOR_MPIRUN", "/usr/bin/mpirun")
-    monkeypatch.delenv("ORCHESTRATOR_LIGGGHTS_MPI", raising=False)
+    for name in ("ORCHESTRATOR_LIGGGHTS_MPI", "ORCHESTRATOR_MPI_LOCAL", *LOCAL_MPI_ENV, *SINGLETON_ENV):
+        monkeypatch.delenv(name, raising=False)
+    monkeypatch.setattr(liggghts, "network_namespace", lambda: [])
     command, env = LiggghtsProfile().command("impact.in")
     assert command[-7:] == [str(fake), "-in", "impact.in", "-log", "none", "-echo", "none"]
     assert "mpirun" not in " ".join(command) and env["OMP_WAIT_POLICY"] == "PASSIVE"
+    # one rank: an isolated MPI singleton on shared memory (no orted, no TCP transport: no listening socket)
+    assert env["OMPI_MCA_ess_singleton_isolated"] == "1" and env["OMPI_MCA_btl"] == "self,vader"
     monkeypatch.setattr(os, "geteuid", lambda: 0)
     command, env = LiggghtsProfile(mpi_ranks=2).command("impact.in")
     assert command[:4] == ["/usr/bin/mpirun", "-np", "2", "--allow-run-as-root"]
     assert env["OMPI_MCA_mpi_yield_when_idle"] == "1"
+    assert env["OMPI_MCA_oob_tcp_if_include"] == "lo" and "OMPI_MCA_ess_singleton_isolated" not in env
     monkeypatch.setattr(os, "geteuid", lambda: 1000)
     monkeypatch.setenv("ORCHESTRATOR_LIGGGHTS_MPI", "3")
     command, _ = LiggghtsProfile().command("impact.in")
     assert command[:3] == ["/usr/bin/mpirun", "-np", "3"] and "--allow-run-as-root" not in command
+    # in a user and network namespace of its own mpirun is root, and its listeners reach no outside interface
+    namespace = ["/usr/bin/unshare", "--user", "--map-root-user", "--net", "sh", "-c", "...", "/usr/bin/ip"]
+    monkeypatch.setattr(liggghts, "network_namespace", lambda: namespace)
+    command, _ = LiggghtsProfile().command("impact.in")
+    assert command[:12] == namespace + ["/usr/bin/mpirun", "-np", "3", "--allow-run-as-root"]
+    # what the user exported wins; ORCHESTRATOR_MPI_LOCAL=0 runs OpenMPI as configured (multi-node)
+    monkeypatch.setenv("OMPI_MCA_btl", "self,vader,tcp")
+    _, env = LiggghtsProfile().command("impact.in")
+    assert "OMPI_MCA_btl" not in env and env["OMPI_MCA_pml"] == "ob1"
+    monkeypatch.setenv("ORCHESTRATOR_MPI_LOCAL", "0")
+    command, env = LiggghtsProfile().command("impact.in")
+    assert command[0] == "/usr/bin/mpirun" and not any(k.startswith("OMPI_MCA_") and k != "OMPI_MCA_mpi_yield_when_idle"
+                                                        for k in env)
     with pytest.raises(OrchestratorError, match="MPI ranks = 0"):
         LiggghtsProfile(mpi_ranks=0)
+
+
+def test_network_namespace_runs_a_program_with_loopback_only():
+    prefix = liggghts.network_namespace()
+    if not prefix:
+        pytest.skip("no user namespaces here (unshare -rn), or no unshare / ip")
+    shown = subprocess.run(prefix + ["cat", "/proc/net/dev"], capture_output=True, text=True, timeout=30).stdout
+    interfaces = [line.split(":")[0].strip() for line in shown.splitlines()[2:]]
+    assert interfaces == ["lo"]
 
 
 def test_mpi_on_an_engine_without_it_is_refused(tmp_path):
