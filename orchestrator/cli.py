@@ -31,10 +31,13 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--preset", help="named override set from the case's [presets.NAME] (e.g. quick, full)")
     run.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE",
                      help="override any case value, SI units, e.g. --set media.count=200 (repeatable)")
-    run.add_argument("--out", metavar="DIR", help="run directory (default: a new one under runs/)")
+    run.add_argument("--out", metavar="DIR", help="run directory: new, empty or an earlier run's (default: a new one "
+                     "under runs/); locked while the run lasts")
     run.add_argument("--timeout", type=float, metavar="SECONDS",
                      help="stop the engine after this wall time, s; run.h5 keeps what was measured")
-    run.add_argument("--force", action="store_true", help="overwrite a run already in --out")
+    run.add_argument("--force", action="store_true",
+                     help="replace a run already in --out (its old outputs are removed before the engine starts; "
+                     "a folder that is not a run directory is never written into)")
     run.add_argument("--json", action="store_true", help="print one JSON object instead of the text summary")
     run.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
     run.add_argument("--mpi", type=int, metavar="N",
