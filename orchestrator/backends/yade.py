@@ -262,6 +262,8 @@ def read_drag_finishing_output(scene, workdir: Path) -> Result:
     series_path = out / "series.csv"
     if series_path.is_file():
         cols = read_series_csv(series_path)
+        if "step" in cols and len(cols["step"]) and "n_steps" not in result.attrs:
+            result.attrs["n_steps"] = int(cols["step"][-1])  # a stopped run: its last recorded step
         result.time = cols["time"]
         stack = lambda *names: np.column_stack([cols[n] for n in names])  # noqa: E731
         result.series = {

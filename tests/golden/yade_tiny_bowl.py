@@ -115,7 +115,7 @@ rod_intensity = np.zeros(len(ROD_IDS))  # accumulated |F| dt per rod facet, N s
 rod_contact_count = np.zeros(len(ROD_IDS), dtype=np.int64)  # facet-samples in contact
 series = open(os.path.join(OUT, "series.csv"), "w")
 series.write("time,phase,wf_normal,wf_tangential,wf_vertical,rod_fx,rod_fy,rod_fz,"
-             "bowl_fx,bowl_fy,bowl_fz,kinetic_energy,unbalanced_force,n_contacts,rod_tip_z\n")
+             "bowl_fx,bowl_fy,bowl_fz,kinetic_energy,unbalanced_force,n_contacts,rod_tip_z,step\n")
 
 
 def rod_tip_z():
@@ -171,9 +171,9 @@ def record():
             if f > 0:
                 rod_intensity[k] += f * state["record_interval"]
                 rod_contact_count[k] += 1
-    series.write("%.9g,%d,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d,%.9g\n" % (
+    series.write("%.9g,%d,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d,%.9g,%d\n" % (
         O.time, phase, wn, wt, wv, fr[0], fr[1], fr[2], fb[0], fb[1], fb[2], kinetic_energy(),
-        utils.unbalancedForce(), O.interactions.countReal(), rod_tip_z()))
+        utils.unbalancedForce(), O.interactions.countReal(), rod_tip_z(), O.iter))
     series.flush()
     check_stability()
 
