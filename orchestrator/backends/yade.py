@@ -118,7 +118,8 @@ class YadeBackend(ExecutableBackend):
             for name, m in sorted(case.materials.items())
         ]
         pairs = case.touching_pairs()
-        rows = lambda value: repr(tuple((a, b, value(case.contact(a, b))) for a, b in pairs))  # noqa: E731
+        # ascii(): a Python literal of the names whatever they hold (escapes beyond ASCII too)
+        rows = lambda value: ascii(tuple((a, b, value(case.contact(a, b))) for a, b in pairs))  # noqa: E731
         dt = scene.timestep
         dt_settle = settling_timestep(case)
         stiffen = scale != soft or dt != dt_settle

@@ -132,7 +132,8 @@ def impact_context(scene) -> dict:
     case = scene.case
     materials = _yade_materials(scene)
     pairs = sorted(scene.pairs.values(), key=lambda p: p.materials)
-    rows = lambda value: repr(tuple((p.materials[0], p.materials[1], value(p)) for p in pairs))  # noqa: E731
+    # ascii(): a Python literal of the names whatever they hold (escapes beyond ASCII too)
+    rows = lambda value: ascii(tuple((p.materials[0], p.materials[1], value(p)) for p in pairs))  # noqa: E731
     betan, betas, kso = {}, {}, {}
     for p in pairs:
         a, b = p.materials
