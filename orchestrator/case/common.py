@@ -6,7 +6,7 @@ from __future__ import annotations
 import typing
 from typing import Annotated, Any
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationInfo, field_validator, model_validator
+from pydantic import AfterValidator, BaseModel, ConfigDict, Field, ValidationInfo, field_validator, model_validator
 
 Positive = Annotated[float, Field(gt=0)]
 NonNegative = Annotated[float, Field(ge=0)]
@@ -37,6 +37,33 @@ class Frozen(BaseModel):
         if field is not None and _numeric(field.annotation) and any(isinstance(v, bool) for v in items):
             raise ValueError("expected a number, not true/false")
         return value
+
+
+#: What a name that reaches an engine's input may hold (materials and their contact pairs; SPH blocks, walls,
+#: patches and probes): nothing in it can end a comment, a string or a line of a LIGGGHTS deck, a Yade script
+#: or the SPH deck.
+NAME_RULE = "a letter, then up to 63 letters, digits, '_', '.' or '-'"
+_NAME_CHARACTERS = frozenset("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.-")
+
+
+def check_name(value: str) -> str:
+    """value if it is a name (NAME_RULE); ValueError saying what is allowed otherwise."""
+    if not (0 < len(value) <= 64 and value[0].isascii() and value[0].isalpha() and set(value) <= _NAME_CHARACTERS):
+        raise ValueError(f"not allowed as a name; allowed: {NAME_RULE}")
+    return value
+
+
+def check_label(value: str) -> str:
+    """value if it is one line of printable text (at most 200 characters); ValueError otherwise."""
+    if len(value) > 200 or not value.isprintable():
+        raise ValueError("not allowed as a label; allowed: one line of printable text, at most 200 characters")
+    return value
+
+
+#: A name (check_name): material names, SPH object names.
+Name = Annotated[str, AfterValidator(check_name)]
+#: A free-text label shown in plots and reports (check_label).
+Label = Annotated[str, AfterValidator(check_label)]
 
 
 class CaseMeta(Frozen):
@@ -83,7 +110,7 @@ class Material(Frozen):
 class ContactPair(Frozen):
     """Restitution and friction of one material pair (order does not matter)."""
 
-    pair: tuple[str, str] = Field(description="two material names")
+    pair: tuple[Name, Name] = Field(description="two material names")
     restitution: float = Field(gt=0, le=1, description="normal coefficient of restitution e_n, -")
     tangential_restitution: float | None = Field(
         None, gt=0, le=1, description="e_t, -; the paper sets e_t = e_n, which is the default"
@@ -121,6 +148,16 @@ class MaterialCase(Frozen):
 
     case: CaseMeta
     materials: dict[str, Material] = Field(min_length=1)
+
+    @field_validator("materials")
+    @classmethod
+    def _material_names(cls, value: dict) -> dict:
+        for name in value:
+            try:
+                check_name(name)
+            except ValueError:
+                raise ValueError(f"the material name {name!r} is not allowed; allowed: {NAME_RULE}") from None
+        return value
     contacts: tuple[ContactPair, ...] = Field(min_length=1)
 
     def contact(self, a: str, b: str) -> ContactPair:

@@ -10,7 +10,8 @@ from typing import Literal
 
 from pydantic import Field, ValidationInfo, field_validator, model_validator
 
-from .common import CaseMeta, ContactPair, Frozen, Material, NonNegative, Numerics, Positive, MaterialCase
+from .common import (CaseMeta, ContactPair, Frozen, Label, Material, MaterialCase, Name, NonNegative, Numerics,
+                     Positive)
 
 #: Random loose packing of monodisperse spheres poured into a container; used
 #: only to tell a user early that a bed cannot fit in the bowl.
@@ -20,7 +21,7 @@ DENSEST_RANDOM_PACKING = 0.64
 class Media(Frozen):
     """The bed of spherical media (paper: n_b, R_b, delta_b, h_f)."""
 
-    material: str
+    material: Name
     count: int = Field(ge=1, le=5_000_000, description="number of balls n_b")
     radius: Positive = Field(description="mean ball radius R_b, m")
     radius_spread: NonNegative = Field(0.0, description="delta_b, m: std (normal) or half-width (uniform)")
@@ -57,7 +58,7 @@ class Media(Frozen):
 class Bowl(Frozen):
     """Cylindrical bowl with a flat floor (geometry reconstructed from the paper's Fig. 3)."""
 
-    material: str
+    material: Name
     inner_radius: Positive = Field(description="m")
     height: Positive = Field(description="wall height above the floor, m")
     segments: int = Field(64, ge=8, le=1024, description="facets around the circumference")
@@ -66,7 +67,7 @@ class Bowl(Frozen):
 class Workpiece(Frozen):
     """The rod dragged through the media on a circular path about the bowl axis."""
 
-    material: str
+    material: Name
     radius: Positive = Field(description="rod radius, m")
     length: Positive = Field(description="rod length, m")
     path_radius: Positive = Field(description="radius of the rod's circular path about the bowl axis, m")
@@ -141,7 +142,7 @@ class Analysis(Frozen):
 class ForceBand(Frozen):
     """A published mean and standard deviation of a force, N."""
 
-    label: str
+    label: Label
     fn_mean: float
     fn_std: NonNegative
 

@@ -18,7 +18,7 @@ from typing import Annotated, Literal
 
 from pydantic import Field, field_validator, model_validator
 
-from .common import CaseMeta, ContactPair, Frozen, Material, Numerics, Positive, MaterialCase
+from .common import CaseMeta, ContactPair, Frozen, Material, MaterialCase, Name, Numerics, Positive
 
 #: Reserved material name of an immovable, infinitely stiff wall (E = inf).
 RIGID = "rigid"
@@ -32,7 +32,7 @@ Vector3 = tuple[Finite, Finite, Finite]
 class Sphere(Frozen):
     """One sphere: material, radius and its state at t = 0."""
 
-    material: str
+    material: Name
     radius: Annotated[float, Field(gt=0, allow_inf_nan=False)] = Field(description="m")
     position: Vector3 = Field(description="centre at t = 0, m")
     velocity: Vector3 = Field((0.0, 0.0, 0.0), description="m/s")
@@ -49,7 +49,7 @@ class Plane(Frozen):
 
     point: Vector3 = Field((0.0, 0.0, 0.0), description="m")
     normal: Vector3 = Field((0.0, 0.0, 1.0), description="unit vector (normalised on load), -")
-    material: str = RIGID
+    material: Name = RIGID
 
     @field_validator("normal")
     @classmethod

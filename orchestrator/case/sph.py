@@ -20,7 +20,7 @@ from typing import Annotated, Literal
 
 from pydantic import Field, ValidationInfo, field_validator, model_validator
 
-from .common import CaseMeta, Frozen, NonNegative, Positive
+from .common import CaseMeta, Frozen, Name, NonNegative, Positive
 
 #: Optional physics terms of the sph executable (engines/sph/src/physics_terms.h).
 PHYSICS_TERMS = ("morris_viscosity", "artificial_viscosity", "body_force", "wall_penalty")
@@ -161,7 +161,7 @@ class Block(Frozen):
     that covers it. Every particle has mass rho0 dx^D.
     """
 
-    name: str = Field(min_length=1, pattern=r"^[A-Za-z0-9_.-]+$", description="identifier")
+    name: Name = Field(description="identifier")
     kind: Literal["fluid", "boundary"] = Field(
         description="fluid: moves; boundary: fixed boundary particles (never move; velocity is the wall's)"
     )
@@ -194,7 +194,7 @@ class Wall(Frozen):
     """
 
     shape: Literal["box", "plane", "stl"] = Field(description="box, plane or stl")
-    name: str = Field(min_length=1, pattern=r"^[A-Za-z0-9_.-]+$", description="identifier (series wall_force_<name>)")
+    name: Name = Field(description="identifier (series wall_force_<name>)")
     lo: Vector | None = Field(None, description="box: lower corner, m")
     hi: Vector | None = Field(None, description="box: upper corner, m")
     open_sides: tuple[Literal["-x", "+x", "-y", "+y", "-z", "+z"], ...] = Field(
@@ -243,7 +243,7 @@ class Patch(Frozen):
     In 2D it is a segment normal to `normal` of half-length radius (or half_extents [a]).
     """
 
-    name: str = Field(min_length=1, pattern=r"^[A-Za-z0-9_.-]+$", description="identifier")
+    name: Name = Field(description="identifier")
     center: Vector = Field(description="centre, m")
     normal: Vector = Field(description="normal: the direction of positive flow (normalised on use), -")
     radius: Positive | None = Field(None, description="disc radius (2D: segment half-length), m")
@@ -277,7 +277,7 @@ class Outlet(Patch):
 class Probe(Frozen):
     """A pressure probe: the kernel-interpolated fluid pressure at a point."""
 
-    name: str = Field(min_length=1, pattern=r"^[A-Za-z0-9_.-]+$", description="identifier (series pressure_probe_<name>)")
+    name: Name = Field(description="identifier (series pressure_probe_<name>)")
     point: Vector = Field(description="position, m")
 
 
