@@ -47,6 +47,9 @@ def analyze_run(run_dir, render: bool = True) -> dict:
         from .plots import render_network
 
         outputs["network"] = render_network(run, run_dir / "network.png")
+    from .plots_chains import report_chains  # contact chains and the rod's contact intensity (issue 16)
+
+    outputs.update(report_chains(run_dir, run, case, render))
     for name, path in outputs.items():
         print(f"{name:<8} {path}")
     return outputs
