@@ -294,15 +294,21 @@ def report_chains(run_dir, run: dict, case, render: bool = True) -> dict:
         print(intensity_text(ires, float(model.output.record_interval)))
     if not render:
         return {}
-    last = res["last"]
     rod_tip = float(np.asarray(run["meshes"]["rod"]["vertices"], float)[:, 2].min()) if ires is not None else 0.0
     bed = float(run.get("attrs", {}).get("bed_height", model.media.fill_height))
-    title = (f"interaction network at process time {float(last['snapshot']['attrs']['process_time']):.3g} s: "
-             f"strong > {last['threshold']:.3g} N, {last['n_chains']} chains (blue)")
-    out = {"chains": plot_chain_network(last, model.bowl.inner_radius, model.workpiece.radius, rod_tip, bed,
-                                        run_dir / "chains_network.png", title),
-           "chain_fn": plot_chains_time(res, run_dir / "chains_fn.png"),
-           "profiles": plot_force_profiles(res, run_dir / "contact_profiles.png")}
+    out = {}
+    for name, view in res["shown"].items():
+        if view is None or (name == "peak" and view["snapshot"] is res["shown"]["paper"]["snapshot"]):
+            continue
+        when = "at the lowest F_n of the snapshots, " if name == "peak" else ""
+        title = (f"interaction network {when}at process time {float(view['snapshot']['attrs']['process_time']):.3g}"
+                 f" s: strong > {view['threshold']:.3g} N, {view['n_chains']} chains (blue)")
+        key, file = ("chains", "chains_network.png") if name == "paper" else ("chain_pk", "chains_network_peak.png")
+        out[key] = plot_chain_network(view, model.bowl.inner_radius, model.workpiece.radius, rod_tip, bed,
+                                      run_dir / file, title)
+    out.update({
+        "chain_fn": plot_chains_time(res, run_dir / "chains_fn.png"),
+        "profiles": plot_force_profiles(res, run_dir / "contact_profiles.png")})
     if ires is not None:
         ires["n_snapshots"] = len(res["time"])
         out["rod_map"] = plot_rod_intensity(ires, rod_tip, bed, run_dir / "rod_intensity.png")

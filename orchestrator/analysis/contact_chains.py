@@ -70,9 +70,9 @@ def _angles(d: np.ndarray, vw: np.ndarray | None) -> dict[str, np.ndarray]:
     out = {"angle_xy": np.degrees(np.arctan2(d[:, 1], d[:, 0])),
            "angle_xz": np.degrees(np.arctan2(d[:, 2], d[:, 0])),
            "elevation": np.degrees(np.arctan2(d[:, 2], np.hypot(d[:, 0], d[:, 1])))}
-    if vw is not None:
-        outward = np.array([vw[1], -vw[0]])  # v_w turned clockwise: away from the axis for counter-clockwise motion
-        out["angle_to_vw"] = np.degrees(np.arctan2(d[:, :2] @ outward, d[:, :2] @ vw))
+    vw = np.full(2, np.nan) if vw is None else np.asarray(vw, float)
+    outward = np.array([vw[1], -vw[0]])  # v_w turned clockwise: away from the axis for counter-clockwise motion
+    out["angle_to_vw"] = np.degrees(np.arctan2(d[:, :2] @ outward, d[:, :2] @ vw))
     return out
 
 
@@ -143,9 +143,7 @@ def find_chains(snapshot: dict, threshold: float | None = None, k_std: float = 1
     out["share"] = out["chain_rod_force"] / out["rod_force"] if out["rod_force"] > 0 else math.nan
     total_along = along[rod].sum()
     out["share_fn"] = float(along[rod[in_chain]].sum() / total_along) if vw is not None and total_along else math.nan
-    out.update(_angles(vectors, None if vw is None else np.asarray(vw, float)))
-    if vw is None:
-        out["angle_to_vw"] = np.full(len(chains), math.nan)
+    out.update(_angles(vectors, vw))
     return out
 
 
@@ -273,26 +271,26 @@ def path_of(run: dict) -> tuple[float, float]:
 
 
 def analyze_chains(run: dict, transient_time: float = 0.0, k_std: float = 1.0, k_peak: float = 1.0,
-                   max_lag: float = 0.5) -> dict:
+                   max_lag: float = 0.5, show_time: float = 4.5) -> dict:
     """Chains in every snapshot of a run and their relation to F_n (see the module docstring).
 
     Returns a dict: per snapshot arrays (time, process_time s, n_chains, n_strong, threshold N, share,
     share_fn, fn (F_n of the force series at the snapshot, N), fn_snapshot (from the snapshot's rod
     contacts, N)); chains: the per-chain arrays of all snapshots pooled (n_contacts, path_length,
-    angle_to_vw, elevation, angle_xy, angle_xz); last: find_chains() of the last snapshot, with its
-    rod axis and v_w; conditional (F_n with and without chains), lags (s) and correlation (chain
-    count against the drag -F_n); peaks (times, values, threshold, coincidence); the series after
-    the transient (t, fn); profiles of the mean ball-ball contact force against the angle to v_w
-    and against height, pooled over the snapshots.
+    angle_to_vw, elevation, angle_xy, angle_xz); shown: {"paper": find_chains() with axis, vw and
+    snapshot of the snapshot nearest to show_time (s of process; the paper's Figs. 4b-c: 4.5 s),
+    "peak": the same for the snapshot of lowest F_n after the transient}; conditional (F_n with
+    and without chains), lags (s) and correlation (chain count against the drag -F_n); peaks
+    (times, drag, threshold, coincidence); t, fn_series (after the transient); profiles of the
+    mean ball-ball contact force against the angle to v_w and height, pooled over the snapshots.
     """
     radius, speed = path_of(run)
     snaps = snapshots_of(run)
     keys = ("n_chains", "n_strong", "threshold", "share", "share_fn", "fn_snapshot")
     per: dict[str, list] = {k: [] for k in ("time", "process_time", *keys)}
-    pooled: dict[str, list] = {k: [] for k in ("n_contacts", "path_length", "angle_to_vw", "elevation",
-                                                "angle_xy", "angle_xz")}
+    pooled: dict[str, list] = {k: [] for k in ("n_contacts", "path_length", "angle_to_vw", "elevation", "angle_xy",
+                                                "angle_xz")}
     angle, height, force = [], [], []
-    last = None
     for snap in snaps:
         tp = float(snap["attrs"].get("process_time", math.nan))
         axis, vw = rod_pose(tp, radius, speed)
@@ -311,10 +309,8 @@ def analyze_chains(run: dict, transient_time: float = 0.0, k_std: float = 1.0, k
         angle.append(angle_to_velocity(pts, axis, vw))
         height.append(pts[:, 2])
         force.append(fn[sel])
-        last = dict(found, axis=axis, vw=vw, snapshot=snap)
     out = {k: np.asarray(v, float) for k, v in per.items()}
     out["chains"] = {k: np.asarray(v, float) for k, v in pooled.items()}
-    out["last"] = last
     out["k_std"], out["k_peak"] = k_std, k_peak
 
     series = run.get("series", {})
@@ -334,6 +330,14 @@ def analyze_chains(run: dict, transient_time: float = 0.0, k_std: float = 1.0, k
     out["correlation"] = (lagged_correlation(out["process_time"][use], out["n_chains"][use], t, -fn, out["lags"])
                           if t.size else np.full(len(out["lags"]), math.nan))
     peak_t, peak_v, thr = force_peaks(t, -fn, k_peak) if t.size else (np.zeros(0), np.zeros(0), math.nan)
+    shown = {"paper": int(np.argmin(np.abs(out["process_time"] - show_time))) if snaps else None,
+             "peak": int(np.nanargmin(np.where(use, out["fn"], np.nan))) if (use & np.isfinite(out["fn"])).any()
+             else None}
+    for name, i in shown.items():
+        if i is not None:
+            axis, vw = rod_pose(out["process_time"][i], radius, speed)
+            shown[name] = dict(find_chains(snaps[i], k_std=k_std, vw=vw), axis=axis, vw=vw, snapshot=snaps[i])
+    out["shown"] = shown
     out["peaks"] = {"times": peak_t, "drag": peak_v, "threshold": thr,
                     **peak_coincidence(peak_t, out["process_time"][use], has[use])}
     angle_all, height_all, force_all = (np.concatenate(x) if x else np.zeros(0) for x in (angle, height, force))
