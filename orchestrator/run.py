@@ -89,14 +89,34 @@ def default_run_dir(case_name: str, engine: str, root: Path = Path("runs")) -> P
     return path
 
 
+def resumable_run(run_dir) -> tuple:
+    """(LoadedCase, engine, MPI ranks) of the stopped run in run_dir, from its case.toml and its marker.
+
+    Raises OrchestratorError when run_dir is not a run directory of ours or its case no longer validates.
+    """
+    import dataclasses
+
+    from .case import load_case
+    from .rundir import MARKER, run_info
+
+    run_dir = Path(run_dir)
+    info = run_info(run_dir)
+    if not info.get("engine") or not (run_dir / "case.toml").is_file():
+        raise OrchestratorError(f"--resume {run_dir}: not a run directory of orchestrator that can be resumed "
+                                f"(needs {MARKER} naming the engine and case.toml)")
+    loaded = load_case(run_dir / "case.toml")
+    return dataclasses.replace(loaded, preset=info.get("preset") or None), info["engine"], info.get("mpi_ranks")
+
+
 def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float | None = None,
              progress: bool = True, force: bool = False, on_timing=None, extra_attrs=None,
-             mpi_ranks: int | None = None) -> RunSummary:
+             mpi_ranks: int | None = None, resume: bool = False) -> RunSummary:
     """Run a LoadedCase on an engine; writes run_dir/run.h5 whatever happens and returns a RunSummary.
 
     out_dir must be new, empty or a run directory of ours (rundir.RunDirectory: locked while the run lasts;
     force empties it first). extra_attrs are added to run.h5's root attributes (a study's run_id); mpi_ranks runs
-    the engine under mpirun (engines whose profile takes it: liggghts).
+    the engine under mpirun (engines whose profile takes it: liggghts). resume continues the stopped run in
+    out_dir from its last checkpoint (engines with resume_input: liggghts drag finishing).
     Raises EngineNotFound before anything runs; EngineTimeout / EngineFailed / EngineUnstable after run.h5 is
     written (with status and what was measured before); KeyboardInterrupt (signals.Interrupted for SIGINT,
     SIGTERM, SIGHUP) after the engine was stopped, with `kept` (what is on disk) set on it when run.h5 was written.
@@ -131,12 +151,17 @@ def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float |
         backend.check_scene(scene)  # e.g. a scene too big for the reference DEM: refused before anything is written
     clock.lap("scene")
     signals.check()
+    if resume and not hasattr(backend, "resume_input"):
+        raise OrchestratorError(f"--resume: {engine} runs cannot be resumed from a checkpoint; LIGGGHTS "
+                                "drag-finishing runs can (output.checkpoint_interval)")
+    info = {"engine": engine, "preset": loaded.preset or "", "mpi_ranks": mpi_ranks}
     with RunDirectory(out_dir if out_dir is not None else default_run_dir(case.case.name, engine),
-                      force) as run_dir:
-        (run_dir / "case.toml").write_text(loaded.toml_text)
+                      force, resume, info) as run_dir:
+        if not resume:
+            (run_dir / "case.toml").write_text(loaded.toml_text)
         started = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
         command, execution, interrupted = _run_engine(backend, scene, run_dir, clock, timeout_s, progress,
-                                                      f"{engine} {case.case.name}", on_timing)
+                                                      f"{engine} {case.case.name}", on_timing, resume)
         with signals.shielded():  # a signal now is remembered: run.h5 is written first
             result = _read_result(backend, scene, run_dir, execution, interrupted, timeout_s)
             clock.lap("parse")
@@ -185,8 +210,9 @@ def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float |
 
 
 def _run_engine(backend, scene, run_dir: Path, clock: PhaseClock, timeout_s, progress: bool, label: str,
-                on_timing):
-    """Write the engine's input, run the timing probe (long runs) and the engine.
+                on_timing, resume: bool = False):
+    """Write the engine's input (resume: the input that continues from the last checkpoint), run the timing probe
+    (long new runs) and the engine.
 
     Returns (command, Execution, the KeyboardInterrupt that stopped it or None).
     """
@@ -194,10 +220,14 @@ def _run_engine(backend, scene, run_dir: Path, clock: PhaseClock, timeout_s, pro
 
     command: list[str] = []
     try:
-        backend.write_input(scene, run_dir)
-        command, env = backend.command(run_dir)
+        if resume:
+            command, env = backend.resume_input(scene, run_dir)
+            _keep_log(run_dir / LOG_NAME)
+        else:
+            backend.write_input(scene, run_dir)
+            command, env = backend.command(run_dir)
         clock.lap("input")
-        if hasattr(backend, "probe_command") and backend.planned_steps(scene) > PROBE_ABOVE_STEPS:
+        if not resume and hasattr(backend, "probe_command") and backend.planned_steps(scene) > PROBE_ABOVE_STEPS:
             _run_probe(backend, run_dir, on_timing)
         clock.skip()  # the timing probe is the engine's time
         execution = execute(command, env, run_dir, timeout_s, progress, label=label, on_timing=on_timing)
@@ -209,6 +239,15 @@ def _run_engine(backend, scene, run_dir: Path, clock: PhaseClock, timeout_s, pro
         if execution is None:  # stopped before the engine started
             execution = Execution(None, False, True, 0.0, None, run_dir / LOG_NAME)
         return command, execution, exc
+
+
+def _keep_log(log: Path) -> None:
+    """Rename the stopped run's engine.log to engine.<k>.log (the first free k) before a resumed run writes its own."""
+    if log.is_file():
+        k = 1
+        while log.with_name(f"{log.stem}.{k}{log.suffix}").exists():
+            k += 1
+        log.rename(log.with_name(f"{log.stem}.{k}{log.suffix}"))
 
 
 def _run_probe(backend, run_dir: Path, on_timing) -> None:

@@ -59,15 +59,19 @@ class RunDirectory:
     created, is a non-empty folder of the user's, already holds a run (without force) or is locked by another run.
     """
 
-    def __init__(self, path: str | Path, force: bool = False):
+    def __init__(self, path: str | Path, force: bool = False, resume: bool = False, info: dict | None = None):
         if str(path).strip() == "":
             raise OrchestratorError("--out is empty; give the path of a new or empty folder")
         self.path = Path(path)
         self.force = force
+        self.resume = resume
+        self.info = info or {}
         self._fd: int | None = None
 
     def __enter__(self) -> Path:
         path = self.path
+        if self.resume and not (path.is_dir() and _is_ours(path)):
+            raise OrchestratorError(f"--resume {path}: not a run directory of orchestrator (no {MARKER})")
         if path.exists() and not path.is_dir():
             raise OrchestratorError(f"--out {path} is a file, not a folder; give a new or empty folder")
         if path.is_dir() and any(path.iterdir()) and not _is_ours(path):
@@ -88,13 +92,17 @@ class RunDirectory:
             raise RunDirBusy(f"{path} is in use by another run ({holder}); wait for it to end or choose another "
                              "--out") from None
         try:
-            if (path / RUN_FILE).exists() and not self.force:
+            if (path / RUN_FILE).exists() and not (self.force or self.resume):
                 raise OrchestratorError(f"{path} already holds a run ({RUN_FILE}); choose another --out, or pass "
                                         "--force to replace it")
             if self.force:
                 self._empty()
             self._write_holder()
-            (path / MARKER).write_text(json.dumps({"created": _now()}) + "\n")
+            if self.resume:
+                info = {**run_info(path), "resumed": [*run_info(path).get("resumed", []), _now()]}
+            else:
+                info = {"created": _now(), **self.info}
+            (path / MARKER).write_text(json.dumps(info) + "\n")
         except OSError as exc:
             self._release()
             raise OrchestratorError(f"cannot write into the run directory {path}: {_os_problem(path, exc)}") from None
@@ -125,6 +133,15 @@ class RunDirectory:
         if self._fd is not None:
             os.close(self._fd)  # closing the descriptor releases the flock
             self._fd = None
+
+
+def run_info(path: Path) -> dict:
+    """What the run directory's marker says of its run (created, engine, preset, mpi_ranks, resumed); {} if none."""
+    try:
+        info = json.loads((Path(path) / MARKER).read_text())
+    except (OSError, ValueError):
+        return {}
+    return info if isinstance(info, dict) else {}
 
 
 def _read_holder(fd: int) -> str:

@@ -86,12 +86,19 @@ def test_two_spheres_damped_beyond_liggghts_limit_are_refused():
 
 
 def test_process_chunks_cut_at_timing_and_snapshots():
-    assert process_chunks(4000, [1500]) == [{"steps": 500, "timing": True, "networks": []},
-                                            {"steps": 1000, "timing": False, "networks": [0]},
-                                            {"steps": 2500, "timing": False, "networks": []}]
+    assert process_chunks(4000, [1500]) == [{"steps": 500, "timing": True, "networks": [], "checkpoint": False},
+                                            {"steps": 1000, "timing": False, "networks": [0], "checkpoint": False},
+                                            {"steps": 2500, "timing": False, "networks": [], "checkpoint": False}]
     chunks = process_chunks(300, [300, 100])
     assert [c["steps"] for c in chunks] == [100, 200] and chunks[0]["networks"] == [1]
     assert chunks[1]["networks"] == [0] and sum(c["steps"] for c in chunks) == 300
+
+
+def test_process_chunks_cut_at_checkpoints_but_not_at_the_end():
+    chunks = process_chunks(4000, [1500], checkpoint_steps=1000)
+    assert [c["steps"] for c in chunks] == [500, 500, 500, 500, 1000, 1000]
+    assert [c["checkpoint"] for c in chunks] == [False, True, False, True, True, False]
+    assert chunks[2]["networks"] == [0] and sum(c["steps"] for c in chunks) == 4000
 
 
 def test_profile_command_single_and_mpi(monkeypatch, tmp_path):

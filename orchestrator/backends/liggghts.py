@@ -198,6 +198,15 @@ class LiggghtsBackend(ExecutableBackend):
     def command(self, workdir: Path, kind: str | None = None) -> tuple[list[str], dict[str, str]]:
         return self.profile.command(DECK_NAME[kind or self._kind])
 
+    def resume_input(self, scene, workdir: Path) -> tuple[list[str], dict[str, str]]:
+        """Write the deck that continues a stopped drag-finishing run from its last checkpoint
+        (liggghts_resume); returns its command line and environment."""
+        if scene.case.case.kind != "drag_finishing":
+            raise OrchestratorError(f"only drag-finishing runs resume; this run is of kind {scene.case.case.kind}")
+        from .liggghts_resume import write_resume_deck
+
+        return self.profile.command(write_resume_deck(scene, Path(workdir)))
+
     def planned_steps(self, scene) -> int:
         """Upper bound of the run's time steps."""
         return int(self.render_context(scene)["planned_steps"])

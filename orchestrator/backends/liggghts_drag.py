@@ -112,21 +112,33 @@ def drag_context(scene) -> dict:
         "progress_every": max(100, int(planned) // 400),
         "steps_after_insert": after_insert,
         "planned_steps": int(planned),
-        "process_chunks": process_chunks(process_steps, [round(t / dt) for t in case.output.network_times]),
+        "process_chunks": process_chunks(process_steps, [round(t / dt) for t in case.output.network_times],
+                                         checkpoint_every(case, dt)),
+        "resume": None,
     }
 
 
-def process_chunks(total: int, network_steps: list[int]) -> list[dict]:
-    """The process phase as runs: [{steps, timing, networks}], cut at each network snapshot's step (from the
-    process start) and after the first TIMING_STEPS steps (the timing line)."""
-    cuts = sorted({min(TIMING_STEPS, total), total, *(min(s, total) for s in network_steps if s > 0)})
+def checkpoint_every(case, dt: float) -> int | None:
+    """Process steps between checkpoints (output.checkpoint_interval), or None."""
+    interval = case.output.checkpoint_interval
+    return None if interval is None else _every(interval, dt)
+
+
+def process_chunks(total: int, network_steps: list[int], checkpoint_steps: int | None = None) -> list[dict]:
+    """The process phase as runs: [{steps, timing, networks, checkpoint}], cut at each network snapshot's step
+    (from the process start), after the first TIMING_STEPS steps (the timing line) and every checkpoint_steps
+    (a restart file is written after a chunk whose checkpoint is True; never after the last one)."""
+    checkpoints = set(range(checkpoint_steps, total, checkpoint_steps)) if checkpoint_steps else set()
+    cuts = sorted({min(TIMING_STEPS, total), total, *(min(s, total) for s in network_steps if s > 0), *checkpoints})
     chunks, done = [], 0
     for cut in cuts:
         chunks.append({"steps": cut - done, "timing": not chunks,
-                       "networks": [k for k, s in enumerate(network_steps) if min(max(s, 0), total) == cut]})
+                       "networks": [k for k, s in enumerate(network_steps) if min(max(s, 0), total) == cut],
+                       "checkpoint": cut in checkpoints})
         done = cut
     if 0 in network_steps:  # a snapshot at the start of the process: a zero-step run writes it
-        chunks.insert(0, {"steps": 0, "timing": False, "networks": [k for k, s in enumerate(network_steps) if s <= 0]})
+        chunks.insert(0, {"steps": 0, "timing": False, "networks": [k for k, s in enumerate(network_steps) if s <= 0],
+                          "checkpoint": False})
     return chunks
 
 

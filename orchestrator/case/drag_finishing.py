@@ -129,6 +129,9 @@ class Output(Frozen):
 
     record_interval: Positive = Field(0.005, description="interval of the force series, s")
     network_times: tuple[NonNegative, ...] = Field((), description="times of interaction-network snapshots, s")
+    checkpoint_interval: Positive | None = Field(
+        None, description="process time between checkpoints from which 'orchestrator run --resume' continues a "
+        "stopped run, s (LIGGGHTS restart files; None: no checkpoints)")
 
 
 class Analysis(Frozen):
