@@ -34,9 +34,11 @@ def _save(fig, path) -> Path:
 
 
 def plot_chain_network(chains: dict, bowl_radius: float, rod_radius: float, rod_tip: float, bed_height: float,
-                       path, title: str = "") -> Path:
+                       path, title: str = "", dominant: dict | None = None) -> Path:
     """xy (top view) and xz (side view) of one snapshot's compressive contacts, width and colour by normal
-    force (N), the chains of ``chains`` (find_chains() with snapshot, axis and vw added) in blue."""
+    force (N), the chains of ``chains`` (find_chains() with snapshot, axis and vw added) underlaid in blue,
+    those of ``dominant`` (find_chains() at a threshold just below the chain strength B, with B added) in
+    black."""
     from matplotlib.collections import LineCollection
     from matplotlib.patches import Circle, Rectangle
 
@@ -47,7 +49,10 @@ def plot_chain_network(chains: dict, bowl_radius: float, rod_radius: float, rod_
     p1 = np.asarray(snap["point1"], float).reshape(-1, 3)
     p2 = np.asarray(snap["point2"], float).reshape(-1, 3)
     fmax = float(fn[keep].max()) if keep.size else 1.0
-    in_chain = np.unique(np.concatenate(chains["contacts"])) if chains["contacts"] else np.zeros(0, int)
+    halos = [(np.unique(np.concatenate(c["contacts"])), color, width, label) for c, color, width, label in (
+        (chains, "tab:blue", 4.5, f"chains rod -> bowl ({chains['n_chains']}): shortest strong paths"),
+        (dominant, "k", 7.0, f"dominant chain: widest path, B = {(dominant or {}).get('strength', 0):.3g} N"))
+        if c and c["contacts"]]
     fig = _figure(12.0, 6.4)
     ax_xy, ax_xz = fig.subplots(1, 2, gridspec_kw={"width_ratios": [1.0, 1.0]})
     axis, vw = chains["axis"], chains["vw"]
@@ -56,10 +61,10 @@ def plot_chain_network(chains: dict, bowl_radius: float, rod_radius: float, rod_
         lines = LineCollection(segs, array=fn[keep], cmap="RdYlGn_r", clim=(0.0, fmax),
                                linewidths=0.25 + 3.0 * fn[keep] / fmax, zorder=2)
         ax.add_collection(lines)
-        if in_chain.size:
-            cs = np.stack([p1[in_chain][:, [i, j]], p2[in_chain][:, [i, j]]], axis=1) * 1e3
-            ax.add_collection(LineCollection(cs, colors="tab:blue", linewidths=3.2, alpha=0.85, zorder=3,
-                                             label=f"chains rod -> bowl ({chains['n_chains']})"))
+        for z, (idx, color, width, label) in enumerate(halos):  # under the force colours
+            cs = np.stack([p1[idx][:, [i, j]], p2[idx][:, [i, j]]], axis=1) * 1e3
+            ax.add_collection(LineCollection(cs, colors=color, linewidths=width, alpha=0.55, zorder=1.9 - 0.1 * z,
+                                             label=label))
         ax.set_aspect("equal")
         ax.grid(True, color="0.93", lw=0.5, zorder=0)
     r_b = 1e3 * bowl_radius
@@ -84,8 +89,8 @@ def plot_chain_network(chains: dict, bowl_radius: float, rod_radius: float, rod_
     ax_xz.set_xlabel("x [mm]")
     ax_xz.set_ylabel("z [mm]")
     ax_xz.set_title("xz plane (from the side, along -y); dashed: bed level", fontsize=10)
-    if in_chain.size:
-        ax_xz.legend(loc="upper right", fontsize=8, framealpha=0.9)
+    if halos:
+        fig.legend(*ax_xz.get_legend_handles_labels(), loc="outside lower center", ncols=2, fontsize=9, frameon=False)
     bar = fig.colorbar(lines, ax=[ax_xy, ax_xz], shrink=0.8, pad=0.01)
     bar.set_label("normal contact force [N]")
     fig.suptitle(title or "interaction network with contact chains", fontsize=11)
@@ -93,13 +98,13 @@ def plot_chain_network(chains: dict, bowl_radius: float, rod_radius: float, rod_
 
 
 def plot_chains_time(res: dict, path) -> Path:
-    """F_n (N) against process time with the peak threshold and the peaks; the chain count per snapshot;
-    the correlation of the chain count with -F_n against lag (s)."""
-    fig = _figure(10.0, 8.0)
-    grid = fig.add_gridspec(3, 1, height_ratios=[2.2, 1.2, 1.3])
+    """F_n (N) against process time with the peak threshold and the peaks; the chain count and the chain
+    strength B (N) per snapshot; their correlations with -F_n against lag (s)."""
+    fig = _figure(10.0, 9.0)
+    grid = fig.add_gridspec(4, 1, height_ratios=[2.2, 1.0, 1.0, 1.4])
     ax_f = fig.add_subplot(grid[0])
-    ax_c = fig.add_subplot(grid[1], sharex=ax_f)
-    ax_r = fig.add_subplot(grid[2])
+    ax_c, ax_b = fig.add_subplot(grid[1], sharex=ax_f), fig.add_subplot(grid[2], sharex=ax_f)
+    ax_r = fig.add_subplot(grid[3])
     t, fn, pk = res["t"], res["fn_series"], res["peaks"]
     ax_f.plot(t, fn, color="C0", lw=0.8, label="$F_n$ of the run (after the transient)")
     if np.isfinite(pk["threshold"]):
@@ -107,27 +112,30 @@ def plot_chains_time(res: dict, path) -> Path:
                      label=f"peak threshold: mean $-$ {res['k_peak']:g} std = {-pk['threshold']:.2f} N")
         ax_f.plot(pk["times"], -pk["drag"], "v", color="C3", ms=5, label=f"peaks ({len(pk['times'])})")
     has = res["n_chains"] > 0
-    ax_f.plot(res["process_time"][has], res["fn"][has], "o", color="tab:blue", ms=3.5,
+    ax_f.plot(res["process_time"][has], res["fn"][has], "o", color="tab:blue", ms=3,
               label="snapshots with a chain")
-    ax_f.plot(res["process_time"][~has], res["fn"][~has], "o", mfc="none", color="0.4", ms=3.5,
+    ax_f.plot(res["process_time"][~has], res["fn"][~has], "o", mfc="none", color="0.4", ms=3,
               label="snapshots without")
     ax_f.set_ylabel("$F_n$ [N]")
     ax_f.legend(loc="lower left", bbox_to_anchor=(0.0, 1.01), fontsize=7.5, ncols=3, frameon=False)
     ax_c.vlines(res["process_time"], 0, res["n_chains"], color="tab:blue", lw=1.2)
     ax_c.set_ylabel("chains")
-    ax_c.set_xlabel("process time [s]")
+    ax_b.plot(res["process_time"], res["strength"], ".-", color="C1", lw=0.8, ms=3)
+    ax_b.set_ylabel("strength B [N]")
+    ax_b.set_xlabel("process time [s]")
     ax_r.axhline(0.0, color="0.6", lw=0.6)
-    ax_r.plot(res["lags"], res["correlation"], color="k", lw=1.0)
+    ax_r.plot(res["lags"], res["correlation"], color="tab:blue", lw=1.0, label="chain count")
+    ax_r.plot(res["lags"], res["correlation_strength"], color="C1", lw=1.0, label="chain strength B")
     n = len(res["time"])
     if not np.isfinite(res["correlation"]).any():
         ax_r.text(0.5, 0.5, "the correlation needs 3 or more snapshots", transform=ax_r.transAxes, ha="center",
                   va="center", color="0.3")
-    elif n > 1:
-        ax_r.axhspan(-2 / math.sqrt(n), 2 / math.sqrt(n), color="0.9", lw=0, label="$\\pm 2/\\sqrt{n}$")
-        ax_r.legend(loc="upper right", fontsize=7.5)
-    ax_r.set_xlabel("lag [s] (> 0: $F_n$ after the chain count)")
-    ax_r.set_ylabel("corr(chains, $-F_n$)")
-    for ax in (ax_f, ax_c, ax_r):
+    else:
+        ax_r.axhspan(-2 / math.sqrt(n), 2 / math.sqrt(n), color="0.9", lw=0, label="$\\pm 2/\\sqrt{n}$ (noise)")
+        ax_r.legend(loc="upper right", fontsize=7.5, ncols=3)
+    ax_r.set_xlabel("lag [s] (> 0: $F_n$ after the chains)")
+    ax_r.set_ylabel("correlation with $-F_n$")
+    for ax in (ax_f, ax_c, ax_b, ax_r):
         ax.grid(True, color="0.93", lw=0.5)
     fig.suptitle("normal force on the rod and contact chains", fontsize=11)
     return _save(fig, path)
@@ -155,7 +163,8 @@ def plot_force_profiles(res: dict, path) -> Path:
             ax.set_xlabel("mean contact normal force [N]")
         ax.grid(True, color="0.93", lw=0.5)
     n = len(res["time"])
-    fig.suptitle(f"ball-ball contact forces, {n} snapshot{'s' if n != 1 else ''} pooled", fontsize=11)
+    fig.suptitle(f"ball-ball contact forces, {n} snapshot{'s' if n != 1 else ''} pooled (bars: standard error, "
+                 "contacts taken as independent)", fontsize=11)
     return _save(fig, path)
 
 
@@ -192,7 +201,7 @@ def plot_rod_intensity(ires: dict, rod_tip: float, bed_height: float, path) -> P
         hist, _, _ = np.histogram2d(snap["phi"], 1e3 * snap["z"], bins=[np.arange(-180, 181, 15), z_edges],
                                     weights=snap["normal_force"] * snap["spacing"])
         mesh = ax_s.pcolormesh(np.arange(-180, 181, 15), z_edges, hist.T, cmap="magma_r")
-        fig.colorbar(mesh, ax=ax_s, pad=0.01).set_label(f"sampled normal impulse $\\sum F_n \\times$ "
+        fig.colorbar(mesh, ax=ax_s, pad=0.01).set_label(f"sampled normal impulse $\\sum f_n \\times$ "
                                                         f"{snap['spacing']:.3g} s [N s]")
     elif n:
         order = np.argsort(snap["normal_force"])
@@ -245,7 +254,8 @@ def render_rod_intensity(ires: dict, vertices: np.ndarray, faces: np.ndarray, to
                                  scalar_bar_args={"title": "intensity [N s]", "color": "black", "fmt": "%.2g",
                                                   "vertical": True, "position_x": 0.7, "position_y": 0.1,
                                                   "width": 0.1, "height": 0.8})
-                plotter.add_text(label, position=(0.04, 0.94), viewport=True, font_size=11, color="black", font_file=font)
+                plotter.add_text(label, position=(0.04, 0.94), viewport=True, font_size=11, color="black",
+                                 font_file=font)
                 plotter.camera.focal_point = tuple(centre)
                 plotter.camera.position = tuple(centre + 0.2 * np.array([dx, dy, 0.05]))
                 plotter.camera.up = (0.0, 0.0, 1.0)
@@ -277,10 +287,71 @@ def plot_impact_speeds(speeds: np.ndarray, path) -> Path:
     return _save(fig, path)
 
 
+def chain_text(res: dict) -> str:
+    """The printed summary of analysis.contact_chains.analyze_chains(): each rule first, then the numbers (SI)."""
+    n = len(res["time"])
+    lines = [f"contact chains ({n} snapshot{'s' if n != 1 else ''}): strong contact = normal force > mean + "
+             f"{res['k_std']:g} std of the snapshot's compressive contacts; chain = shortest path (m) through strong "
+             "contacts from a ball on the rod to the bowl, one per ball"]
+    if not n:
+        return "\n".join(lines + ["  no contact snapshots in this run"])
+    ch, nc = res["chains"], res["n_chains"]
+    lines.append(f"  chains per snapshot {nc.mean():.2f} (min {nc.min():.0f}, max {nc.max():.0f}); snapshots with a "
+                 f"chain {100 * np.mean(nc > 0):.0f} %; strong threshold {np.mean(res['threshold']):.4f} N (mean)")
+    if ch["n_contacts"].size:
+        a, e = (np.percentile(ch[k], [25, 50, 75]) for k in ("angle_to_vw", "elevation"))
+        lines += [f"  chain length {ch['n_contacts'].mean():.1f} contacts (min {ch['n_contacts'].min():.0f}, max "
+                  f"{ch['n_contacts'].max():.0f}), {1e3 * ch['path_length'].mean():.1f} mm along the path",
+                  f"  orientation rod -> bowl: angle to v_w median {a[1]:+.0f} deg (quartiles {a[0]:+.0f}, {a[2]:+.0f};"
+                  f" + outwards), ahead (|angle| < 90 deg) {100 * np.mean(np.abs(ch['angle_to_vw']) < 90):.0f} %; "
+                  f"elevation median {e[1]:+.0f} deg (quartiles {e[0]:+.0f}, {e[2]:+.0f})",
+                  f"  share of the rod's contact normal force on chain balls "
+                  f"{100 * np.nanmean(res['share'][nc > 0]):.0f} %, of F_n "
+                  f"{100 * np.nanmean(res['share_fn'][nc > 0]):.0f} % (snapshots with chains)"]
+    cond, pk = res["conditional"], res["peaks"]
+    num = lambda v, w=0: f"{v:{w}.3f}" if np.isfinite(v) else f"{'-':>{w}}"  # noqa: E731
+    lines.append(f"  F_n at the snapshots after the transient: with chains {num(cond['with_mean'])} N "
+                 f"(n {cond['with_n']}), without {num(cond['without_mean'])} N (n {cond['without_n']})")
+    r, rb = res["correlation"], res["correlation_strength"]
+    if n > 2 and np.isfinite(r).any():
+        i0 = int(np.argmin(np.abs(res["lags"])))
+        for name, cc in (("the chain count", r), ("the chain strength B", rb)):
+            best = int(np.nanargmax(cc)) if np.isfinite(cc).any() else i0
+            lines.append(f"  correlation of {name} with -F_n: r = {cc[i0]:+.2f} at lag 0, largest {cc[best]:+.2f} at "
+                         f"lag {res['lags'][best]:+.3f} s (> 0: F_n after the chains; noise about 2/sqrt(n) = "
+                         f"{2 / math.sqrt(n):.2f})")
+        sb = res["strength_at_peaks"]
+        lines += [f"  chain strength B = the largest force that every contact of some rod-to-bowl path exceeds (a "
+                  f"chain exists under a threshold T exactly when B > T): mean {np.mean(res['strength']):.3f} N; at "
+                  f"snapshots with -F_n above the peak threshold {sb['with_mean']:.3f} N (n {sb['with_n']}), elsewhere "
+                  f"{sb['without_mean']:.3f} N (n {sb['without_n']})",
+                  f"  F_n peaks (F_n below mean - {res['k_peak']:g} std = {-pk['threshold']:.3f} N, runs < 0.05 s "
+                  f"apart merged): {pk['n_peaks']} with a snapshot within {pk['window']:.3f} s, of them with a chain "
+                  f"{100 * pk['fraction']:.0f} % (all snapshots: {100 * pk['base_rate']:.0f} %)",
+                  "  stricter rules: a chain present when B > mean + k std of the snapshot's compressive contacts",
+                  f"    {'k':>3} {'strong > N':>10} {'with chain':>10} {'F_n with':>9} {'without':>9} {'(n)':>5} "
+                  f"{'peaks with chain':>17}"]
+        for row in res["scan"]:
+            lines.append(f"    {row['k']:3g} {row['threshold']:10.3f} {100 * row['presence']:9.0f}% "
+                         f"{num(row['with_mean'], 9)} {num(row['without_mean'], 9)} {row['without_n']:5d} "
+                         f"{100 * row['peaks']['fraction']:16.0f}%")
+    else:
+        lines.append("  correlation and peak coincidence need a series of snapshots (output.network_times)")
+    for key, label, scale, unit in (("angle", "angle to v_w (0 ahead, 180 behind)", 1.0, "deg"),
+                                    ("height", "height above the floor", 1e3, "mm")):
+        mean, _, count = res["profiles"][key]
+        edges = res["profiles"][f"{key}_edges"] * scale
+        cols = [i for i in range(len(mean)) if count[i]]
+        lines += [f"  mean ball-ball contact force against {label}:",
+                  f"    {unit:>6} " + " ".join(f"{f'{edges[i]:.0f}-{edges[i + 1]:.0f}':>8}" for i in cols),
+                  f"    {'F [N]':>6} " + " ".join(f"{mean[i]:8.4f}" for i in cols)]
+    return "\n".join(lines)
+
+
 def report_chains(run_dir, run: dict, case, render: bool = True) -> dict:
     """Print the chain statistics and the intensity summary of a drag-finishing run and write the PNGs
     into run_dir (when render); returns {name: path}."""
-    from .analysis.contact_chains import analyze_chains, chain_text, snapshots_of
+    from .analysis.contact_chains import analyze_chains, chain_strength, find_chains, snapshots_of
     from .analysis.contact_intensity import intensity_summary, intensity_text
 
     model = getattr(case, "model", case)
@@ -304,8 +375,10 @@ def report_chains(run_dir, run: dict, case, render: bool = True) -> dict:
         title = (f"interaction network {when}at process time {float(view['snapshot']['attrs']['process_time']):.3g}"
                  f" s: strong > {view['threshold']:.3g} N, {view['n_chains']} chains (blue)")
         key, file = ("chains", "chains_network.png") if name == "paper" else ("chain_pk", "chains_network_peak.png")
+        strength = chain_strength(view["snapshot"])
+        dominant = dict(find_chains(view["snapshot"], threshold=strength * (1 - 1e-9)), strength=strength)
         out[key] = plot_chain_network(view, model.bowl.inner_radius, model.workpiece.radius, rod_tip, bed,
-                                      run_dir / file, title)
+                                      run_dir / file, title, dominant if strength > 0 else None)
     out.update({
         "chain_fn": plot_chains_time(res, run_dir / "chains_fn.png"),
         "profiles": plot_force_profiles(res, run_dir / "contact_profiles.png")})

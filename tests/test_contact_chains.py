@@ -8,9 +8,9 @@ import math
 import numpy as np
 import pytest
 
-from orchestrator.analysis.contact_chains import (angle_to_velocity, binned_mean, conditional_means, find_chains,
-                                                  force_peaks, lagged_correlation, peak_coincidence, rod_pose,
-                                                  strong_threshold)
+from orchestrator.analysis.contact_chains import (angle_to_velocity, binned_mean, chain_strength, conditional_means,
+                                                  find_chains, force_peaks, lagged_correlation, peak_coincidence,
+                                                  rod_pose, strong_threshold)
 from orchestrator.analysis.contact_intensity import (approach_speeds, nearest_facet, point_triangle_distance,
                                                      sector_sums)
 
@@ -106,6 +106,23 @@ def test_broken_column_has_no_chain_and_the_shortest_route_is_taken():
     assert find_chains(column_snapshot()[0], threshold=1.5)["n_chains"] == 0
 
 
+def test_chain_strength_is_the_bottleneck_of_the_widest_rod_to_bowl_path():
+    assert chain_strength(column_snapshot()[0]) == pytest.approx(F_CHAIN)
+    # broken: the column's weak 0.1 N link beats the weak side route (0.05 N at the rod)
+    assert chain_strength(column_snapshot(broken=True)[0]) == pytest.approx(F_WEAK)
+    snap = column_snapshot(broken=True)[0]
+    snap["normal_force"][snap["body2_role"] == 1] = -1.0  # no compressive contact on the bowl: no path
+    assert chain_strength(snap) == 0.0
+    # under any threshold T a chain exists exactly when B > T
+    rng = np.random.default_rng(7)
+    for _ in range(20):
+        s = column_snapshot(broken=bool(rng.integers(2)), detour=bool(rng.integers(2)))[0]
+        s["normal_force"] = s["normal_force"] * rng.uniform(0.3, 1.7, len(s["normal_force"]))
+        b = chain_strength(s)
+        for thr in (0.5 * b, 0.999 * b, 1.001 * b, 0.05, 0.3):
+            assert (find_chains(s, threshold=thr)["n_chains"] > 0) == (b > thr)
+
+
 def test_conditional_means_peaks_coincidence_and_lag():
     cond = conditional_means(np.array([-3.0, -3.2, -1.0, -1.2, -1.4]), np.array([1, 1, 0, 0, 0], bool))
     assert cond["with_mean"] == pytest.approx(-3.1) and cond["without_mean"] == pytest.approx(-1.2)
@@ -182,8 +199,8 @@ def test_analyze_prints_chains_and_intensity_on_the_synthetic_run(synthetic_run,
     assert "chains per snapshot 0.00 (min 0, max 0)" in out  # the random contacts link no rod ball to the bowl
     assert "without -2.469 N (n 1)" in out  # F_n of the series at the snapshot (0.15 s of process)
     assert "correlation and peak coincidence need a series of snapshots" in out
-    assert "mesh: sum |F| dt = 0.320 N s over 32 facets" in out  # linspace(0, 0.02, 32).sum()
-    assert "snapshots: 2 rod contacts" in out and "peak normal force 1.200 N" in out
+    assert "sum |F| dt = 0.320 N s over 32 facets" in out  # linspace(0, 0.02, 32).sum()
+    assert "snapshots: 2 rod contacts" in out and "largest contact normal force 1.200 N" in out
 
 
 def test_pictures_of_a_column(tmp_path):
@@ -198,5 +215,6 @@ def test_pictures_of_a_column(tmp_path):
     res = {"t": t, "fn_series": -2 - np.sin(t), "k_peak": 1.0, "process_time": np.array([0.5, 1.0, 1.5]),
            "time": np.array([0.5, 1.0, 1.5]), "n_chains": np.array([0, 2, 1]), "fn": np.array([-2.5, -2.8, -3.0]),
            "lags": np.array([-0.01, 0.0, 0.01]), "correlation": np.array([0.1, 0.5, 0.2]),
+           "strength": np.array([0.2, 0.5, 0.3]), "correlation_strength": np.array([0.3, 0.6, 0.1]),
            "peaks": {"times": np.array([1.57]), "drag": np.array([3.0]), "threshold": 2.7}}
     assert plot_chains_time(res, tmp_path / "fn.png").stat().st_size > 20_000

@@ -156,6 +156,35 @@ def rod_drag_from_snapshot(snapshot: dict, vw: np.ndarray) -> float:
     return float(force[:, :2].sum(axis=0) @ np.asarray(vw, float))
 
 
+def chain_strength(snapshot: dict) -> float:
+    """Bottleneck B (N) of the strongest rod-to-bowl path: the largest force such that some path
+    rod -> balls -> bowl has every contact above it (widest path; 0 if rod and bowl are not connected
+    by compressive contacts). A chain exists under any threshold T exactly when B > T."""
+    fn = np.asarray(snapshot["normal_force"], dtype=float)
+    role = np.asarray(snapshot["body2_role"]).astype(int)
+    id1, id2 = np.asarray(snapshot["id1"]), np.asarray(snapshot["id2"])
+    balls = np.unique(np.concatenate([id1, id2[role == ROLE_BALL]]))
+    n = len(balls)  # node n: the bowl, n + 1: the rod
+    a = np.searchsorted(balls, id1)
+    b = np.where(role == ROLE_BALL, np.searchsorted(balls, np.where(role == ROLE_BALL, id2, balls[0])),
+                 n + (role == ROLE_ROD))
+    parent = np.arange(n + 2)
+
+    def root(i: int) -> int:
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    for c in np.argsort(-np.where(np.isfinite(fn), fn, -np.inf), kind="stable"):
+        if not fn[c] > 0:
+            break
+        parent[root(int(a[c]))] = root(int(b[c]))
+        if root(n) == root(n + 1):
+            return float(fn[c])
+    return 0.0
+
+
 # ------------------------------------------------------------------ over snapshots
 
 
@@ -280,13 +309,17 @@ def analyze_chains(run: dict, transient_time: float = 0.0, k_std: float = 1.0, k
     angle_to_vw, elevation, angle_xy, angle_xz); shown: {"paper": find_chains() with axis, vw and
     snapshot of the snapshot nearest to show_time (s of process; the paper's Figs. 4b-c: 4.5 s),
     "peak": the same for the snapshot of lowest F_n after the transient}; conditional (F_n with
-    and without chains), lags (s) and correlation (chain count against the drag -F_n); peaks
-    (times, drag, threshold, coincidence); t, fn_series (after the transient); profiles of the
+    and without chains), lags (s) and correlation (chain count against the drag -F_n); strength
+    (chain_strength() per snapshot, N), correlation_strength (against -F_n), strength_at_peaks
+    (conditional_means of the strength at snapshots with -F_n above the peak threshold or not);
+    scan: per k in 1..5 the presence of a chain under B > mean + k std, F_n with and without, peak
+    coincidence; fn_mean, fn_std (N, of the compressive contacts); peaks (times, drag, threshold,
+    coincidence); t, fn_series (after the transient); profiles of the
     mean ball-ball contact force against the angle to v_w and height, pooled over the snapshots.
     """
     radius, speed = path_of(run)
     snaps = snapshots_of(run)
-    keys = ("n_chains", "n_strong", "threshold", "share", "share_fn", "fn_snapshot")
+    keys = ("n_chains", "n_strong", "threshold", "share", "share_fn", "fn_snapshot", "strength", "fn_mean", "fn_std")
     per: dict[str, list] = {k: [] for k in ("time", "process_time", *keys)}
     pooled: dict[str, list] = {k: [] for k in ("n_contacts", "path_length", "angle_to_vw", "elevation", "angle_xy",
                                                 "angle_xz")}
@@ -297,13 +330,16 @@ def analyze_chains(run: dict, transient_time: float = 0.0, k_std: float = 1.0, k
         found = find_chains(snap, k_std=k_std, vw=vw)
         per["time"].append(float(snap["attrs"]["time"]))
         per["process_time"].append(tp)
-        for k in keys[:-1]:
+        for k in keys[:5]:
             per[k].append(found[k])
         per["fn_snapshot"].append(rod_drag_from_snapshot(snap, vw))
-        for k in pooled:
-            pooled[k].extend(np.asarray(found[k]).tolist())
+        per["strength"].append(chain_strength(snap))
         role = np.asarray(snap["body2_role"])
         fn = np.asarray(snap["normal_force"], float)
+        per["fn_mean"].append(fn[fn > 0].mean() if (fn > 0).any() else math.nan)
+        per["fn_std"].append(fn[fn > 0].std() if (fn > 0).any() else math.nan)
+        for k in pooled:
+            pooled[k].extend(np.asarray(found[k]).tolist())
         sel = (role == ROLE_BALL) & (fn > 0)
         pts = contact_points(snap["point1"], snap["point2"], role)[sel]
         angle.append(angle_to_velocity(pts, axis, vw))
@@ -323,7 +359,8 @@ def analyze_chains(run: dict, transient_time: float = 0.0, k_std: float = 1.0, k
     out["t"], out["fn_series"] = t, fn
     has = out["n_chains"] > 0
     use = out["process_time"] >= transient_time
-    out["fn"] = np.interp(out["process_time"], t, fn) if t.size else np.full(len(snaps), math.nan)
+    inside = use & (out["process_time"] <= (t[-1] if t.size else -math.inf))
+    out["fn"] = np.where(inside, np.interp(out["process_time"], t, fn) if t.size else math.nan, math.nan)
     out["conditional"] = conditional_means(out["fn"][use], has[use])
     step = float(np.median(np.diff(t))) if t.size > 1 else 0.005
     out["lags"] = np.arange(-round(max_lag / step), round(max_lag / step) + 1) * step
@@ -340,55 +377,20 @@ def analyze_chains(run: dict, transient_time: float = 0.0, k_std: float = 1.0, k
     out["shown"] = shown
     out["peaks"] = {"times": peak_t, "drag": peak_v, "threshold": thr,
                     **peak_coincidence(peak_t, out["process_time"][use], has[use])}
+    out["correlation_strength"] = (lagged_correlation(out["process_time"][use], out["strength"][use], t, -fn,
+                                                      out["lags"]) if t.size else np.full(len(out["lags"]), math.nan))
+    at_peak = -out["fn"] > thr
+    out["strength_at_peaks"] = conditional_means(out["strength"][use], at_peak[use])
+    out["scan"] = []  # presence under stricter rules: B > mean + k std
+    for k in (1.0, 2.0, 3.0, 4.0, 5.0):
+        present = out["strength"] > out["fn_mean"] + k * out["fn_std"]
+        out["scan"].append({"k": k, "threshold": float(np.mean(out["fn_mean"] + k * out["fn_std"])),
+                            "presence": float(present[use].mean()) if use.any() else math.nan,
+                            **conditional_means(out["fn"][use], present[use]),
+                            "peaks": peak_coincidence(peak_t, out["process_time"][use], present[use])})
     angle_all, height_all, force_all = (np.concatenate(x) if x else np.zeros(0) for x in (angle, height, force))
     top = float(height_all.max()) if height_all.size else HEIGHT_STEP
     out["profiles"] = {"angle_edges": ANGLE_EDGES, "angle": binned_mean(angle_all, force_all, ANGLE_EDGES),
                        "height_edges": np.arange(0.0, top + HEIGHT_STEP, HEIGHT_STEP)}
     out["profiles"]["height"] = binned_mean(height_all, force_all, out["profiles"]["height_edges"])
     return out
-
-
-def chain_text(res: dict) -> str:
-    """The printed summary of analyze_chains(): definitions first, then the numbers (SI units)."""
-    n = len(res["time"])
-    lines = [f"contact chains ({n} snapshot{'s' if n != 1 else ''}): strong contact = normal force > mean + "
-             f"{res['k_std']:g} std of the snapshot's compressive contacts; chain = shortest path (m) through strong "
-             "contacts from a ball on the rod to the bowl, one per ball"]
-    if not n:
-        return "\n".join(lines + ["  no contact snapshots in this run"])
-    ch, nc = res["chains"], res["n_chains"]
-    lines.append(f"  chains per snapshot {nc.mean():.2f} (min {nc.min():.0f}, max {nc.max():.0f}); snapshots with a "
-                 f"chain {100 * np.mean(nc > 0):.0f} %; strong threshold {np.mean(res['threshold']):.4f} N (mean)")
-    if ch["n_contacts"].size:
-        lines.append(f"  chain length {ch['n_contacts'].mean():.1f} contacts (min {ch['n_contacts'].min():.0f}, max "
-                     f"{ch['n_contacts'].max():.0f}), {1e3 * ch['path_length'].mean():.1f} mm along the path")
-        a = ch["angle_to_vw"]
-        lines.append(f"  orientation rod -> bowl: angle to v_w {a.mean():+.0f} deg (std {a.std():.0f}; |angle| < 90 deg "
-                     f"ahead: {100 * np.mean(np.abs(a) < 90):.0f} %), elevation {ch['elevation'].mean():+.0f} deg "
-                     f"(std {ch['elevation'].std():.0f})")
-        share = res["share"][nc > 0]
-        lines.append(f"  share of the rod's contact normal force on chain balls {100 * np.nanmean(share):.0f} %, "
-                     f"of F_n {100 * np.nanmean(res['share_fn'][nc > 0]):.0f} % (snapshots with chains)")
-    cond, pk = res["conditional"], res["peaks"]
-    lines.append(f"  F_n at the snapshots after the transient: with chains {cond['with_mean']:.3f} N (n {cond['with_n']}), "
-                 f"without {cond['without_mean']:.3f} N (n {cond['without_n']})")
-    r = res["correlation"]
-    if n > 2 and np.isfinite(r).any():
-        i0, best = int(np.argmin(np.abs(res["lags"]))), int(np.nanargmax(r))
-        lines.append(f"  correlation of the chain count with -F_n: r = {r[i0]:+.2f} at lag 0, largest {r[best]:+.2f} at "
-                     f"lag {res['lags'][best]:+.3f} s (> 0: F_n after the count; noise about 2/sqrt(n) = "
-                     f"{2 / math.sqrt(n):.2f})")
-        lines.append(f"  F_n peaks (F_n below mean - {res['k_peak']:g} std = {-pk['threshold']:.3f} N, runs < 0.05 s "
-                     f"apart merged): {pk['n_peaks']} with a snapshot within {pk['window']:.3f} s, of them with a chain "
-                     f"{100 * pk['fraction']:.0f} % (all snapshots: {100 * pk['base_rate']:.0f} %)")
-    else:
-        lines.append("  correlation and peak coincidence need a series of snapshots (output.network_times)")
-    for key, label, scale, unit in (("angle", "angle to v_w (0 ahead, 180 behind)", 1.0, "deg"),
-                                    ("height", "height above the floor", 1e3, "mm")):
-        mean, _, count = res["profiles"][key]
-        e = res["profiles"][f"{key}_edges"] * scale
-        cols = [i for i in range(len(mean)) if count[i]]
-        lines.append(f"  mean ball-ball contact force against {label}:")
-        lines.append(f"    {unit:>6} " + " ".join(f"{f'{e[i]:.0f}-{e[i + 1]:.0f}':>8}" for i in cols))
-        lines.append(f"    {'F [N]':>6} " + " ".join(f"{mean[i]:8.4f}" for i in cols))
-    return "\n".join(lines)

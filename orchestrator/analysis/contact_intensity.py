@@ -205,25 +205,28 @@ def intensity_text(res: dict, record_interval: float | None = None) -> str:
     """The printed summary of intensity_summary() (SI units)."""
     geo, snap = res["geometry"], res["snapshots"]
     lines = ["contact intensity on the rod (phi around the rod: 0 front = along v_w, 90 outer side, 180 back)"]
+    pct = lambda sums, total: ", ".join(f"{k} {100 * v / total:.0f} %" for k, v in sums.items())  # noqa: E731
     if "intensity" in res:
-        ci, side = res["intensity"], geo["kind"] == 0
-        total = ci.sum()
-        lines.append(f"  mesh: sum |F| dt = {total:.3f} N s over {len(ci)} facets (side {ci[side].sum():.3f}, tip "
-                     f"{ci[geo['kind'] == 1].sum():.3f}, top {ci[geo['kind'] == 2].sum():.3f}); the busiest facet "
-                     f"{ci.max():.3f} N s at phi {geo['phi'][np.argmax(ci)]:+.0f} deg, in contact in "
-                     f"{res['count'].max():.0f} records" + (f" of {record_interval:g} s" if record_interval else ""))
-        sectors = sector_sums(geo["phi"], ci)
-        lines.append("  mesh by sector: " + ", ".join(f"{k} {100 * v / total:.0f} %" for k, v in sectors.items())
-                     if total > 0 else "  mesh: no contact")
+        ci, kind = res["intensity"], geo["kind"]
+        every = f" of {record_interval:g} s" if record_interval else ""
+        lines.append(f"  mesh (from the insertion on): sum |F| dt = {ci.sum():.3f} N s over {len(ci)} facets (side "
+                     f"{ci[kind == 0].sum():.3f}, tip {ci[kind == 1].sum():.3f}, top {ci[kind == 2].sum():.3f}); the "
+                     f"busiest facet {ci.max():.3f} N s at phi {geo['phi'][np.argmax(ci)]:+.0f} deg; facets in contact "
+                     f"in up to {res['count'].max():.0f} records{every}")
+        if ci.sum() > 0:
+            lines.append("  mesh by sector: " + pct(sector_sums(geo["phi"], ci), ci.sum()))
     n = len(snap["facet"])
     if n:
-        sectors = sector_sums(snap["phi"], snap["normal_force"])
-        tot = snap["normal_force"].sum()
-        lines.append(f"  snapshots: {n} rod contacts on {np.count_nonzero(snap['count'])} facets, peak normal force "
-                     f"{snap['peak'].max():.3f} N; normal force by sector: "
-                     + ", ".join(f"{k} {100 * v / tot:.0f} %" for k, v in sectors.items()))
+        lines.append(f"  snapshots: {n} rod contacts on {np.count_nonzero(snap['count'])} facets, largest contact "
+                     f"normal force {snap['peak'].max():.3f} N; normal force by sector: "
+                     + pct(sector_sums(snap["phi"], snap["normal_force"]), snap["normal_force"].sum()))
         if np.isfinite(snap["spacing"]):
-            lines.append(f"  sampled normal impulse sum F_n x {snap['spacing']:.3g} s = {snap['impulse'].sum():.3f} N s")
+            agree = ""
+            if "intensity" in res and np.std(res["intensity"]) > 0 and np.std(snap["impulse"]) > 0:
+                agree = (f" (mesh {res['intensity'].sum():.3f} N s; per facet correlation "
+                         f"{np.corrcoef(res['intensity'], snap['impulse'])[0, 1]:.2f})")
+            lines.append(f"  sampled normal impulse of the process, contact normal forces x {snap['spacing']:.3g} s = "
+                         f"{snap['impulse'].sum():.3f} N s{agree}")
     sp = res["speeds"]
     lines.append("  impact speed at contact start: not in run.h5 (see contact_intensity's docstring); proxy: "
                  + (f"{len(sp)} balls approaching the rod within 10 % of R_b, approach speed median "
