@@ -3,10 +3,15 @@ numerics. All quantities are SI (m, kg, s, Pa, N)."""
 
 from __future__ import annotations
 
+import math
 import typing
 from typing import Annotated, Any
 
 from pydantic import AfterValidator, BaseModel, ConfigDict, Field, ValidationInfo, field_validator, model_validator
+
+#: Largest magnitude of any number in a case (SI units): far beyond physics, far below where products overflow;
+#: its inverse is the smallest non-zero magnitude.
+MAX_MAGNITUDE = 1e30
 
 Positive = Annotated[float, Field(gt=0)]
 NonNegative = Annotated[float, Field(ge=0)]
@@ -24,9 +29,9 @@ def _numeric(annotation: Any) -> bool:
 
 
 class Frozen(BaseModel):
-    """Immutable model that rejects unknown keys."""
+    """Immutable model that rejects unknown keys and non-finite numbers (inf, nan) in every float field."""
 
-    model_config = ConfigDict(frozen=True, extra="forbid")
+    model_config = ConfigDict(frozen=True, extra="forbid", allow_inf_nan=False)
 
     @field_validator("*", mode="before")
     @classmethod
@@ -36,6 +41,18 @@ class Frozen(BaseModel):
         items = value if isinstance(value, (list, tuple)) else (value,)
         if field is not None and _numeric(field.annotation) and any(isinstance(v, bool) for v in items):
             raise ValueError("expected a number, not true/false")
+        if field is not None and _numeric(field.annotation):
+            for v in items:
+                if not isinstance(v, (int, float)) or not math.isfinite(v) or v == 0:
+                    continue
+                which = f"{v:g} is" if len(items) > 1 else "is"
+                if abs(v) > MAX_MAGNITUDE:
+                    raise ValueError(f"{which} beyond any physical value in SI units; allowed: magnitudes up to "
+                                     f"{MAX_MAGNITUDE:g} (products of larger numbers overflow)")
+                if abs(v) < 1.0 / MAX_MAGNITUDE:
+                    raise ValueError(f"{which} below any physical value in SI units; allowed: 0 or magnitudes from "
+                                     f"{1.0 / MAX_MAGNITUDE:g} to {MAX_MAGNITUDE:g} (products of smaller numbers "
+                                     "underflow to 0)")
         return value
 
 
@@ -133,6 +150,38 @@ class Numerics(Frozen):
         1.0, gt=0, le=1, description="factor applied to every Young's modulus (1 = physical), -"
     )
     threads: int = Field(1, ge=1, le=256, description="engine threads (Yade -j)")
+
+
+#: Mesh file types the scenes read (with trimesh), by extension.
+MESH_EXTENSIONS = (".stl", ".obj", ".ply", ".off")
+#: Largest mesh file read, bytes.
+MAX_MESH_BYTES = 512 * 1024 * 1024
+
+
+def mesh_file(value, base_dir: str, extensions=MESH_EXTENSIONS):
+    """The absolute path of a mesh file named in a case (relative to the case file's folder).
+
+    Raises ValueError (the loader names the key) when it does not exist, is not a regular file, has an
+    extension other than `extensions`, or is larger than MAX_MESH_BYTES.
+    """
+    from pathlib import Path
+
+    path = value if value.is_absolute() else Path(base_dir) / value
+    try:
+        info = path.stat()
+    except OSError:
+        raise ValueError(f"mesh file not found at {path}; give an existing mesh file "
+                         f"({', '.join(extensions)}) or remove the key") from None
+    import stat
+
+    if not stat.S_ISREG(info.st_mode):
+        raise ValueError(f"{path} is not a regular file; give a mesh file ({', '.join(extensions)})")
+    if path.suffix.lower() not in extensions:
+        raise ValueError(f"{path} is not a mesh file: its extension {path.suffix or '(none)'!r} is not one of "
+                         f"{', '.join(extensions)}")
+    if info.st_size > MAX_MESH_BYTES:
+        raise ValueError(f"{path} holds {info.st_size} bytes; allowed: mesh files up to {MAX_MESH_BYTES} bytes")
+    return path.resolve()
 
 
 def rayleigh_timestep(radius_m: float, material: Material, stiffness_scale: float = 1.0) -> float:

@@ -10,8 +10,8 @@ from typing import Literal
 
 from pydantic import Field, ValidationInfo, field_validator, model_validator
 
-from .common import (CaseMeta, ContactPair, Frozen, Label, Material, MaterialCase, Name, NonNegative, Numerics,
-                     Positive)
+from .common import (CaseMeta, ContactPair, Frozen, Label, Material, MaterialCase, Name, NonNegative, Numerics, Positive,
+                     mesh_file)
 
 #: Random loose packing of monodisperse spheres poured into a container; used
 #: only to tell a user early that a bed cannot fit in the bowl.
@@ -82,11 +82,7 @@ class Workpiece(Frozen):
     def _mesh_exists(cls, value: Path | None, info: ValidationInfo) -> Path | None:
         if value is None:
             return None
-        base = Path((info.context or {}).get("base_dir", "."))
-        path = value if value.is_absolute() else base / value
-        if not path.is_file():
-            raise ValueError(f"mesh file not found at {path}; give an existing STL file or remove the key")
-        return path.resolve()
+        return mesh_file(value, (info.context or {}).get("base_dir", "."))
 
 
 class Settling(Frozen):
@@ -235,6 +231,9 @@ class DragFinishingCase(MaterialCase):
                 f"analysis.transient_time = {self.analysis.transient_time} s leaves no data after the transient "
                 f"(process.duration = {self.process.duration} s); allowed: transient_time < duration"
             )
+        from .limits import check_drag_finishing
+
+        check_drag_finishing(self)
         return self
 
     def touching_pairs(self) -> list[tuple[str, str]]:

@@ -209,6 +209,9 @@ class ImpactCase(MaterialCase):
                     raise ValueError(f"closed_form {check.closed_form!r} depends on the damping constant, which "
                                      "model.damping = 'engine' leaves to each engine; use 'exact' or 'eq10', or give "
                                      "a value")
+        from .limits import check_impact
+
+        check_impact(self)
         return self
 
     def _check_start_positions(self) -> None:

@@ -26,6 +26,8 @@ from .sph import SphFlowCase
 #: case.kind -> model class. Later scene kinds (SPH flows) add rows.
 CASE_KINDS: dict[str, type[BaseModel]] = {"drag_finishing": DragFinishingCase, "impact": ImpactCase,
                                           "sph_flow": SphFlowCase}
+#: Largest case or study file read, bytes (the shipped ones are a few kB).
+MAX_TOML_BYTES = 16 * 1024 * 1024
 
 
 @dataclass(frozen=True)
@@ -67,6 +69,9 @@ def parse_override(text: str) -> tuple[list[str], Any]:
         value = tomllib.loads(f"v = {raw}")["v"]
     except tomllib.TOMLDecodeError:
         value = raw
+    except RecursionError:
+        raise CaseError(f"--set {key}: the value is nested too deeply (arrays in arrays, beyond what the TOML "
+                        "reader can follow); a case value needs at most a few levels") from None
     return key.split("."), value
 
 
@@ -80,7 +85,12 @@ def _set_path(data: dict, path: list[str], value: Any, origin: str) -> None:
             child = node.get(part)
             if child is None:
                 child = node[part] = {}
-        if not isinstance(child, (dict, list)) or (isinstance(child, list) and not path[i + 1].isdigit()):
+        if isinstance(child, list) and not path[i + 1].isdigit():
+            raise CaseError(f"{origin}: {'.'.join(path)}: {path[i + 1]!r} is not an index of "
+                            f"{'.'.join(path[: i + 1])}, an array of {len(child)} entries; allowed indices: "
+                            f"{_allowed_indices(child)}" + (" (negative indices are not allowed)"
+                                                             if path[i + 1].lstrip("-").isdigit() else ""))
+        if not isinstance(child, (dict, list)):
             raise CaseError(f"{origin}: {'.'.join(path[: i + 1])} is a value, not a table; cannot set {'.'.join(path)}")
         node = child
     if isinstance(node, list):
@@ -91,9 +101,14 @@ def _set_path(data: dict, path: list[str], value: Any, origin: str) -> None:
 
 def _index(items: list, part: str, path: list[str], origin: str) -> int:
     if not part.isdigit() or int(part) >= len(items):
+        negative = " (negative indices are not allowed)" if part.lstrip("-").isdigit() and part.startswith("-") else ""
         raise CaseError(f"{origin}: {'.'.join(path)}: {'.'.join(path[:-1])} has {len(items)} entries; "
-                        f"allowed indices: 0 to {len(items) - 1}")
+                        f"allowed indices: {_allowed_indices(items)}{negative}")
     return int(part)
+
+
+def _allowed_indices(items: list) -> str:
+    return f"0 to {len(items) - 1}" if items else "none (the array is empty)"
 
 
 def _merge(base: dict, patch: dict, origin: str, prefix: tuple[str, ...] = ()) -> None:
@@ -142,8 +157,13 @@ def _key(loc: tuple) -> str:
 def format_validation_error(error: ValidationError, root: type[BaseModel]) -> str:
     """One line per problem: 'key = value: what is wrong; allowed: ...'."""
     lines = []
-    for item in error.errors():
+    items = error.errors()
+    failed = [tuple(i["loc"]) for i in items]
+    for item in items:
         loc = tuple(p for p in item["loc"] if not (isinstance(p, str) and p.startswith("function-")))
+        if item["type"] == "too_short" and any(f[:len(item["loc"])] == tuple(item["loc"]) and len(f) > len(loc)
+                                               for f in failed):
+            continue  # an array whose entries failed also counts as too short: the entries' lines say it
         msg = item["msg"].removeprefix("Value error, ").removeprefix("Assertion failed, ")
         key = _key(loc)
         if item["type"] == "extra_forbidden":
@@ -152,6 +172,8 @@ def format_validation_error(error: ValidationError, root: type[BaseModel]) -> st
             lines.append(f"{key}: unknown key; allowed here: {allowed}")
         elif item["type"] == "missing":
             lines.append(f"{key}: required key is missing")
+        elif item["type"] == "finite_number":
+            lines.append(f"{key} = {item.get('input')!r}: expected a finite number; inf and nan are not allowed")
         elif item["type"] in ("path_type", "path_parsing"):
             lines.append(f"{key} = {item.get('input')!r}: expected a file path as text, e.g. \"rod.stl\"")
         elif not loc:
@@ -202,14 +224,32 @@ def to_toml(data: dict) -> str:
 
 def read_toml_file(path: Path, what: str) -> dict:
     """A TOML file as a dict; CaseError for a missing, non-text or malformed file (`what` names it)."""
-    if not path.is_file():
-        raise CaseError(f"{what} file not found: {path}")
+    import stat
+
+    try:
+        info = path.stat()
+    except (FileNotFoundError, NotADirectoryError):
+        raise CaseError(f"{what} file not found: {path}") from None
+    except OSError as exc:
+        raise CaseError(f"cannot read the {what} file {path}: {exc.strerror or exc}") from None
+    if stat.S_ISDIR(info.st_mode):
+        raise CaseError(f"{what} file {path} is a directory; give a TOML file")
+    if not stat.S_ISREG(info.st_mode):
+        raise CaseError(f"{what} file {path} is not a regular file (a device, pipe or socket); give a TOML file")
+    if info.st_size > MAX_TOML_BYTES:
+        raise CaseError(f"{path}: {info.st_size} bytes is too large for a {what} file; allowed: at most "
+                        f"{MAX_TOML_BYTES} bytes")
     try:
         return tomllib.loads(path.read_text(encoding="utf-8"))
     except tomllib.TOMLDecodeError as exc:
         raise CaseError(f"{path}: malformed TOML: {exc}") from None
     except UnicodeDecodeError:
         raise CaseError(f"{path}: not a text file (expected UTF-8 TOML)") from None
+    except RecursionError:
+        raise CaseError(f"{path}: the TOML is nested too deeply (arrays or tables in one another, beyond what the "
+                        "TOML reader can follow); a case or study needs at most a few levels") from None
+    except OSError as exc:
+        raise CaseError(f"cannot read the {what} file {path}: {exc.strerror or exc}") from None
 
 
 def load_case(path: str | Path, preset: str | None = None, overrides=()) -> LoadedCase:

@@ -20,7 +20,7 @@ from typing import Annotated, Literal
 
 from pydantic import Field, ValidationInfo, field_validator, model_validator
 
-from .common import CaseMeta, Frozen, Name, NonNegative, Positive
+from .common import CaseMeta, Frozen, Name, NonNegative, Positive, mesh_file
 
 #: Optional physics terms of the sph executable (engines/sph/src/physics_terms.h).
 PHYSICS_TERMS = ("morris_viscosity", "artificial_viscosity", "body_force", "wall_penalty")
@@ -216,11 +216,7 @@ class Wall(Frozen):
     def _exists(cls, value: Path | None, info: ValidationInfo) -> Path | None:
         if value is None:
             return None
-        base = Path((info.context or {}).get("base_dir", "."))
-        path = value if value.is_absolute() else base / value
-        if not path.is_file():
-            raise ValueError(f"mesh file not found: {path}")
-        return path.resolve()
+        return mesh_file(value, (info.context or {}).get("base_dir", "."))
 
     @model_validator(mode="after")
     def _keys_of_shape(self):
@@ -265,13 +261,13 @@ class Inlet(Patch):
     """A velocity inlet: fluid enters through the patch along `normal` at `velocity`."""
 
     velocity: Positive = Field(description="inflow speed along the normal, m/s (at most fluid.max_speed)")
-    layers: int = Field(3, ge=1, description="buffer layers behind the patch (layers dx must cover 2h), -")
+    layers: int = Field(3, ge=1, le=100, description="buffer layers behind the patch (layers dx must cover 2h), -")
 
 
 class Outlet(Patch):
     """An outlet: fluid crossing the patch along `normal` is removed `layers` dx downstream."""
 
-    layers: int = Field(3, ge=1, description="buffer layers after the patch (layers dx must cover 2h), -")
+    layers: int = Field(3, ge=1, le=100, description="buffer layers after the patch (layers dx must cover 2h), -")
 
 
 class Probe(Frozen):
@@ -285,7 +281,8 @@ class SphNumerics(Frozen):
     """Resolution and time stepping (eq. 13)."""
 
     dx: Positive = Field(description="particle spacing, m")
-    h_over_dx: Positive = Field(1.3, description="smoothing length over spacing h/dx, - (kernel support 2h)")
+    h_over_dx: float = Field(1.3, ge=0.5, le=5.0, description="smoothing length over spacing h/dx, - (kernel support "
+                             "2h; below 0.5 a particle has no neighbours, above 5 thousands in 3D)")
     dt: Positive | None = Field(None, description="fixed time step, s; leave out for the adaptive step")
     cfl: Positive | None = Field(None, description="adaptive step: dt <= cfl h / (c0 + |v|max), - (default 0.25)")
     viscous_factor: Positive | None = Field(
@@ -296,7 +293,7 @@ class SphNumerics(Frozen):
     max_density_deviation: Positive = Field(
         0.1, description="the run stops as unstable when a fluid particle has |rho/rho0 - 1| above this, -"
     )
-    max_steps: int | None = Field(None, ge=1, description="optional cap on the number of steps, -")
+    max_steps: int | None = Field(None, ge=1, le=1_000_000_000, description="optional cap on the number of steps, -")
     threads: int = Field(1, ge=1, le=256, description="OpenMP threads of the engine")
     thread_wait: Literal["passive", "spin"] = Field(
         "passive", description="how idle OpenMP threads wait (threads > 1): passive sleeps at once, safe when "
@@ -367,6 +364,9 @@ class SphFlowCase(Frozen):
         self._check_walls()
         self._check_patches()
         self._check_times()
+        from .limits import check_sph
+
+        check_sph(self)
         return self
 
     def _vectors(self):
@@ -424,6 +424,9 @@ class SphFlowCase(Frozen):
                 cells = (hi - lo) / dx
                 if not hi > lo:
                     raise ValueError(f"blocks[{i}].hi[{axis}] = {hi} is not above lo[{axis}] = {lo}; allowed: hi > lo")
+                if round(cells) < 1:
+                    raise ValueError(f"blocks[{i}] ({b.name}): hi[{axis}] - lo[{axis}] = {hi - lo:.9g} m is less than "
+                                     f"one spacing numerics.dx = {dx:g} m; allowed: dx <= the block's size")
                 if abs(cells - round(cells)) > LATTICE_TOLERANCE * max(1.0, cells):
                     raise ValueError(f"blocks[{i}] ({b.name}): hi[{axis}] - lo[{axis}] = {hi - lo:.9g} m is not a "
                                      f"multiple of numerics.dx = {dx} m ({cells:.6g} spacings); allowed: a whole "

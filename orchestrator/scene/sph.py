@@ -113,9 +113,9 @@ def wall_mesh(wall: Wall, dimension: int) -> WallMesh:
     elif wall.shape == "plane":
         vertices, faces = _plane(wall, dimension)
     else:
-        import trimesh
+        from .geometry import read_mesh
 
-        mesh = trimesh.load(wall.file, force="mesh")
+        mesh = read_mesh(wall.file, f"the mesh file of wall {wall.name!r}")
         vertices = np.asarray(mesh.vertices, dtype=float) * (wall.scale or 1.0)
         if wall.translate is not None:
             vertices = vertices + np.asarray(wall.translate, dtype=float)
