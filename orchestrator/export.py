@@ -35,7 +35,8 @@ from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
-from .errors import ReadError
+from .errors import OrchestratorError, ReadError
+from .humanize import make_out_dir, os_problem
 from .runh5 import RUN_FILE, read_run
 
 #: run.h5 frame names -> the singular names used as VTK point data.
@@ -59,9 +60,18 @@ def export_vtk(run_dir, out_dir=None) -> list[Path]:
             f"(e.g. orchestrator run CASE --out {run_dir})"
         )
     run = read_run(h5_path)
-    out = Path(out_dir) if out_dir is not None else h5_path.parent / "vtk"
-    out.mkdir(parents=True, exist_ok=True)
+    if "case" not in run or "status" not in run.get("attrs", {}):
+        raise ReadError(f"{h5_path} has no /case group or status: it was not written by 'orchestrator run' "
+                        "(or is damaged); export needs a run directory written by 'orchestrator run'")
+    out = make_out_dir(Path(out_dir) if out_dir is not None else h5_path.parent / "vtk", "--out")
+    try:
+        return _write_all(run, out)
+    except OSError as exc:
+        raise OrchestratorError(f"cannot write the VTK files into {out}: {os_problem(exc)}") from None
 
+
+def _write_all(run: dict, out: Path) -> list[Path]:
+    """Every VTK file of a run read by read_run, into the folder out; their paths in writing order."""
     written: list[Path] = []
     for group_name, stem, to_mesh in (("frames", "particles", _particles_mesh), ("contacts", "network", _network_mesh)):
         series = []

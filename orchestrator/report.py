@@ -6,16 +6,14 @@ from __future__ import annotations
 from pathlib import Path
 
 from .errors import ReadError
-from .runh5 import read_run
+from .runh5 import read_run, stored_case
+
+
 
 
 def _loaded_case(run: dict):
-    import tomllib
-
-    from .case.loader import CASE_KINDS
-
-    data = tomllib.loads(run["case"]["attrs"]["toml"])
-    return CASE_KINDS[data["case"]["kind"]].model_validate(data)
+    """The case model stored in a run (runh5.stored_case; ReadError when run.h5 has none)."""
+    return stored_case(run, "run.h5")
 
 
 def analyze_run(run_dir, render: bool = True) -> dict:
@@ -25,8 +23,13 @@ def analyze_run(run_dir, render: bool = True) -> dict:
 
     run_dir = Path(run_dir)
     run = read_run(run_dir)
-    case = _loaded_case(run)
+    case = stored_case(run, run_dir)
     attrs = run["attrs"]
+    missing = [key for key in ("status", "engine", "engine_version", "n_particles", "n_steps", "wall_time_s")
+               if key not in attrs]
+    if missing:
+        raise ReadError(f"{run_dir}: run.h5 lacks the attribute {missing[0]!r}; it was not written by "
+                        "'orchestrator run' (or is damaged)")
     if case.case.kind == "impact":
         return analyze_impact_run(run_dir, run, case)
     if case.case.kind == "sph_flow":

@@ -113,6 +113,35 @@ def read_run(path: Path) -> dict:
         raise ReadError(f"cannot read {path}: {exc}") from None
 
 
+def stored_case(run: dict, path) -> object:
+    """The validated case model stored in a run read by read_run (its /case group's TOML).
+
+    Raises ReadError naming the file when run.h5 has no /case (not written by 'orchestrator run') or its case
+    cannot be read or validated by this version.
+    """
+    import tomllib
+
+    from pydantic import ValidationError
+
+    from .case.loader import CASE_KINDS
+    from .errors import ReadError
+
+    text = run.get("case", {}).get("attrs", {}).get("toml") if isinstance(run.get("case"), dict) else None
+    if not isinstance(text, str):
+        raise ReadError(f"{path}: run.h5 has no /case group with the case's TOML; it was not written by "
+                        "'orchestrator run' (or is damaged)")
+    try:
+        data = tomllib.loads(text)
+        kind = data["case"]["kind"]
+        return CASE_KINDS[kind].model_validate(data)
+    except (tomllib.TOMLDecodeError, KeyError, TypeError, RecursionError):
+        raise ReadError(f"{path}: the case stored in run.h5 (/case) is not a case this version knows") from None
+    except ValidationError as exc:
+        first = str(exc).splitlines()[1:3]
+        raise ReadError(f"{path}: the case stored in run.h5 no longer validates ({' '.join(first)}); it was "
+                        "written by another version of orchestrator") from None
+
+
 def _plain(value):
     if isinstance(value, bytes):
         return value.decode()
