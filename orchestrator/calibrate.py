@@ -25,6 +25,10 @@ from .errors import CaseError, OrchestratorError, ReadError
 
 #: A force sample counts as part of an impact above this fraction of the largest force.
 CONTACT_THRESHOLD = 0.05
+#: A fit fails when a feature's relative residual exceeds this: the data contradict the model.
+MAX_RESIDUAL = 0.10
+#: Range of e_n the fit searches, -.
+RESTITUTION_BOUNDS = (0.01, 0.999)
 
 
 @dataclass(frozen=True)
@@ -42,13 +46,15 @@ class DropObservation:
 
 @dataclass(frozen=True)
 class RestitutionFit:
-    """The fitted e_n (-), the observation, the model at the fit and the relative residual of each feature."""
+    """The fitted e_n (-), the observation, the model at the fit and the relative residual of each feature;
+    failure says why the fit is not to be trusted (empty when it is)."""
 
     restitution: float
     observed: DropObservation
     model: DropObservation
     residuals: dict[str, float]
     source: str
+    failure: str = ""
 
 
 FEATURES = ("F2/F1", "F3/F1", "t2-t1", "t3-t1")
@@ -61,6 +67,11 @@ def observations_from_csv(path) -> DropObservation:
     peak is the largest sample (refined by a parabola through it and its neighbours).
     """
     path = Path(path)
+    if path.is_dir():
+        raise ReadError(f"{path} is a directory; give a CSV file with columns time_s,force_N")
+    if path.exists() and not path.is_file():
+        raise ReadError(f"{path} is not a regular file (a device, pipe or socket); give a CSV file with columns "
+                        "time_s,force_N")
     if not path.is_file():
         raise ReadError(f"no CSV file at {path}; give a file with columns time_s,force_N")
     try:
@@ -69,8 +80,14 @@ def observations_from_csv(path) -> DropObservation:
         data = np.array([[float(v) for v in row[:2]] for row in rows[1:] if row], dtype=float)
     except (ValueError, IndexError):
         raise ReadError(f"{path}: expected a header line, then rows 'time_s,force_N' of numbers") from None
+    except (UnicodeDecodeError, csv.Error):
+        raise ReadError(f"{path}: not a text CSV; expected a header line, then rows 'time_s,force_N'") from None
     if data.ndim != 2 or len(data) < 10:
         raise ReadError(f"{path}: fewer than 10 samples; expected rows 'time_s,force_N'")
+    if not np.all(np.isfinite(data)):
+        row = int(np.flatnonzero(~np.all(np.isfinite(data), axis=1))[0]) + 2
+        raise ReadError(f"{path}: line {row} holds a value that is not a finite number (inf or nan); allowed: "
+                        "finite times (s) and forces (N)")
     time, force = data[:, 0], data[:, 1]
     if np.any(np.diff(time) <= 0):
         raise ReadError(f"{path}: the times (first column, s) must increase")
@@ -105,10 +122,7 @@ def _parabola_peak(time, force, k):
 
 def observations_from_run(run_dir) -> tuple[DropObservation, object]:
     """The first three contacts' peaks of a simulated drop (run.h5 events) and the run's case model."""
-    import tomllib
-
-    from .case.loader import CASE_KINDS
-    from .runh5 import read_run
+    from .runh5 import read_run, stored_case
 
     run = read_run(run_dir)
     events = run.get("events", {})
@@ -118,8 +132,7 @@ def observations_from_run(run_dir) -> tuple[DropObservation, object]:
     order = np.argsort(events["start_time"])[:3]
     observed = DropObservation(tuple(float(v) for v in events["peak_normal_force"][order]),
                                tuple(float(v) for v in events["peak_time"][order]))
-    data = tomllib.loads(run["case"]["attrs"]["toml"])
-    return observed, CASE_KINDS[data["case"]["kind"]].model_validate(data)
+    return observed, stored_case(run, run_dir)
 
 
 def drop_model(case, restitution: float) -> DropObservation:
@@ -150,6 +163,10 @@ def drop_model(case, restitution: float) -> DropObservation:
 
 def with_restitution(case, restitution: float):
     """A copy of the case whose sphere-plane pair has e_n = restitution (damping 'engine' modelled as 'exact')."""
+    if case.case.kind != "impact":
+        raise CaseError(f"{case.case.name} is a {case.case.kind} case, not a sphere drop; give an impact case with "
+                        "one sphere, a plane and gravity with --case (e.g. cases/verification/"
+                        "uhlmann2015_sphere_drop.toml)")
     if case.plane is None or len(case.spheres) != 1 or not case.simulation.gravity:
         raise CaseError(f"{case.case.name} is not a sphere drop (one sphere, a plane, gravity); give the drop's case "
                         "with --case")
@@ -175,17 +192,40 @@ def fit_restitution(case, observed: DropObservation, source: str = "") -> Restit
     from_forces = (target[0] ** (1 / 1.2) * target[1] ** (1 / 2.4)) ** 0.5
     from_times = target[3] / target[2] - 1.0
     guess = float(np.clip(0.5 * (from_forces + from_times), 0.05, 0.99))
-    result = minimize_scalar(cost, bounds=(max(0.01, guess - 0.05), min(0.999, guess + 0.05)), method="bounded",
-                             options={"xatol": 1e-6})
+    low, high = RESTITUTION_BOUNDS
+    window = (max(low, guess - 0.05), min(high, guess + 0.05))
+    result = minimize_scalar(cost, bounds=window, method="bounded", options={"xatol": 1e-6})
+    if min(abs(result.x - window[0]), abs(result.x - window[1])) < 1e-4:  # the optimum lies outside the window
+        result = minimize_scalar(cost, bounds=(low, high), method="bounded", options={"xatol": 1e-6})
     restitution = float(result.x)
     model = drop_model(case, restitution)
     residuals = dict(zip(FEATURES, (model.features() / target - 1.0).tolist()))
-    return RestitutionFit(restitution, observed, model, residuals, source)
+    return RestitutionFit(restitution, observed, model, residuals, source, fit_failure(observed, restitution,
+                                                                                        residuals))
+
+
+def fit_failure(observed: DropObservation, restitution: float, residuals: dict[str, float]) -> str:
+    """Why a fit is not to be trusted, or '' when it is: peaks that grow (a drop loses energy at every impact),
+    an e_n at the edge of RESTITUTION_BOUNDS, or a relative residual above MAX_RESIDUAL."""
+    f = observed.peak_forces
+    reasons = []
+    if f[1] > f[0] or f[2] > f[1]:
+        reasons.append(f"the peaks grow ({' N, '.join(f'{v:.4g}' for v in f)} N) while a bouncing sphere loses "
+                       "energy at every impact: the data contradict the model")
+    low, high = RESTITUTION_BOUNDS
+    if min(restitution - low, high - restitution) < 1e-3:
+        reasons.append(f"e_n = {restitution:.4f} is at the edge of the range searched ({low} to {high})")
+    worst = max(residuals, key=lambda k: abs(residuals[k]))
+    if not abs(residuals[worst]) <= MAX_RESIDUAL:
+        reasons.append(f"the model misses {worst} by {residuals[worst]:+.0%}; allowed: at most "
+                       f"{MAX_RESIDUAL:.0%} on every feature")
+    return "; ".join(reasons)
 
 
 def format_fit(fit: RestitutionFit) -> str:
     """Plain text: the fitted e_n, then observed and modelled features with their relative residuals."""
-    lines = [f"fitted e_n    {fit.restitution:.4f}   (from {fit.source})",
+    lines = [f"fitted e_n    {fit.restitution:.4f}   (from {fit.source})"
+             + ("   FAILED FIT: see the error below" if fit.failure else ""),
              f"{'feature':<9} {'observed':>12} {'model':>12} {'residual':>9}"]
     units = {"F2/F1": "-", "F3/F1": "-", "t2-t1": "s", "t3-t1": "s"}
     for name, obs, mod in zip(FEATURES, fit.observed.features(), fit.model.features()):
