@@ -88,17 +88,20 @@ class Study:
         for engine in self.engines:
             if engine not in engine_names():
                 raise OrchestratorError(f"study engine {engine!r} is unknown; allowed: {', '.join(engine_names())}")
+        cases = []
+        for i, point in enumerate(self.points):
+            overrides = [f"{key}={_toml_value(value)}" for key, value in point.items()]
+            try:
+                cases.append(load_case(self.case, preset=self.preset, overrides=overrides))
+            except CaseError as exc:
+                raise CaseError(f"study run {i + 1} ({_describe(point)}): {exc}") from None
+        _check_engines_run(self.engines, cases, self.case)
         versions = {}
         for engine in self.engines:
             backend = get_backend(engine)
             backend.check_available()
             versions[engine] = backend.version()
-        for i, point in enumerate(self.points):
-            overrides = [f"{key}={_toml_value(value)}" for key, value in point.items()]
-            try:
-                loaded = load_case(self.case, preset=self.preset, overrides=overrides)
-            except CaseError as exc:
-                raise CaseError(f"study run {i + 1} ({_describe(point)}): {exc}") from None
+        for point, loaded in zip(self.points, cases):
             for engine in self.engines:
                 backend = get_backend(engine)
                 identity = {
@@ -116,8 +119,11 @@ class Study:
     def run(self, executor: Executor | None = None, force: bool = False, progress: bool = True,
             max_workers: int | None = None) -> list[dict]:
         """Run what is not finished yet (everything with force); returns one row per run and writes index.csv."""
+        from ..humanize import check_out_dir, make_out_dir
+
+        check_out_dir(self.out_dir)
         planned = self.plan()
-        self.out_dir.mkdir(parents=True, exist_ok=True)
+        make_out_dir(self.out_dir)
         (self.out_dir / STUDY_INFO).write_text(json.dumps(
             {"name": self.name, "description": self.description, "case": str(self.case), "preset": self.preset,
              "engines": list(self.engines)}, indent=1))
@@ -182,6 +188,21 @@ def _stop_workers(executor: ProcessPoolExecutor, signum: int) -> None:
             os.kill(process.pid, signum)
         except (ProcessLookupError, TypeError):
             continue
+
+
+def _check_engines_run(engines, cases, case_path: Path) -> None:
+    """Raise OrchestratorError when a study engine does not run the kind of the study's case."""
+    from ..backends import engines_for_kind
+
+    for kind in dict.fromkeys(loaded.kind for loaded in cases):
+        allowed = engines_for_kind(kind)
+        wrong = [engine for engine in engines if engine not in allowed]
+        if wrong:
+            default = " (the default when [study] gives no engines)" if tuple(engines) == ("yade",) else ""
+            raise OrchestratorError(
+                f"study.engines = {json.dumps(list(engines))}{default}: {', '.join(wrong)} does not run {kind} cases "
+                f"such as {case_path.name}; allowed: {', '.join(allowed)}; e.g. engines = {json.dumps(allowed)} in "
+                "[study]")
 
 
 def grid(parameters: dict[str, list]) -> list[dict]:
@@ -274,6 +295,33 @@ def write_index(path: Path, rows: list[dict]) -> None:
         writer.writeheader()
         writer.writerows(rows)
     os.replace(tmp, path)
+
+
+def read_index_rows(study_dir) -> list[dict]:
+    """A study's index.csv as a list of dicts (column -> text).
+
+    Raises OrchestratorError naming the file when there is none, or it is not a text CSV written by a study
+    (binary, not UTF-8, NUL bytes, malformed, or without the columns run_id, engine and status).
+    """
+    path = Path(study_dir) / INDEX_NAME
+    if not path.is_file():
+        raise OrchestratorError(f"no {INDEX_NAME} in {study_dir}; give a study directory written by 'orchestrator "
+                                "study' (run the study first: orchestrator study STUDY.toml)")
+    try:
+        with open(path, newline="", encoding="utf-8") as fh:
+            rows = list(csv.DictReader(fh))
+    except UnicodeDecodeError:
+        raise OrchestratorError(f"{path} is not a text file (not UTF-8); it is not an index written by "
+                                "'orchestrator study': run the study again to rewrite it") from None
+    except (csv.Error, ValueError) as exc:
+        raise OrchestratorError(f"{path} is not a readable CSV ({exc}); run the study again to rewrite it") from None
+    except OSError as exc:
+        raise OrchestratorError(f"cannot read {path}: {exc.strerror or exc}") from None
+    missing = [c for c in ("run_id", "engine", "status") if rows and c not in rows[0]]
+    if missing:
+        raise OrchestratorError(f"{path} has no column {missing[0]!r}; it is not an index written by "
+                                "'orchestrator study': run the study again to rewrite it")
+    return rows
 
 
 def read_index(study_dir, as_frame: bool = True):

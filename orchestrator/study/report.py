@@ -5,14 +5,13 @@ the Pareto front marked, and each run's force plot."""
 from __future__ import annotations
 
 import base64
-import csv
 import io
 import json
 import math
 from pathlib import Path
 
 from ..errors import OrchestratorError
-from .core import INDEX_NAME, STUDY_INFO
+from .core import INDEX_NAME, STUDY_INFO, read_index_rows
 
 #: Quantities plotted against wall time when the index has them: (column, its error column, label with units).
 TRADE_OFF_QUANTITIES = (
@@ -69,10 +68,7 @@ def write_study_report(study_dir, quantity: str = "fn_mean", reference: str = "f
 
     study_dir = Path(study_dir)
     index = study_dir / INDEX_NAME
-    if not index.is_file():
-        raise OrchestratorError(f"no {INDEX_NAME} in {study_dir}; run the study first (orchestrator study STUDY.toml)")
-    with open(index, newline="") as fh:
-        rows = list(csv.DictReader(fh))
+    rows = read_index_rows(study_dir)
     ok = [r for r in rows if r.get("status") == "ok" and math.isfinite(_float(r.get(quantity)))]
     if not ok:
         raise OrchestratorError(f"{study_dir}: no finished run has the quantity {quantity!r}")
@@ -89,6 +85,9 @@ def write_study_report(study_dir, quantity: str = "fn_mean", reference: str = "f
             ref_row = matches[0]
         ref_value = _float(ref_row[quantity])
         reference_label = f"run {ref_row['run_id'][:12]} ({quantity} = {ref_value:.4g})"
+    if not math.isfinite(ref_value) or ref_value == 0:
+        raise OrchestratorError(f"--reference {reference}: the reference {quantity} is {ref_value:g}; relative errors "
+                                "need a finite, non-zero reference ('finest', a run id or a number such as 1.8)")
     walls = [_float(r["wall_time_s"]) for r in ok]
     errors = relative_errors([_float(r[quantity]) for r in ok], ref_value)
     front = pareto_front(walls, errors)

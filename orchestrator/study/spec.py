@@ -31,7 +31,7 @@ from ..errors import CaseError
 
 
 class _Frozen(BaseModel):
-    model_config = ConfigDict(frozen=True, extra="forbid")
+    model_config = ConfigDict(frozen=True, extra="forbid", allow_inf_nan=False)
 
 
 class StudyMeta(_Frozen):
@@ -101,6 +101,8 @@ def load_study_spec(path: str | Path) -> tuple[StudySpec, Path]:
     except ValidationError as exc:
         raise CaseError(f"{path}: invalid study\n" + format_validation_error(exc, StudySpec)) from None
     case_path = spec.study.case if spec.study.case.is_absolute() else path.parent / spec.study.case
+    if case_path.is_dir():
+        raise CaseError(f"{path}: study.case = {str(spec.study.case)!r}: {case_path} is a directory; give a case file")
     if not case_path.is_file():
         raise CaseError(f"{path}: study.case = {str(spec.study.case)!r}: case file not found at {case_path}")
     return spec, case_path.resolve()
