@@ -264,8 +264,10 @@ def run_bench(out_dir: Path | None = None, steps_2d: int = 2000, steps_3d: int =
     """
     from .backends import get_backend
 
+    from .humanize import make_out_dir
+
+    out_dir = make_out_dir(Path(out_dir) if out_dir is not None else default_out_dir())
     get_backend("sph").check_available()  # EngineNotFound, with what to do, before anything runs
-    out_dir = Path(out_dir) if out_dir is not None else default_out_dir()
     if with_pysph is None:
         with_pysph = pysph_available()
     jobs = []  # (key, make a row)

@@ -212,6 +212,9 @@ def compare_engines(loaded, engines: list[str], out_dir=None, timeout_s: float |
     if held and not force:
         raise OrchestratorError(f"{out_dir} already holds runs of {', '.join(held)}; choose another --out, or pass "
                                 "--force to overwrite them")
+    from .humanize import make_out_dir
+
+    make_out_dir(out_dir)
     comparison = Comparison(loaded.model, loaded.preset, out_dir)
     for k, engine in enumerate(engines, 1):
         reason = why_not(engine, loaded)

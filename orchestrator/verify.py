@@ -40,17 +40,30 @@ def scene_files(directory: Path | None = None, kind: str = "impact") -> list[Pat
     import tomllib
 
     directory = Path(directory) if directory is not None else verification_dir()
+    if not directory.is_dir():
+        what = "does not exist" if not directory.exists() else "is not a directory"
+        raise OrchestratorError(f"--cases {directory} {what}; give a directory of case files (*.toml), e.g. "
+                                "cases/verification")
     files = []
     for path in sorted(directory.glob("*.toml")):
         try:
-            file_kind = tomllib.loads(path.read_text()).get("case", {}).get("kind")
-        except (OSError, tomllib.TOMLDecodeError):
+            meta = tomllib.loads(path.read_text(encoding="utf-8")).get("case", {})
+            file_kind = meta.get("kind") if isinstance(meta, dict) else kind
+        except (OSError, ValueError, RecursionError):  # ValueError: TOMLDecodeError and UnicodeDecodeError
             file_kind = kind  # let the case loader report what is wrong with it
         if file_kind == kind:
             files.append(path)
     if not files:
         raise OrchestratorError(f"no {kind} case files (*.toml) in {directory}")
     return files
+
+
+def load_scenes(files: list[Path], overrides=(), preset: str | None = None) -> None:
+    """Validate every scene with the overrides before any run starts (CaseError naming the file and key)."""
+    from .case import load_case
+
+    for path in files:
+        load_case(path, preset=preset, overrides=overrides)
 
 
 def dem_engines(requested=None) -> list[str]:
@@ -161,8 +174,11 @@ def run_verification(engines=None, out_dir=None, cases_dir=None, overrides=(), w
     called as each run finishes; timeout_s: wall-time limit of each run, s.
     """
     files = scene_files(cases_dir)
+    load_scenes(files, overrides)
     names = dem_engines(engines)
-    out_dir = Path(out_dir) if out_dir is not None else default_out_dir()
+    from .humanize import make_out_dir
+
+    out_dir = make_out_dir(Path(out_dir) if out_dir is not None else default_out_dir())
     jobs = [(path, engine) for path in files for engine in names]
     return run_in_pool(run_scene, [(path, engine, out_dir / path.stem / engine, overrides, timeout_s)
                                    for path, engine in jobs], workers, on_done)
@@ -171,6 +187,8 @@ def run_verification(engines=None, out_dir=None, cases_dir=None, overrides=(), w
 def run_in_pool(function, jobs: list[tuple], workers: int | None = None, on_done=None) -> list:
     """function(*job) for every job on a process pool of `workers` (default: the number of cores);
     on_done(result, done, total) as each ends; the results in the order of jobs."""
+    if workers is not None and workers < 1:
+        raise OrchestratorError(f"--workers {workers}: allowed: 1 or more")
     workers = workers or max(1, min(len(jobs), os.cpu_count() or 1))
     # processes, not threads: each run writes and reads its run.h5, and HDF5 is safest one file per process
     with ProcessPoolExecutor(max_workers=workers) as pool:

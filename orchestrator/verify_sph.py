@@ -455,11 +455,16 @@ def run_verification(out_dir=None, cases_dir=None, overrides=(), workers: int | 
     from .backends import get_backend
     from .verify import run_in_pool
 
-    get_backend(ENGINE).check_available()
+    from .verify import load_scenes
+
     files = scene_files(cases_dir)
     if only:
         files = [f for f in files if f.stem in only]
-    out_dir = Path(out_dir) if out_dir is not None else default_out_dir()
+    load_scenes(files, overrides, preset)
+    from .humanize import make_out_dir
+
+    out_dir = make_out_dir(Path(out_dir) if out_dir is not None else default_out_dir())
+    get_backend(ENGINE).check_available()
     return run_in_pool(run_scene, [(path, out_dir / path.stem, overrides, timeout_s, preset) for path in files],
                        workers, on_done)
 
