@@ -250,10 +250,31 @@ def _jsonable(value):
     return value
 
 
+def _check_options(args) -> None:
+    """Refuse option values no command can use: a wall-time limit or tolerance that is not a finite positive
+    number, fewer than one worker or MPI rank, an --out that cannot be a folder (OrchestratorError, exit 2)."""
+    from .errors import OrchestratorError
+    from .humanize import check_out_dir
+
+    for option in ("timeout", "tolerance"):
+        value = getattr(args, option, None)
+        if value is not None and not (math.isfinite(value) and value > 0):
+            unit = " s" if option == "timeout" else ""
+            raise OrchestratorError(f"--{option} {value:g}: allowed: a finite number above 0{unit}"
+                                    + (" (leave --timeout out for no limit)" if option == "timeout" else ""))
+    for option in ("workers", "mpi"):
+        value = getattr(args, option, None)
+        if value is not None and value < 1:
+            raise OrchestratorError(f"--{option} {value}: allowed: 1 or more")
+    if getattr(args, "out", None) is not None:
+        check_out_dir(args.out)
+
+
 def _cmd_run(args) -> int:
     from .case import load_case
     from .run import run_case
 
+    _check_options(args)
     loaded = load_case(args.case, preset=args.preset, overrides=args.overrides)
     if args.engine is not None:
         from .backends import engine_names
@@ -318,6 +339,7 @@ def _cmd_doctor(args) -> int:
 def _cmd_export(args) -> int:
     from .export import export_vtk
 
+    _check_options(args)
     for path in export_vtk(args.run_dir, args.out):
         print(path)
     return 0
@@ -328,6 +350,7 @@ def _cmd_study(args) -> int:
 
     from .study.dask import dask_executor
 
+    _check_options(args)
     study = Study.from_file(args.study, out_dir=args.out)
     if args.dask:
         with dask_executor(args.dask, workers=args.workers) as executor:
@@ -343,16 +366,9 @@ def _cmd_study(args) -> int:
 
 
 def _cmd_status(args) -> int:
-    import csv
-    from pathlib import Path
+    from .study.core import read_index_rows
 
-    from .errors import OrchestratorError
-
-    path = Path(args.study_dir) / "index.csv"
-    if not path.is_file():
-        raise OrchestratorError(f"no index.csv in {args.study_dir}; give a study directory written by 'orchestrator study'")
-    with open(path, newline="") as fh:
-        _print_rows(list(csv.DictReader(fh)))
+    _print_rows(read_index_rows(args.study_dir))
     return 0
 
 
@@ -384,6 +400,7 @@ def _print_table(header: list[str], table: list[list[str]]) -> None:
 def _cmd_report(args) -> int:
     from .study.report import write_study_report
 
+    _check_options(args)
     print(write_study_report(args.study_dir, quantity=args.quantity, reference=args.reference,
                              tolerance=args.tolerance))
     return 0
@@ -392,6 +409,7 @@ def _cmd_report(args) -> int:
 def _cmd_verify(args) -> int:
     from .verify import default_out_dir, format_table, json_rows, plot_force_curves, run_verification
 
+    _check_options(args)
     if args.suite == "sph":
         return _verify_sph(args)
     out_dir = args.out or default_out_dir()
@@ -469,6 +487,7 @@ def _cmd_compare(args) -> int:
     from .case import load_case
     from .compare import compare_engines, notes, parse_engines, text_tables
 
+    _check_options(args)
     engines = parse_engines(args.engines)
     loaded = load_case(args.case, preset=args.preset, overrides=args.overrides)
     comparison = compare_engines(loaded, engines, out_dir=args.out, timeout_s=args.timeout,
@@ -510,6 +529,9 @@ def _cmd_calibrate(args) -> int:
         print(json.dumps(_jsonable(asdict(fit))))
     else:
         print(format_fit(fit))
+    if fit.failure:
+        print(f"error: the fit failed: {fit.failure}", file=sys.stderr)
+        return 1
     return 0
 
 
@@ -517,8 +539,11 @@ def _cmd_bench(args) -> int:
     from .bench_sph import format_report, json_report, run_bench
     from .errors import OrchestratorError
 
-    if args.steps_2d < 1 or args.steps_3d < 1 or args.repeat < 1:
-        raise OrchestratorError("--steps-2d, --steps-3d and --repeat must be at least 1")
+    for option, value, most in (("--steps-2d", args.steps_2d, 10**9), ("--steps-3d", args.steps_3d, 10**9),
+                                ("--repeat", args.repeat, 1000)):
+        if not 1 <= value <= most:
+            raise OrchestratorError(f"{option} {value}: allowed: 1 to {most}")
+    _check_options(args)
 
     def done(row):
         wait = f" ({row.wait})" if row.wait != "-" else ""
