@@ -203,18 +203,17 @@ def test_analyze_prints_chains_and_intensity_on_the_synthetic_run(synthetic_run,
     assert "snapshots: 2 rod contacts" in out and "largest contact normal force 1.200 N" in out
 
 
-def test_pictures_of_a_column(tmp_path):
-    from orchestrator.plots_chains import plot_chain_network, plot_chains_time
+def test_pictures_of_a_column_and_of_the_synthetic_run(tmp_path, synthetic_run):
+    from orchestrator.plots_chains import plot_chain_network, report_chains
+    from orchestrator.runh5 import read_run, stored_case
 
     snap, _ = column_snapshot()
     axis, vw = rod_pose(0.0, 0.02, 0.01)
     chains = dict(find_chains(snap, vw=vw), axis=axis, vw=vw, snapshot=snap)
     path = plot_chain_network(chains, 0.042, R_ROD, 0.02, 0.07, tmp_path / "chains.png")
     assert path.stat().st_size > 20_000
-    t = np.arange(0.0, 2.0, 0.005)
-    res = {"t": t, "fn_series": -2 - np.sin(t), "k_peak": 1.0, "process_time": np.array([0.5, 1.0, 1.5]),
-           "time": np.array([0.5, 1.0, 1.5]), "n_chains": np.array([0, 2, 1]), "fn": np.array([-2.5, -2.8, -3.0]),
-           "lags": np.array([-0.01, 0.0, 0.01]), "correlation": np.array([0.1, 0.5, 0.2]),
-           "strength": np.array([0.2, 0.5, 0.3]), "correlation_strength": np.array([0.3, 0.6, 0.1]),
-           "peaks": {"times": np.array([1.57]), "drag": np.array([3.0]), "threshold": 2.7}}
-    assert plot_chains_time(res, tmp_path / "fn.png").stat().st_size > 20_000
+    run = read_run(synthetic_run)
+    out = report_chains(synthetic_run, run, stored_case(run, synthetic_run), render=True)
+    assert sorted(out) == ["chain_fn", "chains", "impacts", "profiles", "rod_3d", "rod_map"]  # one snapshot: no peak view
+    for name, file in out.items():
+        assert file.parent == synthetic_run and file.stat().st_size > 5_000, name
