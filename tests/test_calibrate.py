@@ -86,6 +86,37 @@ def test_bad_traces_give_one_clear_error(tmp_path):
         assert "Traceback" not in proc.stderr
 
 
+def test_data_that_contradict_the_model_fail_the_fit(tmp_path, capsys):
+    """Peaks that grow: the fit prints its table, then one error line, and exits 1 (not e_n = 0.999, exit 0)."""
+    from orchestrator.cli import main
+
+    write_trace(tmp_path / "trace.csv", 0.62)
+    lines = (tmp_path / "trace.csv").read_text().splitlines()
+    peaks = drop_model(load_case(DROP).model, 0.62).peak_times
+    grown = [lines[0]]
+    for line in lines[1:]:
+        t, f = map(float, line.split(","))
+        grown.append(f"{t},{f * (1 if t < 0.3 + peaks[1] - 0.01 else 3 if t < 0.3 + peaks[2] - 0.01 else 9)}")
+    (tmp_path / "grown.csv").write_text("\n".join(grown) + "\n")
+    assert main(["calibrate", "restitution", "--csv", str(tmp_path / "grown.csv")]) == 1
+    out, err = capsys.readouterr()
+    assert out.startswith("fitted e_n") and "FAILED FIT" in out
+    assert err.count("error:") == 1 and "the fit failed" in err and "peaks grow" in err and "Traceback" not in err
+    fit = fit_restitution(load_case(DROP).model, observations_from_csv(tmp_path / "grown.csv"))
+    assert fit.failure and max(abs(r) for r in fit.residuals.values()) > 0.1
+    assert not fit_restitution(load_case(DROP).model, observations_from_csv(tmp_path / "trace.csv")).failure
+
+
+def test_an_sph_case_is_not_a_drop(tmp_path, capsys):
+    from orchestrator.cli import main
+
+    write_trace(tmp_path / "trace.csv", 0.62)
+    tank = DROP.parent / "sph_hydrostatic_tank.toml"
+    assert main(["calibrate", "restitution", "--csv", str(tmp_path / "trace.csv"), "--case", str(tank)]) == 2
+    err = capsys.readouterr().err
+    assert "sph_flow case, not a sphere drop" in err and "Traceback" not in err
+
+
 def test_a_case_that_is_not_a_drop_is_refused(tmp_path):
     write_trace(tmp_path / "trace.csv", 0.62)
     case = Path(__file__).parent.parent / "cases" / "verification" / "chung_ooi_test1_sphere_sphere.toml"
