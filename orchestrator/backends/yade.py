@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import ReadError
+from ..errors import OrchestratorError, ReadError
 from ..scene.build import settling_timestep
 from ..templating import render
 from .base import ExecutableBackend, Result, Series
@@ -167,6 +167,7 @@ class YadeBackend(ExecutableBackend):
             "path_radius": repr(case.workpiece.path_radius),
             "process_duration": repr(case.process.duration),
             "network_times": repr(list(case.output.network_times)),
+            "checkpoint_interval": repr(case.output.checkpoint_interval),
             "bowl_radius": repr(case.bowl.inner_radius),
             "bowl_height": repr(case.bowl.height),
             "planned_steps": int(planned),
@@ -195,6 +196,28 @@ class YadeBackend(ExecutableBackend):
         scratch = Path(workdir) / "tmp"
         scratch.mkdir(exist_ok=True)
         return command, {**env, "TMPDIR": str(scratch.resolve())}
+
+    def resume_input(self, scene, workdir: Path) -> tuple[list[str], dict[str, str]]:
+        """Command that continues a stopped drag-finishing run from its last checkpoint (output/checkpoint.json,
+        written with output.checkpoint_interval): the same script with --resume, after the series rows recorded
+        after the checkpoint are dropped."""
+        if scene.case.case.kind != "drag_finishing":
+            raise OrchestratorError(f"only drag-finishing runs resume; this run is of kind {scene.case.case.kind}")
+        workdir = Path(workdir)
+        path = workdir / "output" / "checkpoint.json"
+        try:
+            point = json.loads(path.read_text())
+            step = int(point["step"])
+            saved = workdir / point["scene"]
+        except (OSError, ValueError, KeyError, TypeError):
+            raise OrchestratorError(
+                f"{workdir} holds no readable checkpoint ({path.relative_to(workdir)}): the run wrote none (set "
+                "output.checkpoint_interval) or stopped before the first one; run it again instead") from None
+        if point["scene"] not in ("output/checkpoint_0.yade.gz", "output/checkpoint_1.yade.gz") or not saved.is_file():
+            raise OrchestratorError(f"{path} names no saved scene of this run; run the case again instead")
+        _drop_rows_after(workdir / "output" / "series.csv", step)
+        command, env = self.command(workdir, "drag_finishing")
+        return command + ["--resume"], env
 
     def planned_steps(self, scene) -> int:
         """Upper bound of the run's time steps (settling counted at its maximum time)."""
@@ -225,6 +248,14 @@ def _load_npz(path: Path) -> dict[str, np.ndarray]:
             return {k: data[k] for k in data.files}
     except (OSError, ValueError) as exc:
         raise ReadError(f"cannot read {path}: {exc}") from None
+
+
+def _drop_rows_after(path: Path, step: int) -> None:
+    """Keep the header and the rows of series.csv recorded at or before step (its last column)."""
+    lines = path.read_text().splitlines(keepends=True) if path.is_file() else []
+    kept = lines[:1] + [line for line in lines[1:] if line.strip().split(",")[-1].isdigit()
+                        and int(line.strip().split(",")[-1]) <= step]
+    path.write_text("".join(kept))
 
 
 def read_series_csv(path: Path) -> dict[str, np.ndarray]:

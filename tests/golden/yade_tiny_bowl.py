@@ -18,6 +18,10 @@ from yade.minieigenHP import Vector3
 OUT = "output"
 os.makedirs(OUT, exist_ok=True)
 WALL_START = time.time()
+# --resume: the scene below is built as always (same materials, bodies and ids), then replaced by the last
+# checkpoint's saved one (O.load), and the script's own state is read back from output/checkpoint.json
+RESUME = "--resume" in sys.argv
+CHECKPOINT_EVERY = None  # s of process time between checkpoints (None: none)
 
 # ---- materials ----
 # E is multiplied by the settling stiffness scale (0.001) here; before the process
@@ -110,12 +114,24 @@ PHASES = ("settle", "insert", "relax", "process")
 state = {"phase": 0, "t_phase": 0.0, "bed_height": None, "settled": None, "tip_target": None,
          "t_process": None, "next_network": 0, "status": "ok", "message": "", "last_progress": 0.0,
          "last_record": -1.0, "record_interval": DT_SETTLE * 72,
-         "relax_stage": 0, "t_stage": 0.0, "applied_factor": 1.0, "probe_done": False, "planned": PLANNED_STEPS, "probe_start": None, "phase_wall": {}}
+         "relax_stage": 0, "t_stage": 0.0, "applied_factor": 1.0, "probe_done": False, "planned": PLANNED_STEPS, "probe_start": None, "phase_wall": {},
+         "checkpoints": 0}
 rod_intensity = np.zeros(len(ROD_IDS))  # accumulated |F| dt per rod facet, N s
 rod_contact_count = np.zeros(len(ROD_IDS), dtype=np.int64)  # facet-samples in contact
-series = open(os.path.join(OUT, "series.csv"), "w")
-series.write("time,phase,wf_normal,wf_tangential,wf_vertical,rod_fx,rod_fy,rod_fz,"
-             "bowl_fx,bowl_fy,bowl_fz,kinetic_energy,unbalanced_force,n_contacts,rod_tip_z,step\n")
+if RESUME:
+    with open(os.path.join(OUT, "checkpoint.json")) as fh:
+        checkpoint = json.load(fh)
+    O.load(checkpoint["scene"])  # bodies, interactions, engines (labels bound again), time, step, dt
+    state.update(checkpoint["state"])
+    state["probe_done"], state["last_progress"] = True, 0.0
+    rod_intensity[:] = checkpoint["rod_intensity"]
+    rod_contact_count[:] = checkpoint["rod_contact_count"]
+    print("RESUMED t=%.6g s step=%d from %s" % (O.time, O.iter, checkpoint["scene"]), flush=True)
+# the orchestrator dropped rows recorded after the checkpoint before a resumed run appends
+series = open(os.path.join(OUT, "series.csv"), "a" if RESUME else "w")
+if not RESUME:
+    series.write("time,phase,wf_normal,wf_tangential,wf_vertical,rod_fx,rod_fy,rod_fz,"
+                 "bowl_fx,bowl_fy,bowl_fz,kinetic_energy,unbalanced_force,n_contacts,rod_tip_z,step\n")
 
 
 def rod_tip_z():
@@ -320,6 +336,24 @@ def control():
         if t_p >= PROCESS_DURATION - 0.5 * O.dt:
             state["phase_wall"]["process"] = time.time() - WALL_START
             stop("ok", "")
+        elif CHECKPOINT_EVERY and t_p >= (state["checkpoints"] + 1) * CHECKPOINT_EVERY - 0.5 * O.dt:
+            state["checkpoint_due"] = True
+            O.pause()  # after this step: the scene is saved between two steps (write_checkpoint)
+
+
+def write_checkpoint():
+    """The whole scene (O.save, two files in turn: one is always whole) and the script's state, then
+    checkpoint.json renamed into place: 'orchestrator run --resume' continues from here."""
+    state["checkpoints"] += 1
+    state["checkpoint_due"] = False
+    path = os.path.join(OUT, "checkpoint_%d.yade.gz" % (state["checkpoints"] % 2))
+    series.flush()
+    O.save(path)
+    tmp = os.path.join(OUT, "checkpoint.tmp")
+    with open(tmp, "w") as fh:
+        json.dump({"scene": path, "step": O.iter, "time": O.time, "state": state,
+                   "rod_intensity": rod_intensity.tolist(), "rod_contact_count": rod_contact_count.tolist()}, fh)
+    os.replace(tmp, os.path.join(OUT, "checkpoint.json"))
 
 
 
@@ -381,6 +415,10 @@ if "--probe" in sys.argv:
 
 O.run()
 O.wait()
+while state.get("checkpoint_due"):
+    write_checkpoint()
+    O.run()
+    O.wait()
 series.close()
 if state["status"] == "ok" and state["phase"] != 3:
     stop("failed", "the run ended before the process phase finished")
