@@ -8,7 +8,8 @@ These checks run at validation, before any scene is built or engine started. Eac
 - records of a series (an output interval): at most MAX_RECORDS, and for SPH never more often than a fixed
   step numerics.dt (the DEM engines record every step when asked for less, and a step derived from the
   physics is not the user's to compare with); particle frames: at most MAX_FRAMES;
-- an SPH scene's particles: at most what the machine's memory holds, estimated before anything is allocated;
+- an SPH scene's particles (from the blocks and dx) and a drag-finishing bed's balls: at most what the
+  machine's memory holds, estimated before anything is allocated;
 - SPH probes, inlets, outlets and flow planes: inside the domain box.
 """
 
@@ -27,6 +28,9 @@ MAX_FRAMES = 100_000
 #: densities, kinds, with the copies made while building the lattice), the engine's state and its neighbour
 #: lists (about 70 neighbours in 3D at h = 1.3 dx), rounded up.
 BYTES_PER_SPH_PARTICLE = 1024
+#: Memory one DEM ball takes in an engine (Yade's body, state and shape objects with about six interactions,
+#: LIGGGHTS's per-atom arrays and contact history), rounded up, bytes.
+BYTES_PER_DEM_PARTICLE = 4096
 
 
 def machine_memory() -> int | None:
@@ -36,6 +40,18 @@ def machine_memory() -> int | None:
     except (ValueError, OSError, AttributeError):
         return None
     return pages * size if pages > 0 and size > 0 else None
+
+
+def check_memory(key: str, particles: float, per_particle: int, allowed: str) -> None:
+    """Refuse a scene whose particles (at per_particle bytes each) need more than this machine's memory."""
+    from ..humanize import byte_size
+
+    memory = machine_memory()
+    need = particles * per_particle
+    if memory is not None and need > memory:
+        raise ValueError(f"{key} gives about {particles:.3g} particles, which need about {byte_size(need)} (at "
+                         f"{per_particle} B each) while this machine has {byte_size(memory)} of memory; allowed: "
+                         f"{allowed}")
 
 
 def check_steps(duration_key: str, duration: float, step_key: str, step: float) -> None:
@@ -65,8 +81,10 @@ def _count(value: float) -> str:
 
 # ---------------------------------------------------------------------------------------------------- DEM
 def check_drag_finishing(case) -> None:
-    """Step counts and the record interval of a drag-finishing case."""
+    """Memory of the bed, step counts and the record interval of a drag-finishing case."""
     from .common import rayleigh_timestep
+
+    check_memory(f"media.count = {case.media.count}", case.media.count, BYTES_PER_DEM_PARTICLE, "fewer balls")
 
     media = case.media
     r_min = media.radius - (2.0 if media.distribution == "normal" else 1.0) * media.radius_spread
@@ -133,15 +151,8 @@ def sph_particle_estimate(case) -> float:
 
 def check_sph(case) -> None:
     """Memory of the particles, step and record counts, and probes/patches inside the domain of an SPH case."""
-    from ..humanize import byte_size
-
-    particles = sph_particle_estimate(case)
-    memory = machine_memory()
-    need = particles * BYTES_PER_SPH_PARTICLE
-    if memory is not None and need > memory:
-        raise ValueError(f"numerics.dx = {case.numerics.dx:g} m fills the blocks with about {particles:.3g} particles, "
-                         f"which need about {byte_size(need)} (at {BYTES_PER_SPH_PARTICLE} B each) while this machine "
-                         f"has {byte_size(memory)} of memory; allowed: a larger dx or smaller blocks")
+    check_memory(f"numerics.dx = {case.numerics.dx:g} m over the blocks", sph_particle_estimate(case),
+                 BYTES_PER_SPH_PARTICLE, "a larger dx or smaller blocks")
     duration = case.simulation.duration
     dt = sph_timestep(case)
     fixed = case.numerics.dt is not None
