@@ -6,11 +6,11 @@ lists in 2D), the smoothing length, sound speed and time step. SI units; in
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..case.limits import sph_timestep
 from ..case.sph import SphFlowCase, Wall
 
 #: Particle kinds of the sph executable's input (engines/sph/src/physics_terms.h).
@@ -164,13 +164,7 @@ def build_sph_flow(case: SphFlowCase) -> SphScene:
     positions, velocities, masses, densities, kind, block = _particles(case, c0)
     meshes = {wall.name: wall_mesh(wall, case.dimension) for wall in case.walls}
     h = case.numerics.h
-    dt = case.numerics.dt if case.numerics.dt is not None else case.numerics.adaptive["cfl"] * h / c0
-    if case.numerics.dt is None and case.fluid.viscosity is not None:
-        dt = min(dt, case.numerics.adaptive["viscous"] * h * h / case.fluid.viscosity)
-    if case.physics.body_force is not None and any(case.physics.body_force):
-        g = math.sqrt(sum(c * c for c in case.physics.body_force))
-        if case.numerics.dt is None:
-            dt = min(dt, case.numerics.adaptive["force"] * math.sqrt(h / g))
+    dt = sph_timestep(case)  # the fixed step, or the adaptive one at rest
     return SphScene(case=case, positions=positions, velocities=velocities, masses=masses, densities=densities,
                     kind=kind, block=block, meshes=meshes, h=h, c0=c0, timestep=dt,
                     physics=frozenset(case.physics.terms))
