@@ -26,7 +26,11 @@ def _parser() -> argparse.ArgumentParser:
     run = sub.add_parser("run", help="run a case file on an engine and write RUN_DIR/run.h5",
                          description="Validate CASE, build its scene, run it on an engine and write run.h5 "
                          "(status, series, interaction networks, meshes) into the run directory.")
-    run.add_argument("case", metavar="CASE", help="TOML case file, e.g. cases/drag_finishing_uhlmann2015.toml")
+    run.add_argument("case", metavar="CASE", nargs="?",
+                     help="TOML case file, e.g. cases/drag_finishing_uhlmann2015.toml (not with --resume)")
+    run.add_argument("--resume", metavar="RUN_DIR",
+                     help="continue a stopped run from its last checkpoint (LIGGGHTS drag finishing with "
+                     "output.checkpoint_interval set), with its own case, engine and MPI ranks; into the same run.h5")
     run.add_argument("--engine", help="engine name (default: the case's case.engine); see 'orchestrator doctor'")
     run.add_argument("--preset", help="named override set from the case's [presets.NAME] (e.g. quick, full)")
     run.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE",
@@ -275,6 +279,8 @@ def _cmd_run(args) -> int:
     from .run import run_case
 
     _check_options(args)
+    if args.resume is not None or args.case is None:
+        return _cmd_resume(args)
     loaded = load_case(args.case, preset=args.preset, overrides=args.overrides)
     if args.engine is not None:
         from .backends import engine_names
@@ -296,7 +302,31 @@ def _cmd_run(args) -> int:
 
     summary = run_case(loaded, engine=args.engine, out_dir=args.out, timeout_s=args.timeout,
                        progress=not args.no_progress, force=args.force, on_timing=announce, mpi_ranks=args.mpi)
-    if args.json:
+    return _print_summary(summary, loaded, args.json)
+
+
+def _cmd_resume(args) -> int:
+    """run --resume RUN_DIR: the stopped run's own case, engine and ranks, from its last checkpoint."""
+    from .errors import OrchestratorError
+    from .run import resumable_run, run_case
+
+    if args.resume is None:
+        raise OrchestratorError("run needs a CASE file, or --resume RUN_DIR to continue a stopped run")
+    given = [name for name, value in (("CASE", args.case), ("--engine", args.engine), ("--preset", args.preset),
+                                      ("--set", args.overrides), ("--out", args.out), ("--force", args.force))
+             if value]
+    if given:
+        raise OrchestratorError(f"--resume continues a run as it was set up: {', '.join(given)} cannot go with it "
+                                "(allowed: --timeout, --mpi, --json, --no-progress)")
+    loaded, engine, mpi_ranks = resumable_run(args.resume)
+    summary = run_case(loaded, engine=engine, out_dir=args.resume, timeout_s=args.timeout,
+                       progress=not args.no_progress, mpi_ranks=args.mpi or mpi_ranks, resume=True)
+    return _print_summary(summary, loaded, args.json)
+
+
+def _print_summary(summary, loaded, as_json: bool) -> int:
+    """What run prints: one JSON object, or the text summary (SI units)."""
+    if as_json:
         print(json.dumps(_jsonable(summary.as_dict())))
     else:
         print(f"status       {summary.status}")
