@@ -401,7 +401,7 @@ _UNPHYSICAL = st.floats(allow_nan=True, allow_infinity=True).filter(
 
 
 # 40 examples: a key of a shipped case set to a non-finite, huge or tiny number
-@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@settings(max_examples=40, deadline=None, database=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(where=st.sampled_from(_HYPOTHESIS_KEYS), value=_UNPHYSICAL)
 def test_hypothesis_values(cli, tmp_path, where, value):
     path, key = where
