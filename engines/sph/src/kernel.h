@@ -1,5 +1,6 @@
 // Wendland C2 kernel (Canini et al., eq. 8) with support radius 2h.
 #pragma once
+#include <algorithm>
 #include <cmath>
 
 #include "vec.h"
@@ -25,6 +26,14 @@ struct WendlandC2 {
     const double q = r * inv_h;
     if (q >= 2.0) return 0.0;
     const double t = 1.0 - 0.5 * q;
+    const double t2 = t * t;
+    return alpha_d * t2 * t2 * (2.0 * q + 1.0);
+  }
+
+  // W(r) without a test: 0 at and beyond the support (t clamped to 0).
+  double value_clamped(double r) const {
+    const double q = r * inv_h;
+    const double t = std::max(1.0 - 0.5 * q, 0.0);
     const double t2 = t * t;
     return alpha_d * t2 * t2 * (2.0 * q + 1.0);
   }

@@ -96,7 +96,7 @@ struct PressureGradient {
 
 // Eq. 10 divided by rho_a with mu_a = mu_b = mu (= rho0 nu):
 // sum_b m_b (mu_a + mu_b) r_ab . grad_a W_ab / (rho_a rho_b (r_ab^2 + 0.01 h^2)) v_ab
-// where a boundary particle b enters with its no-slip velocity (see Simulation::no_slip_velocities).
+// where a boundary particle b enters with its no-slip velocity (see Simulation::no_slip_velocity_at).
 struct MorrisViscosity {
   double mu = 0.0;    // dynamic viscosity, Pa s
   double eta2 = 0.0;  // 0.01 h^2, m^2
@@ -105,6 +105,9 @@ struct MorrisViscosity {
     const double s = 2.0 * mu * p.vol_b * p.inv_rho_a * (p.F * p.r2) / (p.r2 + eta2);
     out.acc.noalias() += s * p.v_ab_noslip;
   }
+  // The part shared by both particles of a pair: 2 mu (r_ab . grad_a W_ab) / (r_ab^2 + 0.01 h^2),
+  // so dv_a/dt += factor m_b/(rho_a rho_b) (v_a - v_b) (eq. 10).
+  double factor(double F, double r2) const { return 2.0 * mu * (F * r2) / (r2 + eta2); }
 };
 
 // Eqs. 11-12: Pi_ab = (-alpha c_ab mu_ab + beta mu_ab^2) / rho_ab for v_ab . r_ab < 0 (else 0),
@@ -115,6 +118,15 @@ struct MorrisViscosity {
 struct ArtificialViscosity {
   double alpha = 0.0, beta = 0.0;
   double h = 0.0, eta2 = 0.0;
+  // Pi_ab of eq. 11 (symmetric in a and b) from r_ab^2 and v_ab . r_ab.
+  double pi(double r2, double vr, double rho_a, double rho_b, double c_a, double c_b) const {
+    const double d = r2 + eta2, rho_ab = 0.5 * (rho_a + rho_b);
+    const double inv = 1.0 / (d * rho_ab);  // one division for 1/d and 1/rho_ab
+    const double vr_in = 0.5 * (vr - std::abs(vr));  // exactly min(vr, 0), without a branch
+    const double mu_ab = h * vr_in * inv * rho_ab;
+    const double c_ab = 0.5 * (c_a + c_b);
+    return (-alpha * c_ab * mu_ab + beta * mu_ab * mu_ab) * inv * d;
+  }
   template <int D>
   void add(const Pair<D>& p, double& radial) const {
     const double d = p.r2 + eta2, rho_ab = 0.5 * (p.rho_a + p.rho_b);

@@ -47,6 +47,7 @@ int run_simulation(const Deck& deck, Particles<D> particles, WallPenalty<D> wall
   rec.frame(t, step);
   std::string status = "ok", message;
   int code = exit_ok;
+  double output_s = 0.0;  // series and frames (with their re-binning)
   bool sorted = true, timing_printed = false;  // sorted: binned at the current positions
   auto last_progress = started;
 
@@ -88,6 +89,7 @@ int run_simulation(const Deck& deck, Particles<D> particles, WallPenalty<D> wall
     const double tol = 1e-6 * dt;
     const bool series_due = t >= (series_count + 1) * deck.series_interval - tol;
     const bool frame_due = t >= (frame_count + 1) * deck.frame_interval - tol;
+    const double t_output = omp_get_wtime();
     if (series_due || frame_due) {
       sorted = sim.sort_particles();
       sim.equation_of_state();
@@ -100,6 +102,7 @@ int run_simulation(const Deck& deck, Particles<D> particles, WallPenalty<D> wall
       rec.frame(t, step);
       while ((frame_count + 1) * deck.frame_interval <= t + tol) ++frame_count;
     }
+    output_s += omp_get_wtime() - t_output;
     const auto now = Clock::now();
     if (std::chrono::duration<double>(now - last_progress).count() >= deck.progress_interval) {
       last_progress = now;
@@ -128,6 +131,19 @@ int run_simulation(const Deck& deck, Particles<D> particles, WallPenalty<D> wall
   out.attr("t_final", t);
   out.attr("wall_time_s", wall);
   out.attr("particle_steps_per_s", wall > 0 ? static_cast<double>(sim.particles().size()) * step / wall : 0.0);
+  // Where the time went (wall s per stage; output includes the re-binning before each record).
+  const StageTimes& st = sim.stage_times();
+  const std::pair<const char*, double> stages[] = {
+      {"predict", st.predict}, {"neighbours", st.neighbours}, {"eos", st.eos}, {"pairs", st.pairs},
+      {"particle", st.particle}, {"correct", st.correct}, {"output", output_s}};
+  std::string line = "STAGES";
+  for (const auto& [name, seconds] : stages) {
+    out.attr(std::string("time_") + name + "_s", seconds);
+    line += " " + std::string(name) + "=" + std::to_string(seconds);
+  }
+  out.attr("neighbour_list_builds", st.builds);
+  std::fprintf(stderr, "%s list_builds=%ld pairs_listed=%zu wall=%f\n", line.c_str(), st.builds,
+               sim.neighbour_list().pair_count(), wall);
   out.flush();
   if (code == exit_unstable) std::fprintf(stderr, "error: numerically %s\n", message.c_str());
   return code;

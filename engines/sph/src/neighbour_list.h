@@ -1,0 +1,208 @@
+// Verlet half list with a skin, over particles sorted by cell, in blocks
+// whose pair loops can run on several threads with a reduction order that
+// does not depend on the schedule.
+//
+// Built from a CellList whose cells are at least (support + skin)/2 wide
+// (reach 2): every pair closer than support + skin at the build is listed
+// once (half list), at its owner. The list stays valid while no particle has
+// moved more than skin/2 since the build (the caller checks).
+//
+// Blocks: the particles are sorted by cell with the last axis slowest, so a
+// slab of cell layers along the last axis is a range of particle indices.
+// Block k holds layers 2k, 2k+1 (the last block also a third when the count
+// is odd). A listed pair spans at most two layers (cells >= range/2), so its
+// two particles lie in one block or in two neighbouring ones. Owner: within a
+// block the lower index (for a particle and its own periodic image, the
+// image with the larger shift code); across blocks the particle of block k
+// for a pair with block k+1 (cyclically along a periodic last axis). So the
+// pair loop of block k writes only to blocks k and k+1.
+//
+// Colours: blocks of one colour write to disjoint particles; the pair loop
+// runs colour after colour, the blocks of one colour on the threads, each
+// block by one thread in index order. Every particle therefore receives its
+// contributions in the same order whatever the number of threads: results
+// are bitwise independent of the thread count. Even/odd blocks; along a
+// periodic last axis with an odd count the last block gets a third colour;
+// with fewer than 3 blocks there (or 2 layers in all) one block holds everything.
+#pragma once
+#include <omp.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "cell_list.h"
+#include "physics_terms.h"
+#include "vec.h"
+
+namespace sph {
+
+template <int D>
+class NeighbourList {
+ public:
+  // An entry packs the neighbour's index b (upper bits) and the code of the
+  // periodic image it is seen at (lower 7 bits: (k_d + 2) 5^d for a shift of
+  // k_d box lengths along axis d, k_d in -2..2).
+  static constexpr int shift_bits = 7;
+  static constexpr std::uint32_t shift_mask = (1u << shift_bits) - 1;
+  static constexpr int centre_code = D == 2 ? 2 + 2 * 5 : 2 + 2 * 5 + 2 * 25;  // no shift
+
+  // A particle's entries: [begin, mid) fluid neighbours, [mid, end) the others, in its block's list.
+  struct Row {
+    int begin, mid, end;
+  };
+
+  void configure(const PeriodicBox<D>& box) {
+    box_ = box;
+    for (int code = 0; code < (D == 2 ? 25 : 125); ++code) {
+      int c = code;
+      for (int d = 0; d < D; ++d, c /= 5) shifts_[code][d] = box.periodic[d] ? (c % 5 - 2) * (box.hi[d] - box.lo[d]) : 0.0;
+    }
+  }
+
+  // Room for n particles (rows, block ids) without allocating later.
+  void reserve(std::size_t n) {
+    rows_.reserve(n);
+    block_of_.reserve(n);
+  }
+
+  // List the pairs of x[0..n) closer than `range` (kind: fluid first in each
+  // row; pairs of two fixed boundary particles left out when skip_walls).
+  void build(const CellList<D>& cells, const std::vector<Vec<D>>& x, const std::vector<Kind>& kind, double range,
+             bool skip_walls) {
+    const std::size_t n = x.size();
+    rows_.resize(n);
+    block_of_.resize(n);
+    const auto& dims = cells.dims();
+    const int layers = dims[D - 1];
+    int layer_cells = 1;
+    for (int d = 0; d + 1 < D; ++d) layer_cells *= dims[d];
+    periodic_last_ = box_.periodic[D - 1];
+    int nb = std::max(1, layers / 2);
+    if (periodic_last_ && nb < 3) nb = 1;
+    blocks_ = nb;
+    if (static_cast<int>(lists_.size()) < nb) lists_.resize(nb);
+    if (static_cast<int>(begin_.size()) < nb + 1) begin_.resize(nb + 1);
+    for (int k = 0; k < nb; ++k) begin_[k] = cells.cell_begin(static_cast<std::ptrdiff_t>(2 * k) * layer_cells);
+    begin_[0] = 0;
+    begin_[nb] = static_cast<int>(n);
+    for (auto& c : colours_) c.clear();
+    for (int k = 0; k < nb; ++k) {
+      int colour = k % 2;
+      if (periodic_last_ && nb % 2 == 1 && k == nb - 1 && nb > 1) colour = 2;
+      colours_[colour].push_back(k);
+    }
+    const double range2 = range * range;
+    auto build_block = [&](int k) {
+      for (int i = begin_[k]; i < begin_[k + 1]; ++i) block_of_[i] = k;
+    };
+    auto list_block = [&](int k) {
+      std::vector<std::uint32_t>& list = lists_[k];
+      list.clear();
+      using Run = typename CellList<D>::Run;
+      Run runs[CellList<D>::max_runs];
+      int codes[CellList<D>::max_runs];
+      const std::ptrdiff_t first_cell = static_cast<std::ptrdiff_t>(2 * k) * layer_cells;
+      const std::ptrdiff_t last_cell =
+          k + 1 == nb ? cells.cell_count() : static_cast<std::ptrdiff_t>(2 * (k + 1)) * layer_cells;
+      for (std::ptrdiff_t cell = first_cell; cell < last_cell; ++cell) {
+        const int first = cells.cell_begin(cell), last = cells.cell_end(cell);
+        if (first == last) continue;
+        const int nr = cells.runs_of_cell(cell, runs);
+        for (int q = 0; q < nr; ++q) codes[q] = code_of(runs[q].shift);
+        for (int a = first; a < last; ++a) {
+          Row& row = rows_[a];
+          const bool a_wall = kind[a] == Kind::boundary;
+          row.begin = static_cast<int>(list.size());
+          for (int pass = 0; pass < 2; ++pass) {  // fluid neighbours, then the others
+            for (int q = 0; q < nr; ++q) {
+              const Vec<D> xs = x[a] - runs[q].shift;
+              const int end = cells.item_end(runs[q]);
+              for (int b = cells.item_begin(runs[q]); b < end; ++b) {
+                if ((kind[b] == Kind::fluid) != (pass == 0)) continue;
+                if ((xs - x[b]).squaredNorm() >= range2) continue;
+                if (b == a && codes[q] == centre_code) continue;
+                if (skip_walls && a_wall && kind[b] == Kind::boundary) continue;
+                if (!owns(a, b, codes[q], k)) continue;
+                list.push_back(static_cast<std::uint32_t>(b) << shift_bits | static_cast<std::uint32_t>(codes[q]));
+              }
+            }
+            if (pass == 0) row.mid = static_cast<int>(list.size());
+          }
+          row.end = static_cast<int>(list.size());
+        }
+      }
+      // Headroom, so the lists of later builds rarely allocate.
+      if (list.capacity() < list.size() + list.size() / 4) list.reserve(list.size() + list.size() / 2);
+    };
+    if (omp_get_max_threads() > 1 && nb > 1) {
+#pragma omp parallel
+      {
+#pragma omp for schedule(static)
+        for (int k = 0; k < nb; ++k) build_block(k);
+#pragma omp for schedule(dynamic, 1)
+        for (int k = 0; k < nb; ++k) list_block(k);
+      }
+    } else {
+      for (int k = 0; k < nb; ++k) build_block(k);
+      for (int k = 0; k < nb; ++k) list_block(k);
+    }
+  }
+
+  // body(k) for every block, colour after colour; the blocks of a colour on
+  // the threads when `parallel` (call inside an omp parallel region then).
+  template <class Body>
+  void for_blocks_coloured(bool parallel, Body&& body) const {
+    for (const auto& colour : colours_) {
+      const int count = static_cast<int>(colour.size());
+      if (parallel) {
+#pragma omp for schedule(dynamic, 1)
+        for (int j = 0; j < count; ++j) body(colour[j]);
+      } else {
+        for (int j = 0; j < count; ++j) body(colour[j]);
+      }
+    }
+  }
+
+  int blocks() const { return blocks_; }
+  int block_begin(int k) const { return begin_[k]; }
+  int block_end(int k) const { return begin_[k + 1]; }
+  const Row& row(int a) const { return rows_[a]; }
+  const std::uint32_t* entries(int k) const { return lists_[k].data(); }
+  const Vec<D>* shifts() const { return shifts_.data(); }
+  std::size_t pair_count() const {
+    std::size_t s = 0;
+    for (int k = 0; k < blocks_; ++k) s += lists_[k].size();
+    return s;
+  }
+
+ private:
+  int code_of(const Vec<D>& shift) const {
+    int code = 0, scale = 1;
+    for (int d = 0; d < D; ++d, scale *= 5) {
+      const int k = box_.periodic[d] ? static_cast<int>(std::lround(shift[d] / (box_.hi[d] - box_.lo[d]))) : 0;
+      code += (k + 2) * scale;
+    }
+    return code;
+  }
+  // Whether a (of block ka) owns its pair with b seen at shift `code`.
+  bool owns(int a, int b, int code, int ka) const {
+    const int kb = block_of_[b];
+    if (kb == ka) return a < b || (a == b && code > centre_code);
+    if (kb == ka + 1) return true;
+    return periodic_last_ && ka == blocks_ - 1 && kb == 0;
+  }
+
+  PeriodicBox<D> box_;
+  std::array<Vec<D>, D == 2 ? 25 : 125> shifts_{};
+  std::vector<Row> rows_;
+  std::vector<int> block_of_, begin_;
+  std::vector<std::vector<std::uint32_t>> lists_;
+  std::array<std::vector<int>, 3> colours_;
+  int blocks_ = 0;
+  bool periodic_last_ = false;
+};
+
+}  // namespace sph
