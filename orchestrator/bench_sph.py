@@ -253,14 +253,16 @@ def _pysph_version() -> str:
 
 
 def run_bench(out_dir: Path | None = None, steps_2d: int = 2000, steps_3d: int = 200, threads=THREADS,
-              with_pysph: bool | None = None, on_done=None, repeats: int = 1) -> list[BenchRow]:
+              with_pysph: bool | None = None, on_done=None, repeats: int = 1,
+              with_lammps: bool | None = None) -> list[BenchRow]:
     """Every timed run: 2D and 3D dam breaks on one thread and on each larger thread count with each
     wait (WAITS), then PySPH's 2D dam break if importable.
 
     repeats: each run is made this many times, the rounds one after the other (so a slow spell of a
     shared or virtual machine hits every configuration alike), and the fastest of each is kept, as
     timeit does (its `repeats` field says of how many). with_pysph: None = when importable;
-    on_done(row) is called after each run.
+    on_done(row) is called after each run. with_lammps: our 3D block (bench_lammps) always, LAMMPS on
+    the block and the 3D dam break when True (None = when importable; False = neither, nor our block).
     """
     from .backends import get_backend
 
@@ -278,6 +280,11 @@ def run_bench(out_dir: Path | None = None, steps_2d: int = 2000, steps_3d: int =
             jobs.append(lambda case=case, path=path: run_ours(case, path))
     if with_pysph:
         jobs.append(lambda: run_pysph(steps_2d, out_dir / "pysph_dam_break_2d"))
+    if with_lammps is not False:
+        from . import bench_lammps
+
+        use = bench_lammps.lammps_available() if with_lammps is None else with_lammps
+        jobs += bench_lammps.jobs(out_dir, steps_3d, _runs(threads), use)
     best: list[BenchRow | None] = [None] * len(jobs)
     for _ in range(max(1, repeats)):
         for k, job in enumerate(jobs):
@@ -322,6 +329,9 @@ def summary(rows: list[BenchRow]) -> dict:
         out["ratio_per_core_fluid"] = out["ratio_per_core"] * fluid
         out["ratio_wall"] = ours.particle_steps_per_s / theirs.particle_steps_per_s
         out["ratio_wall_fluid"] = out["ratio_wall"] * fluid
+    from .bench_lammps import summary as lammps_summary
+
+    out.update(lammps_summary(by))
     return out
 
 
@@ -365,6 +375,9 @@ def format_report(rows: list[BenchRow]) -> str:
                      "wall second; both codes evaluate the rates once per step")
     elif not any(r.engine.startswith("pysph") for r in rows):
         lines.append("PySPH is not installed in this Python ('make pysph' installs it into .venv): no side-by-side")
+    from .bench_lammps import report_lines
+
+    lines += report_lines(rows, s)
     return "\n".join(lines)
 
 
