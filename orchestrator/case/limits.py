@@ -24,6 +24,8 @@ MAX_STEPS = 1_000_000_000
 MAX_RECORDS = 10_000_000
 #: Most particle frames of a run (output.frame_interval), -.
 MAX_FRAMES = 100_000
+#: Most checkpoints of a run (output.checkpoint_interval; each saves the whole scene), -.
+MAX_CHECKPOINTS = 10_000
 #: Memory one SPH particle takes during a run, bytes: the orchestrator's arrays (positions, velocities, masses,
 #: densities, kinds, with the copies made while building the lattice), the engine's state and its neighbour
 #: lists (about 70 neighbours in 3D at h = 1.3 dx), rounded up.
@@ -94,6 +96,10 @@ def check_drag_finishing(case) -> None:
     step_key = "the time step (numerics.timestep_factor x the Rayleigh step of the smallest ball)"
     check_steps("process.duration", case.process.duration, step_key, step)
     check_interval("output.record_interval", case.output.record_interval, "process.duration", case.process.duration)
+    checkpoints = getattr(case.output, "checkpoint_interval", None)
+    if checkpoints is not None:  # each writes the whole scene: a few thousand at most
+        check_interval("output.checkpoint_interval", checkpoints, "process.duration", case.process.duration,
+                       most=MAX_CHECKPOINTS, what="checkpoints")
     settle_time = case.settling.max_time + case.settling.relax_time + case.settling.stiffen_time
     check_steps("settling.max_time + relax_time + stiffen_time", settle_time,
                 "the settling time step (settling.timestep_factor x the Rayleigh step at settling.stiffness_scale)",
