@@ -10,6 +10,7 @@ from pathlib import Path
 
 from . import __version__, signals
 from .errors import EngineFailed, EngineTimeout, EngineUnstable, OrchestratorError, ReadError
+from .humanize import describe_returncode, os_problem
 from .rundir import RunDirectory
 from .runh5 import RUN_FILE, write_run
 
@@ -158,7 +159,10 @@ def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float |
     with RunDirectory(out_dir if out_dir is not None else default_run_dir(case.case.name, engine),
                       force, resume, info) as run_dir:
         if not resume:
-            (run_dir / "case.toml").write_text(loaded.toml_text)
+            try:
+                (run_dir / "case.toml").write_text(loaded.toml_text)
+            except OSError as exc:
+                raise OrchestratorError(f"cannot write into the run directory {run_dir}: {os_problem(exc)}") from None
         started = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
         command, execution, interrupted = _run_engine(backend, scene, run_dir, clock, timeout_s, progress,
                                                       f"{engine} {case.case.name}", on_timing, resume)
@@ -224,7 +228,10 @@ def _run_engine(backend, scene, run_dir: Path, clock: PhaseClock, timeout_s, pro
             command, env = backend.resume_input(scene, run_dir)
             _keep_log(run_dir / LOG_NAME)
         else:
-            backend.write_input(scene, run_dir)
+            try:
+                backend.write_input(scene, run_dir)
+            except OSError as exc:  # a full disk, a folder made read-only meanwhile
+                raise OrchestratorError(f"cannot write the engine's input into {run_dir}: {os_problem(exc)}") from None
             command, env = backend.command(run_dir)
         clock.lap("input")
         if not resume and hasattr(backend, "probe_command") and backend.planned_steps(scene) > PROBE_ABOVE_STEPS:
@@ -287,22 +294,13 @@ def _read_result(backend, scene, run_dir: Path, execution, interrupted, timeout_
         result.message = f"stopped after the {timeout_s:g} s timeout"
     elif execution.returncode is not None and execution.returncode < 0:
         result.status = "failed"
-        result.message = f"the engine was killed by {_signal_name(-execution.returncode)}"
+        result.message = f"the engine {describe_returncode(execution.returncode)}"
     elif execution.returncode != 0 and result.status == "ok":
         result.status = "failed"
         result.message = f"the engine exited with code {execution.returncode}"
     elif result.status == "failed" and execution.returncode == 0:
         result.message = result.message or "the engine ended without finishing"
     return result
-
-
-def _signal_name(number: int) -> str:
-    import signal
-
-    try:
-        return f"signal {signal.Signals(number).name} ({number})"
-    except ValueError:
-        return f"signal {number}"
 
 
 def _raise_for_status(summary: RunSummary, engine: str, timeout_s, execution) -> None:

@@ -14,7 +14,6 @@ hurting each other or the user's files:
 from __future__ import annotations
 
 import datetime as _dt
-import errno
 import fcntl
 import json
 import os
@@ -23,6 +22,7 @@ import sys
 from pathlib import Path
 
 from .errors import OrchestratorError
+from .humanize import check_out_dir, os_problem
 from .runh5 import RUN_FILE
 
 MARKER = ".orchestrator-run"
@@ -33,19 +33,6 @@ OURS = (MARKER, LOCK, RUN_FILE)
 
 class RunDirBusy(OrchestratorError):
     """Another run holds the directory's lock (exit 2)."""
-
-
-def _os_problem(path: Path, exc: OSError) -> str:
-    reasons = {
-        errno.EACCES: "permission denied",
-        errno.EPERM: "permission denied",
-        errno.EROFS: "the file system is read-only",
-        errno.ENAMETOOLONG: "a name in the path is longer than the file system allows (255 bytes)",
-        errno.ENOTDIR: "a part of the path is a file, not a folder",
-        errno.ENOSPC: "no space left on the device",
-        errno.EEXIST: "a file of that name exists",
-    }
-    return reasons.get(exc.errno, exc.strerror or str(exc))
 
 
 def _is_ours(path: Path) -> bool:
@@ -70,10 +57,10 @@ class RunDirectory:
 
     def __enter__(self) -> Path:
         path = self.path
+        option = "--resume" if self.resume else "--out"
+        check_out_dir(path, option)  # a file, a device, a name too long, a folder that cannot be written
         if self.resume and not (path.is_dir() and _is_ours(path)):
             raise OrchestratorError(f"--resume {path}: not a run directory of orchestrator (no {MARKER})")
-        if path.exists() and not path.is_dir():
-            raise OrchestratorError(f"--out {path} is a file, not a folder; give a new or empty folder")
         if path.is_dir() and any(path.iterdir()) and not _is_ours(path):
             raise OrchestratorError(
                 f"{path} is not empty and is not a run directory of orchestrator (no {MARKER}); refusing to write "
@@ -83,7 +70,7 @@ class RunDirectory:
             path.mkdir(parents=True, exist_ok=True)
             self._fd = os.open(path / LOCK, os.O_RDWR | os.O_CREAT, 0o644)
         except OSError as exc:
-            raise OrchestratorError(f"cannot create the run directory {path}: {_os_problem(path, exc)}") from None
+            raise OrchestratorError(f"cannot create the run directory {path}: {os_problem(exc)}") from None
         try:
             fcntl.flock(self._fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:
@@ -105,7 +92,7 @@ class RunDirectory:
             (path / MARKER).write_text(json.dumps(info) + "\n")
         except OSError as exc:
             self._release()
-            raise OrchestratorError(f"cannot write into the run directory {path}: {_os_problem(path, exc)}") from None
+            raise OrchestratorError(f"cannot write into the run directory {path}: {os_problem(exc)}") from None
         except BaseException:
             self._release()
             raise
