@@ -168,3 +168,55 @@ def test_report_from_an_index(tmp_path):
     assert "numerics.stiffness_scale = 0.1 on yade" in html
     assert "0.025" in html and "0.15" in html and "failed" in html
     assert "data:image/png;base64," in html
+
+
+SPHERE_PLANE = Path(__file__).parent.parent / "cases" / "verification" / "chung_ooi_test2_sphere_plane.toml"
+
+
+def test_a_change_to_the_code_that_fills_the_input_reruns_the_run(tmp_path, monkeypatch):
+    """The run identity hashes the rendered input files: changing only the Python that fills them (here the
+    reference engine's scene description, not any template or case value) makes the study rerun the run."""
+    from orchestrator.backends import reference
+
+    study_path = tmp_path / "ref.toml"
+    study_path.write_text(f"""
+[study]
+name = "ref"
+case = "{SPHERE_PLANE}"
+engines = ["reference"]
+[sweep]
+mode = "list"
+[[sweep.runs]]
+"contacts.0.restitution" = 0.5
+""")
+    out = tmp_path / "study"
+    first = Study.from_file(study_path, out_dir=out).run(progress=False)
+    assert [r["status"] for r in first] == ["ok"] and not first[0]["reused"]
+    again = Study.from_file(study_path, out_dir=out).run(progress=False)
+    assert again[0]["reused"] and again[0]["run_id"] == first[0]["run_id"]
+
+    original = reference.scene_description
+
+    def changed(scene):
+        description = original(scene)
+        description["dt"] *= 0.5  # what a change to a context function does
+        return description
+
+    monkeypatch.setattr(reference, "scene_description", changed)
+    third = Study.from_file(study_path, out_dir=out).run(progress=False)
+    assert third[0]["run_id"] != first[0]["run_id"] and not third[0]["reused"] and third[0]["status"] == "ok"
+    assert third[0]["n_steps"] > first[0]["n_steps"]
+
+
+def test_the_mpi_rank_count_is_part_of_the_identity(monkeypatch):
+    from orchestrator.backends import get_backend
+    from orchestrator.case import load_case
+    from orchestrator.identity import run_identity
+    from orchestrator.scene import build_scene
+
+    loaded = load_case(TINY)
+    scene = build_scene(loaded.model)
+    one = run_identity(loaded, "liggghts", "3.8.0", get_backend("liggghts", mpi_ranks=1), scene)
+    two = run_identity(loaded, "liggghts", "3.8.0", get_backend("liggghts", mpi_ranks=2), scene)
+    assert one != two
+    assert one == run_identity(loaded, "liggghts", "3.8.0", get_backend("liggghts", mpi_ranks=1), scene)

@@ -1,8 +1,8 @@
 """Study: a sweep of one case over parameters and engines, with cached,
 resumable runs.
 
-A run's identity is sha256(resolved case, engine, engine version, template
-hash); its directory is <study dir>/<engine>-<id[:12]>. A run whose run.h5
+A run's identity (orchestrator.identity) is sha256 of the resolved case, the engine, its version, its MPI
+ranks and the rendered engine input files; its directory is <study dir>/<engine>-<id[:12]>. A run whose run.h5
 has status ok and the same identity is reused; a failed, interrupted or
 changed one is run again. Runs go to any concurrent.futures.Executor (a local
 process pool by default, sized so runs never oversubscribe the cores).
@@ -11,7 +11,6 @@ process pool by default, sized so runs never oversubscribe the cores).
 from __future__ import annotations
 
 import csv
-import hashlib
 import json
 import os
 import shutil
@@ -82,7 +81,7 @@ class Study:
         """Validate every run's case and engine, and compute identities (raises CaseError / OrchestratorError)."""
         from ..backends import engine_names, get_backend
         from ..case import load_case
-        from ..templating import files_hash
+        from ..identity import run_identity
 
         planned = []
         for engine in self.engines:
@@ -102,15 +101,9 @@ class Study:
             backend.check_available()
             versions[engine] = backend.version()
         for point, loaded in zip(self.points, cases):
+            scene = _build_scene(loaded)
             for engine in self.engines:
-                backend = get_backend(engine)
-                identity = {
-                    "case": loaded.resolved,
-                    "engine": engine,
-                    "engine_version": versions[engine],
-                    "template_hash": files_hash(backend.template_files(loaded.kind)),
-                }
-                run_id = hashlib.sha256(json.dumps(identity, sort_keys=True, default=str).encode()).hexdigest()
+                run_id = run_identity(loaded, engine, versions[engine], get_backend(engine), scene)
                 planned.append(PlannedRun(run_id, engine, dict(point), self.out_dir / f"{engine}-{run_id[:12]}",
                                           loaded.model.numerics.threads))
         self._planned = planned
@@ -179,6 +172,16 @@ class Study:
     def results(self):
         """The study's index: a pandas DataFrame when pandas is installed, else a numpy structured array."""
         return read_index(self.out_dir, as_frame=True)
+
+
+def _build_scene(loaded):
+    """The scene of a planned run (its engine inputs decide the run's identity)."""
+    from ..scene import build_scene
+
+    try:
+        return build_scene(loaded.model)
+    except ValueError as exc:
+        raise OrchestratorError(f"cannot build the scene of {loaded.name}: {exc}") from None
 
 
 def _stop_workers(executor: ProcessPoolExecutor, signum: int) -> None:
