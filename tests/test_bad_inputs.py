@@ -7,8 +7,8 @@ regression could not start Yade, LIGGGHTS or the sph executable either). Exit co
 OrchestratorError, argparse), 6 unreadable file (ReadError), 1 a fit the data contradict.
 
 Counts: test_numeric_keys 576 (24 shipped cases x 4 numeric keys x 6 values), test_positive_keys 44,
-test_bad_input 162, test_bad_option 21, test_out_dirs 24 (8 commands x 3 folders), test_read_only_out 6,
-test_hypothesis_values 40 examples: 873 bad inputs in all, over every command.
+test_bad_input 163, test_bad_option 21, test_out_dirs 24 (8 commands x 3 folders), test_read_only_out 6,
+test_hypothesis_values 40 examples: 874 bad inputs in all, over every command.
 """
 
 from __future__ import annotations
@@ -244,6 +244,7 @@ BAD_INPUTS = [
     (_run(DRAG, "process.duration=1e20"), 2, "process.duration", "time steps"),
     (_run(DRAG, "settling.max_time=1e20"), 2, "settling.max_time", "time steps"),
     (_run(DRAG, "output.checkpoint_interval=1e-9"), 2, "output.checkpoint_interval", "checkpoints"),
+    (_run(DRAG, "output.record_interval=1e-7", "process.duration=0.8", "output.network_times=[]"), 2, "output.record_interval", "below the time step"),
     (_run(DRAG, "output.record_interval=1e-12"), 2, "output.record_interval"), (_run(DRAG, "media.radius=1e-31"), 2, "media.radius"),
     (_run(DRAG, "bowl.inner_radius=1e-300"), 2, "bowl.inner_radius"), (_run(DRAG, "case.seed=1e308"), 2, "case.seed"),
     (_run(DAM, "numerics.h_over_dx=0.1"), 2, "numerics.h_over_dx"), (_run(DAM, "numerics.h_over_dx=50"), 2, "numerics.h_over_dx"),

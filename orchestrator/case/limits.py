@@ -95,7 +95,8 @@ def check_drag_finishing(case) -> None:
     settle = case.settling_timestep_factor * rayleigh_timestep(r_min, material, case.settling_stiffness_scale)
     step_key = "the time step (numerics.timestep_factor x the Rayleigh step of the smallest ball)"
     check_steps("process.duration", case.process.duration, step_key, step)
-    check_interval("output.record_interval", case.output.record_interval, "process.duration", case.process.duration)
+    check_interval("output.record_interval", case.output.record_interval, "process.duration", case.process.duration,
+                   "numerics.timestep_factor x the Rayleigh step", step)
     checkpoints = getattr(case.output, "checkpoint_interval", None)
     if checkpoints is not None:  # each writes the whole scene: a few thousand at most
         check_interval("output.checkpoint_interval", checkpoints, "process.duration", case.process.duration,
