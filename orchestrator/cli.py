@@ -17,7 +17,7 @@ def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="orchestrator",
         description="Run particle simulations of machining and finishing processes on established engines "
-        "(Yade now; LIGGGHTS and our SPH executable to come) and compare them with the papers and reference "
+        "(Yade and LIGGGHTS for DEM, our sph executable for SPH) and compare them with the papers and reference "
         "solvers. All quantities are SI (m, kg, s, N, Pa).",
     )
     parser.add_argument("--version", action="version", version=f"orchestrator {__version__}")

@@ -11,8 +11,6 @@ from typing import Any
 
 import numpy as np
 
-STATUSES = ("ok", "failed", "timeout", "unstable")
-
 
 @dataclass
 class Series:

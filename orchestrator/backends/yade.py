@@ -28,7 +28,6 @@ from .base import ExecutableBackend, Result, Series
 
 TEMPLATES = {"drag_finishing": "yade/drag_finishing.py.j2", "impact": "yade/impact.py.j2"}
 SCRIPT_NAME = {"drag_finishing": "drag_finishing.py", "impact": "impact.py"}
-PHASE_CODES = {0: "settle", 1: "insert", 2: "relax", 3: "process"}
 
 
 class YadeProfile:

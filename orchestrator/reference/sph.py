@@ -260,22 +260,6 @@ def step(state: SphState, model: SphModel, dt: float) -> SphState:
     return replace(state, x=x_new, v=state.v + dt * acc1, rho=state.rho + dt * drho1, acc=acc1, drho=drho1)
 
 
-def adaptive_dt(state: SphState, model: SphModel, cfl: float = 0.25, viscous: float = 0.125,
-                force: float = 0.25) -> float:
-    """Eq. 13 extended, s: min(cfl h/(c0 + |v|max), viscous h^2/nu, force sqrt(h/|a|max)) over the fluid,
-    with the accelerations of the last evaluation (as the executable)."""
-    acc, _ = last_rates(state, model)
-    fluid = state.kind == FLUID
-    v_max = float(np.max(np.linalg.norm(state.v[fluid], axis=1), initial=0.0))
-    a_max = float(np.max(np.linalg.norm(acc[fluid], axis=1), initial=0.0))
-    dt = cfl * model.h / (model.c0 + v_max)
-    if model.viscosity is not None:
-        dt = min(dt, viscous * model.h**2 / model.viscosity)
-    if a_max > 0.0:
-        dt = min(dt, force * math.sqrt(model.h / a_max))
-    return dt
-
-
 def simulate(state: SphState, model: SphModel, dt: float, n_steps: int, every: int = 0):
     """Advance n_steps fixed steps of dt s; returns (final state, [(step, state) every `every` steps])."""
     states = []
@@ -285,19 +269,6 @@ def simulate(state: SphState, model: SphModel, dt: float, n_steps: int, every: i
         if every and k % every == 0:
             states.append((k, state))
     return state, states
-
-
-def probe_pressure(point, state: SphState, model: SphModel) -> float:
-    """Shepard-normalised fluid pressure at a point, sum V_b p_b W / sum V_b W over fluid within 2h, Pa
-    (NaN when none)."""
-    fluid = np.nonzero(state.kind == FLUID)[0]
-    target = wrap(np.asarray(point, dtype=float).reshape(1, -1), model)
-    _, j, r = _pairs_including_coincident(target, state.x[fluid], model)
-    w = state.mass[fluid][j] / state.rho[fluid][j] * kernel_value(np.linalg.norm(r, axis=1), model.h,
-                                                                   model.dimension)
-    if not w.sum() > 0.0:
-        return float("nan")
-    return float(np.sum(w * tait_pressure(state.rho[fluid][j], model)) / np.sum(w))
 
 
 def from_scene(scene) -> tuple[SphState, SphModel]:
