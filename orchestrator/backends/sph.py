@@ -136,7 +136,7 @@ def deck_context(scene, threads: int = 1) -> dict:
     wall = physics.wall_penalty
     return {
         "dimension": case.dimension,
-        "physics": json.dumps(list(physics.terms)),
+        "physics": json.dumps(list(scene.physics)),
         "rho0": num(fluid.density),
         "c0": num(scene.c0),
         "v_max": num(fluid.max_speed),

@@ -7,7 +7,7 @@ backends turn it into their own input files.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -31,14 +31,13 @@ class MeshPart:
 
 @dataclass(frozen=True)
 class Scene:
-    """Particles, meshes, materials and the physics a scene switches on."""
+    """Particles, meshes and materials of a DEM scene."""
 
     case: object  # the validated case model
     positions: np.ndarray  # (n,3) m
     radii: np.ndarray  # (n,) m
     meshes: dict[str, MeshPart]
     timestep: float  # s
-    physics: frozenset = field(default_factory=frozenset)
 
     @property
     def n_particles(self) -> int:
@@ -90,8 +89,7 @@ def build_drag_finishing(case) -> Scene:
         "rod": MeshPart("rod", rod, wp.material),
     }
     dt = case.numerics.timestep_factor * critical_timestep(case)
-    physics = frozenset({"gravity", "hertz_mindlin", "viscous_damping", "coulomb_friction", "moving_mesh"})
-    return Scene(case=case, positions=positions, radii=radii, meshes=meshes, timestep=dt, physics=physics)
+    return Scene(case=case, positions=positions, radii=radii, meshes=meshes, timestep=dt)
 
 
 def _build_impact(case):

@@ -68,7 +68,6 @@ class ImpactScene:
     duration: float  # s
     record_interval: float  # s
     pairs: dict[tuple[str, str], PairPhysics]
-    physics: frozenset = field(default_factory=frozenset)
     meshes: dict = field(default_factory=dict)
 
     @property
@@ -224,14 +223,7 @@ def build_impact(case: ImpactCase) -> ImpactScene:
     dt = min(dt, case.simulation.duration)
     record = case.output.record_interval or case.simulation.duration / 1000.0
     plane = case.plane
-    physics = {"hertz_mindlin"}
-    if case.simulation.gravity:
-        physics.add("gravity")
     pairs = pair_physics(case)
-    if any(p.restitution < 1.0 for p in pairs.values()):
-        physics.add("viscous_damping")
-    if any(p.friction > 0.0 for p in pairs.values()):
-        physics.add("coulomb_friction")
     return ImpactScene(
         case=case,
         positions=np.array([s.position for s in case.spheres], float).reshape(-1, 3),
@@ -248,5 +240,4 @@ def build_impact(case: ImpactCase) -> ImpactScene:
         duration=case.simulation.duration,
         record_interval=float(min(record, case.simulation.duration)),
         pairs=pairs,
-        physics=frozenset(physics),
     )

@@ -41,7 +41,7 @@ class SphScene:
     h: float  # smoothing length, m (kernel support 2h)
     c0: float  # reference sound speed, m/s
     timestep: float  # fixed dt, or the adaptive CFL step at rest cfl h / c0, s
-    physics: frozenset = field(default_factory=frozenset)
+    physics: tuple[str, ...] = ()  # the terms the engine compiles in (physics.terms): what the deck switches on
 
     @property
     def dimension(self) -> int:
@@ -167,4 +167,4 @@ def build_sph_flow(case: SphFlowCase) -> SphScene:
     dt = sph_timestep(case)  # the fixed step, or the adaptive one at rest
     return SphScene(case=case, positions=positions, velocities=velocities, masses=masses, densities=densities,
                     kind=kind, block=block, meshes=meshes, h=h, c0=c0, timestep=dt,
-                    physics=frozenset(case.physics.terms))
+                    physics=tuple(case.physics.terms))
