@@ -6,6 +6,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 TINY = Path(__file__).parent / "data" / "tiny_bowl.toml"
 
 
@@ -44,7 +46,23 @@ def test_export_and_analyze_need_a_run(tmp_path):
         assert "Traceback" not in proc.stderr
 
 
+COMMANDS = ("run", "analyze", "study", "status", "report", "verify", "calibrate", "compare", "bench", "doctor",
+            "export")
+
+
 def test_help_lists_every_command():
+    import re
+
     proc = cli("--help")
-    for command in ("run", "analyze", "doctor", "export", "study", "status", "report"):
-        assert command in proc.stdout
+    assert sorted(re.findall(r"^    (\w+)", proc.stdout, re.M)) == sorted(COMMANDS)
+
+
+@pytest.mark.parametrize("command", COMMANDS)
+def test_every_command_has_its_help(command, capsys):
+    from orchestrator.cli import main
+
+    with pytest.raises(SystemExit) as stopped:
+        main([command, "--help"])
+    out = capsys.readouterr().out
+    assert stopped.value.code == 0 and out.startswith(f"usage: orchestrator {command}")
+    assert len(out.splitlines()) > 4  # the options, each explained

@@ -151,7 +151,7 @@ def test_overhead_attributes_of_a_reference_run(tmp_path):
     with h5py.File(tmp_path / "r" / "run.h5") as h5:
         attrs = dict(h5.attrs)
     phases = [float(attrs[key]) for key in PHASE_KEYS]
-    assert all(p >= 0 for p in phases) and attrs["overhead_write_s"] > 0 and attrs["overhead_scene_s"] > 0
+    assert all(p > 0 for p in phases)  # every phase does work in a run: imports, scene, input, parse, analysis, write
     assert float(attrs["orchestrator_overhead_s"]) == pytest.approx(sum(phases), abs=1e-9)
     assert result.overhead_s == pytest.approx(float(attrs["orchestrator_overhead_s"]), abs=1e-6)
     assert result.overhead_phases_s["write"] == pytest.approx(float(attrs["overhead_write_s"]), abs=1e-6)
