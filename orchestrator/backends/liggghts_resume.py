@@ -48,7 +48,7 @@ def truncate_series(path: Path, last_step: int) -> int:
     """Drop the rows of a series.txt recorded after last_step (comment lines stay); returns how many."""
     lines = Path(path).read_text().splitlines(keepends=True) if Path(path).is_file() else []
     kept = [line for line in lines if line.startswith("#") or not line.strip()
-            or _step_of(line) is not None and _step_of(line) <= last_step]
+            or (step := _step_of(line)) is not None and step <= last_step]
     Path(path).write_text("".join(kept))
     return len(lines) - len(kept)
 
