@@ -14,13 +14,13 @@ __version__ = "0.1.0"
 
 def load_case(path, preset=None, overrides=()):
     """Read, override and validate a TOML case file into an immutable Case (SI units)."""
-    from .case import load_case as _load
+    from orchestrator.case import load_case as _load
 
     return _load(path, preset=preset, overrides=overrides)
 
 
 def run_case(case, engine=None, out_dir=None, timeout_s=None, progress=True):
     """Run a validated Case on an engine; returns the RunSummary (see orchestrator.run)."""
-    from .run import run_case as _run
+    from orchestrator.run import run_case as _run
 
     return _run(case, engine=engine, out_dir=out_dir, timeout_s=timeout_s, progress=progress)

@@ -9,8 +9,8 @@ import math
 import sys
 from pathlib import Path
 
-from . import __version__
-from .humanize import duration
+from orchestrator import __version__
+from orchestrator.humanize import duration
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -187,7 +187,7 @@ def main(argv=None) -> int:
     SIGINT, SIGTERM and SIGHUP stop a running engine, keep what was measured in run.h5 (status terminated) and
     exit with 128 + the signal's number.
     """
-    from . import signals
+    from orchestrator import signals
 
     with signals.installed():
         try:
@@ -199,7 +199,7 @@ def main(argv=None) -> int:
 
 
 def _main(argv) -> int:
-    from .errors import OrchestratorError
+    from orchestrator.errors import OrchestratorError
 
     parser = _parser()
     args = parser.parse_args(argv)
@@ -233,7 +233,7 @@ def _main(argv) -> int:
 
 def _interrupted(exc: KeyboardInterrupt) -> int:
     """Say what a signal stopped and what is on disk; the exit code is 128 + the signal's number."""
-    from .signals import Interrupted
+    from orchestrator.signals import Interrupted
 
     how = exc.describe() if isinstance(exc, Interrupted) else "Ctrl-C (SIGINT)"
     kept = getattr(exc, "kept", None)
@@ -257,8 +257,8 @@ def _jsonable(value):
 def _check_options(args) -> None:
     """Refuse option values no command can use: a wall-time limit or tolerance that is not a finite positive
     number, fewer than one worker or MPI rank, an --out that cannot be a folder (OrchestratorError, exit 2)."""
-    from .errors import OrchestratorError
-    from .humanize import check_out_dir
+    from orchestrator.errors import OrchestratorError
+    from orchestrator.humanize import check_out_dir
 
     for option in ("timeout", "tolerance"):
         value = getattr(args, option, None)
@@ -275,26 +275,26 @@ def _check_options(args) -> None:
 
 
 def _cmd_run(args) -> int:
-    from .case import load_case
-    from .run import run_case
+    from orchestrator.case import load_case
+    from orchestrator.run import run_case
 
     _check_options(args)
     if args.resume is not None or args.case is None:
         return _cmd_resume(args)
     loaded = load_case(args.case, preset=args.preset, overrides=args.overrides)
     if args.engine is not None:
-        from .backends import engine_names
-        from .errors import OrchestratorError
+        from orchestrator.engines import engine_names
+        from orchestrator.errors import OrchestratorError
 
         if args.engine not in engine_names():
             raise OrchestratorError(f"unknown engine {args.engine!r}; allowed: {', '.join(engine_names())}")
-        from .backends import engines_for_kind, get_backend
+        from orchestrator.kinds import get_kind
 
-        allowed = engines_for_kind(loaded.kind)
-        # A backend with check_scene explains its own refusal (e.g. the reference DEM: why, and what to use).
-        if allowed and args.engine not in allowed and not hasattr(get_backend(args.engine), "check_scene"):
+        kind = get_kind(loaded.kind)
+        # A kind with a refusal for the engine explains it itself (e.g. the reference DEM: why, and what to use).
+        if args.engine not in kind.adapters and args.engine not in kind.refusals:
             raise OrchestratorError(f"--engine {args.engine} does not run {loaded.kind} cases; allowed: "
-                                    f"{', '.join(allowed)}")
+                                    f"{', '.join(kind.engines())}")
 
     def announce(timing):
         print(f"estimate: {timing.seconds_per_step * 1e3:.3g} ms per step x {timing.planned_steps} steps planned "
@@ -307,8 +307,8 @@ def _cmd_run(args) -> int:
 
 def _cmd_resume(args) -> int:
     """run --resume RUN_DIR: the stopped run's own case, engine and ranks, from its last checkpoint."""
-    from .errors import OrchestratorError
-    from .run import resumable_run, run_case
+    from orchestrator.errors import OrchestratorError
+    from orchestrator.run import resumable_run, run_case
 
     if args.resume is None:
         raise OrchestratorError("run needs a CASE file, or --resume RUN_DIR to continue a stopped run")
@@ -345,14 +345,14 @@ def _print_summary(summary, loaded, as_json: bool) -> int:
 
 
 def _cmd_analyze(args) -> int:
-    from .report import analyze_run
+    from orchestrator.report import analyze_run
 
     analyze_run(args.run_dir, render=not args.no_render)
     return 0
 
 
 def _cmd_doctor(args) -> int:
-    from .doctor import check_engines
+    from orchestrator.doctor import check_engines
 
     rows = check_engines()
     if args.json:
@@ -367,7 +367,7 @@ def _cmd_doctor(args) -> int:
 
 
 def _cmd_export(args) -> int:
-    from .export import export_vtk
+    from orchestrator.export import export_vtk
 
     _check_options(args)
     for path in export_vtk(args.run_dir, args.out):
@@ -376,9 +376,8 @@ def _cmd_export(args) -> int:
 
 
 def _cmd_study(args) -> int:
-    from .study import Study
-
-    from .study.dask import dask_executor
+    from orchestrator.study import Study
+    from orchestrator.study.dask import dask_executor
 
     _check_options(args)
     study = Study.from_file(args.study, out_dir=args.out)
@@ -396,7 +395,7 @@ def _cmd_study(args) -> int:
 
 
 def _cmd_status(args) -> int:
-    from .study.core import read_index_rows
+    from orchestrator.study.core import read_index_rows
 
     _print_rows(read_index_rows(args.study_dir))
     return 0
@@ -428,7 +427,7 @@ def _print_table(header: list[str], table: list[list[str]]) -> None:
 
 
 def _cmd_report(args) -> int:
-    from .study.report import write_study_report
+    from orchestrator.study.report import write_study_report
 
     _check_options(args)
     print(write_study_report(args.study_dir, quantity=args.quantity, reference=args.reference,
@@ -437,7 +436,13 @@ def _cmd_report(args) -> int:
 
 
 def _cmd_verify(args) -> int:
-    from .verify import default_out_dir, format_table, json_rows, plot_force_curves, run_verification
+    from orchestrator.workflows.verify import (
+        default_out_dir,
+        format_table,
+        json_rows,
+        plot_force_curves,
+        run_verification,
+    )
 
     _check_options(args)
     if args.suite == "sph":
@@ -465,9 +470,9 @@ def _cmd_verify(args) -> int:
 
 
 def _verify_sph(args) -> int:
-    from .errors import OrchestratorError
-    from .verify import format_table, json_rows
-    from .verify_sph import default_out_dir, plot_scenes, run_verification, unit_of
+    from orchestrator.errors import OrchestratorError
+    from orchestrator.workflows.verify import format_table, json_rows
+    from orchestrator.workflows.verify_sph import default_out_dir, plot_scenes, run_verification, unit_of
 
     if args.timestep_factors:
         raise OrchestratorError("--timestep-factors is for 'verify dem' only")
@@ -496,8 +501,8 @@ def _verify_sph(args) -> int:
 def _verify_sweep(args, out_dir: Path) -> int:
     from dataclasses import asdict
 
-    from .errors import OrchestratorError
-    from .timestep_study import format_sweep, plot_sweep, run_timestep_sweep
+    from orchestrator.errors import OrchestratorError
+    from orchestrator.workflows.timestep_study import format_sweep, plot_sweep, run_timestep_sweep
 
     if any(not 0 < f <= 1 for f in args.timestep_factors):
         raise OrchestratorError("--timestep-factors: every factor must be in (0, 1] (a fraction of the critical step)")
@@ -514,8 +519,8 @@ def _verify_sweep(args, out_dir: Path) -> int:
 
 
 def _cmd_compare(args) -> int:
-    from .case import load_case
-    from .compare import compare_engines, notes, parse_engines, text_tables
+    from orchestrator.case import load_case
+    from orchestrator.workflows.compare import compare_engines, notes, parse_engines, text_tables
 
     _check_options(args)
     engines = parse_engines(args.engines)
@@ -542,8 +547,14 @@ def _cmd_compare(args) -> int:
 def _cmd_calibrate(args) -> int:
     from dataclasses import asdict
 
-    from .calibrate import drop_case_path, fit_restitution, format_fit, observations_from_csv, observations_from_run
-    from .case import load_case
+    from orchestrator.case import load_case
+    from orchestrator.workflows.calibrate import (
+        drop_case_path,
+        fit_restitution,
+        format_fit,
+        observations_from_csv,
+        observations_from_run,
+    )
 
     if args.run:
         observed, case = observations_from_run(args.run)
@@ -566,8 +577,8 @@ def _cmd_calibrate(args) -> int:
 
 
 def _cmd_bench(args) -> int:
-    from .bench_sph import format_report, json_report, run_bench
-    from .errors import OrchestratorError
+    from orchestrator.errors import OrchestratorError
+    from orchestrator.workflows.bench_sph import format_report, json_report, run_bench
 
     for option, value, most in (("--steps-2d", args.steps_2d, 10**9), ("--steps-3d", args.steps_3d, 10**9),
                                 ("--repeat", args.repeat, 1000)):

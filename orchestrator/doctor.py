@@ -2,22 +2,22 @@
 
 from __future__ import annotations
 
+from orchestrator.engines import engine_names, get_engine
+
 
 def check_engines() -> list[dict]:
     """One row per known engine: engine, found, version, path, hint (what to do when missing)."""
-    from .backends import engine_names, get_backend
-
     rows = []
     for name in engine_names():
-        backend = get_backend(name)
-        found = backend.available()
+        program = get_engine(name)
+        found = program.available()
         rows.append(
             {
                 "engine": name,
                 "found": found,
-                "version": backend.version() if found else "",
-                "path": backend.where() if found else "",
-                "hint": "" if found else backend.install_hint(),
+                "version": program.version() if found else "",
+                "path": program.where() if found else "",
+                "hint": "" if found else program.install_hint(),
             }
         )
     return rows

@@ -35,9 +35,9 @@ from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
-from .errors import OrchestratorError, ReadError
-from .humanize import make_out_dir, os_problem
-from .runh5 import RUN_FILE, read_run
+from orchestrator.errors import OrchestratorError, ReadError
+from orchestrator.humanize import make_out_dir, os_problem
+from orchestrator.runh5 import RUN_FILE, normal_force_of, read_run
 
 #: run.h5 frame names -> the singular names used as VTK point data.
 _POINT_NAMES = {"radii": "radius", "velocities": "velocity", "densities": "density", "pressures": "pressure"}
@@ -141,20 +141,6 @@ def _network_mesh(snapshot: dict, k: int):
             cell_data[key] = [array]
     lines = np.column_stack([np.arange(n), np.arange(n, 2 * n)]).astype(np.int64)
     return meshio.Mesh(np.vstack([p1, p2]), [("line", lines)], cell_data=cell_data)
-
-
-def normal_force_of(snapshot: dict) -> tuple[np.ndarray, np.ndarray]:
-    """(scalar normal force (n,) N, > 0 compressive; normal force vector (n, 3) N) of a contact snapshot.
-
-    Older run.h5 files stored only the vector under ``normal_force``; its
-    magnitude then stands in for the scalar (sign unknown, taken compressive).
-    """
-    fn = np.asarray(snapshot.get("normal_force", np.zeros(0)), dtype=float)
-    if fn.ndim == 2:
-        return np.linalg.norm(fn, axis=1), fn
-    n = len(fn)
-    vec = np.asarray(snapshot.get("normal_force_vector", np.full((n, 3), np.nan)), dtype=float).reshape(-1, 3)
-    return fn, vec
 
 
 def _surface_mesh(group: dict, name: str):

@@ -7,6 +7,8 @@ import os
 import signal
 from pathlib import Path
 
+from orchestrator.errors import OrchestratorError
+
 
 def duration(seconds: float) -> str:
     """A wall time in s, min, h, days or years, e.g. '20.3 h'."""
@@ -74,7 +76,6 @@ def check_out_dir(path, option: str = "--out") -> Path:
     device, has a name longer than the file system allows (NAME_MAX, usually 255 bytes), or lies in a
     folder that cannot be written. Returns the path.
     """
-    from .errors import OrchestratorError
 
     text = str(path)
     if text.strip() == "":
@@ -110,7 +111,6 @@ def check_out_dir(path, option: str = "--out") -> Path:
 
 def make_out_dir(path, option: str = "--out") -> Path:
     """check_out_dir, then create the folder (and its parents); an OSError becomes an OrchestratorError."""
-    from .errors import OrchestratorError
 
     path = check_out_dir(path, option)
     try:

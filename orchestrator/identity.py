@@ -16,7 +16,9 @@ from pathlib import Path
 
 
 def input_digest(backend, scene) -> str:
-    """sha256 (hex) over the engine input files backend.write_input writes for scene, by relative path."""
+    """sha256 (hex) over the engine input files backend.write_input writes for scene, by relative path.
+
+    backend: a kinds.Bound (an adapter bound to its engine)."""
     digest = hashlib.sha256()
     with tempfile.TemporaryDirectory(prefix="orchestrator-identity-") as tmp:
         root = Path(tmp)
@@ -35,7 +37,7 @@ def run_identity(loaded, engine: str, engine_version: str, backend, scene) -> st
         "case": loaded.resolved,
         "engine": engine,
         "engine_version": engine_version,
-        "mpi_ranks": int(getattr(getattr(backend, "profile", None), "mpi_ranks", 1)),
+        "mpi_ranks": int(getattr(backend.engine, "mpi_ranks", 1)),
         "inputs": input_digest(backend, scene),
     }
     return hashlib.sha256(json.dumps(identity, sort_keys=True, default=str).encode()).hexdigest()

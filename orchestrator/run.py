@@ -2,17 +2,24 @@
 
 from __future__ import annotations
 
+import dataclasses
 import datetime as _dt
 import math
 import time
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
-from . import __version__, signals
-from .errors import EngineFailed, EngineTimeout, EngineUnstable, OrchestratorError, ReadError
-from .humanize import describe_returncode, os_problem
-from .rundir import RunDirectory
-from .runh5 import RUN_FILE, write_run
+from orchestrator import __version__, signals
+from orchestrator.case import load_case
+from orchestrator.engines import get_engine
+from orchestrator.engines.base import Result
+from orchestrator.errors import EngineFailed, EngineTimeout, EngineUnstable, OrchestratorError, ReadError
+from orchestrator.humanize import describe_returncode, os_problem
+from orchestrator.kinds import Bound, get_kind
+from orchestrator.rundir import MARKER, RunDirectory, run_info
+from orchestrator.runh5 import RUN_FILE, write_run
+from orchestrator.runner import LOG_NAME, Execution, execute
+from orchestrator.templating import files_hash
 
 
 @dataclass
@@ -95,11 +102,6 @@ def resumable_run(run_dir) -> tuple:
 
     Raises OrchestratorError when run_dir is not a run directory of ours or its case no longer validates.
     """
-    import dataclasses
-
-    from .case import load_case
-    from .rundir import MARKER, run_info
-
     run_dir = Path(run_dir)
     info = run_info(run_dir)
     if not info.get("engine") or not (run_dir / "case.toml").is_file():
@@ -125,36 +127,27 @@ def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float |
     if timeout_s is not None and not (math.isfinite(timeout_s) and timeout_s > 0):
         raise OrchestratorError(f"--timeout {timeout_s:g}: the wall-time limit must be a positive number of seconds")
     clock = PhaseClock()  # the first phase, setup, includes importing what a run needs
-    from .analysis import measure
-    from .backends import get_backend
-    from .scene import build_scene
-
     signals.check()
     case = loaded.model
     engine = engine or case.case.engine
+    kind = get_kind(case.case.kind)
     profile = {"threads": case.numerics.threads}
     if mpi_ranks is not None:
         profile["mpi_ranks"] = mpi_ranks
-    try:
-        backend = get_backend(engine, **profile)
-    except TypeError:
-        if mpi_ranks is None:
-            raise
-        raise OrchestratorError(f"--mpi {mpi_ranks}: the {engine} engine does not run under MPI; liggghts does") from None
-    backend.check_available()
-    version = backend.version()
+    program = get_engine(engine, **profile)
+    program.check_available()
+    version = program.version()
     clock.lap("setup")
     try:
-        scene = build_scene(case)
+        scene = kind.scene(case)
     except ValueError as exc:
         raise OrchestratorError(f"cannot build the scene of {case.case.name}: {exc}") from None
-    if hasattr(backend, "check_scene"):
-        backend.check_scene(scene)  # e.g. a scene too big for the reference DEM: refused before anything is written
+    backend = Bound(program, kind.adapter(engine, scene))
+    backend.check_scene(scene)  # e.g. a scene too big for the reference DEM: refused before anything is written
     clock.lap("scene")
     signals.check()
-    if resume and not hasattr(backend, "resume_input"):
-        raise OrchestratorError(f"--resume: {engine} runs cannot be resumed from a checkpoint; LIGGGHTS "
-                                "drag-finishing runs can (output.checkpoint_interval)")
+    if resume and not backend.adapter.resumable:
+        backend.resume_input(scene, Path("."))  # raises: says which runs resume
     info = {"engine": engine, "preset": loaded.preset or "", "mpi_ranks": mpi_ranks}
     with RunDirectory(out_dir if out_dir is not None else default_run_dir(case.case.name, engine),
                       force, resume, info) as run_dir:
@@ -169,7 +162,7 @@ def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float |
         with signals.shielded():  # a signal now is remembered: run.h5 is written first
             result = _read_result(backend, scene, run_dir, execution, interrupted, timeout_s)
             clock.lap("parse")
-            result.measured = measure(case, result)
+            result.measured = kind.measured(case, result)
             clock.lap("analysis")
             root = {
                 "engine": engine,
@@ -186,7 +179,7 @@ def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float |
                 "finished": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
                 "orchestrator_version": __version__,
                 "command": " ".join(command),
-                "template_hash": _template_hash(backend, case.case.kind),
+                "template_hash": files_hash(backend.adapter.templates),
                 **(extra_attrs or {}),
             }
             # A stopped engine wrote no final status: take the steps from its last progress line.
@@ -220,8 +213,6 @@ def _run_engine(backend, scene, run_dir: Path, clock: PhaseClock, timeout_s, pro
 
     Returns (command, Execution, the KeyboardInterrupt that stopped it or None).
     """
-    from .runner import LOG_NAME, Execution, execute
-
     command: list[str] = []
     try:
         if resume:
@@ -232,10 +223,10 @@ def _run_engine(backend, scene, run_dir: Path, clock: PhaseClock, timeout_s, pro
                 backend.write_input(scene, run_dir)
             except OSError as exc:  # a full disk, a folder made read-only meanwhile
                 raise OrchestratorError(f"cannot write the engine's input into {run_dir}: {os_problem(exc)}") from None
-            command, env = backend.command(run_dir)
+            command, env = backend.command(scene, run_dir)
         clock.lap("input")
-        if not resume and hasattr(backend, "probe_command") and backend.planned_steps(scene) > PROBE_ABOVE_STEPS:
-            _run_probe(backend, run_dir, on_timing)
+        if not resume and backend.planned_steps(scene) > PROBE_ABOVE_STEPS:
+            _run_probe(backend, scene, run_dir, on_timing)
         clock.skip()  # the timing probe is the engine's time
         execution = execute(command, env, run_dir, timeout_s, progress, label=label, on_timing=on_timing)
         clock.skip()
@@ -257,16 +248,14 @@ def _keep_log(log: Path) -> None:
         log.rename(log.with_name(f"{log.stem}.{k}{log.suffix}"))
 
 
-def _run_probe(backend, run_dir: Path, on_timing) -> None:
+def _run_probe(backend, scene, run_dir: Path, on_timing) -> None:
     """A few steps of the same script on a dense lattice in run_dir/probe: estimates the whole run's time."""
-    from .runner import execute
-
     probe_dir = run_dir / "probe"
     probe_dir.mkdir(exist_ok=True)
     for name in run_dir.iterdir():
         if name.is_file() and name.suffix in (".py", ".npz", ".stl"):
             (probe_dir / name.name).write_bytes(name.read_bytes())
-    probe_cmd, probe_env = backend.probe_command(probe_dir)
+    probe_cmd, probe_env = backend.probe_command(scene, probe_dir)
     try:
         execute(probe_cmd, probe_env, probe_dir, timeout_s=600, progress=False, label="timing probe",
                 on_timing=on_timing)
@@ -277,8 +266,6 @@ def _run_probe(backend, run_dir: Path, on_timing) -> None:
 
 def _read_result(backend, scene, run_dir: Path, execution, interrupted, timeout_s):
     """The engine's output as a Result with the run's status: ok, failed, timeout, unstable or terminated."""
-    from .backends.base import Result
-
     try:
         result = backend.read_output(scene, run_dir)
     except ReadError as exc:
@@ -336,11 +323,3 @@ def _store_write_time(path: Path, clock: PhaseClock) -> dict[str, float]:
         h5.attrs["overhead_write_s"] = attrs["overhead_write_s"]
         h5.attrs["orchestrator_overhead_s"] = attrs["orchestrator_overhead_s"]
     return attrs
-
-
-def _template_hash(backend, kind: str) -> str:
-    from .templating import files_hash
-
-    return files_hash(backend.template_files(kind))
-
-

@@ -21,9 +21,9 @@ import shutil
 import sys
 from pathlib import Path
 
-from .errors import OrchestratorError
-from .humanize import check_out_dir, os_problem
-from .runh5 import RUN_FILE
+from orchestrator.errors import OrchestratorError
+from orchestrator.humanize import check_out_dir, os_problem
+from orchestrator.runh5 import RUN_FILE
 
 MARKER = ".orchestrator-run"
 LOCK = ".orchestrator.lock"

@@ -3,12 +3,16 @@ atomically (a temporary name, then rename). Layout in DESIGN.md."""
 
 from __future__ import annotations
 
+import json
 import os
+import tomllib
 from pathlib import Path
 
 import numpy as np
 
-from .backends.base import Result
+from orchestrator.engines.base import Result
+from orchestrator.errors import OrchestratorError, ReadError
+from orchestrator.kinds import get_kind
 
 RUN_FILE = "run.h5"
 
@@ -72,7 +76,6 @@ def _attr(value):
 
 def _write_params(group, params: dict, prefix: str = "") -> None:
     """Flatten the resolved case into attributes 'a.b.c' (lists as arrays, tables of rows as JSON)."""
-    import json
 
     for key, value in params.items():
         name = f"{prefix}{key}"
@@ -91,8 +94,6 @@ def _write_params(group, params: dict, prefix: str = "") -> None:
 def read_run(path: Path) -> dict:
     """run.h5 as nested dicts of numpy arrays and attributes (for analysis, export and tests)."""
     import h5py
-
-    from .errors import ReadError
 
     path = Path(path)
     if path.is_dir():
@@ -119,12 +120,8 @@ def stored_case(run: dict, path) -> object:
     Raises ReadError naming the file when run.h5 has no /case (not written by 'orchestrator run') or its case
     cannot be read or validated by this version.
     """
-    import tomllib
 
     from pydantic import ValidationError
-
-    from .case.loader import CASE_KINDS
-    from .errors import ReadError
 
     text = run.get("case", {}).get("attrs", {}).get("toml") if isinstance(run.get("case"), dict) else None
     if not isinstance(text, str):
@@ -133,8 +130,8 @@ def stored_case(run: dict, path) -> object:
     try:
         data = tomllib.loads(text)
         kind = data["case"]["kind"]
-        return CASE_KINDS[kind].model_validate(data)
-    except (tomllib.TOMLDecodeError, KeyError, TypeError, RecursionError):
+        return get_kind(kind).model().model_validate(data)
+    except (tomllib.TOMLDecodeError, KeyError, TypeError, RecursionError, OrchestratorError):
         raise ReadError(f"{path}: the case stored in run.h5 (/case) is not a case this version knows") from None
     except ValidationError as exc:
         first = str(exc).splitlines()[1:3]
@@ -148,3 +145,17 @@ def _plain(value):
     if isinstance(value, np.generic):
         return value.item()
     return value
+
+
+def normal_force_of(snapshot: dict) -> tuple[np.ndarray, np.ndarray]:
+    """(scalar normal force (n,) N, > 0 compressive; normal force vector (n, 3) N) of a contact snapshot.
+
+    Older run.h5 files stored only the vector under ``normal_force``; its
+    magnitude then stands in for the scalar (sign unknown, taken compressive).
+    """
+    fn = np.asarray(snapshot.get("normal_force", np.zeros(0)), dtype=float)
+    if fn.ndim == 2:
+        return np.linalg.norm(fn, axis=1), fn
+    n = len(fn)
+    vec = np.asarray(snapshot.get("normal_force_vector", np.full((n, 3), np.nan)), dtype=float).reshape(-1, 3)
+    return fn, vec

@@ -11,8 +11,8 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from . import signals
-from .backends.base import Progress, Timing, parse_progress_line
+from orchestrator import signals
+from orchestrator.engines.base import Progress, Timing, parse_progress_line
 
 LOG_NAME = "engine.log"
 

@@ -19,7 +19,7 @@ TEMPLATE_ROOT_CANDIDATES = (
 
 
 def template_root() -> Path:
-    """Directory holding templates/{yade,liggghts,sph}."""
+    """Directory holding the shared templates (templates/report); a kind's engine templates are in its folder."""
     for candidate in TEMPLATE_ROOT_CANDIDATES:
         if candidate.is_dir():
             return candidate
@@ -48,12 +48,17 @@ def _autoescape(name: str | None) -> bool:
     return bool(name) and (name.endswith(".html.j2") or name.endswith(".html"))
 
 
-def render(relative: str, context: dict) -> str:
-    """Render templates/<relative> with the given context (StrictUndefined; HTML templates autoescaped)."""
+def render(template, context: dict) -> str:
+    """Render a template with the given context (StrictUndefined; HTML templates autoescaped).
+
+    template: an absolute Path (a kind's template beside its adapter) or a path relative to templates/ (report).
+    """
     import jinja2
 
+    path = Path(template)
+    root, relative = (path.parent, path.name) if path.is_absolute() else (template_root(), str(template))
     env = jinja2.Environment(
-        loader=jinja2.FileSystemLoader(str(template_root())),
+        loader=jinja2.FileSystemLoader(str(root)),
         undefined=jinja2.StrictUndefined,
         keep_trailing_newline=True,
         trim_blocks=True,

@@ -1,4 +1,8 @@
-"""Shared test fixtures: a small synthetic run.h5 (no engine needed)."""
+"""Shared test fixtures (a small synthetic run.h5, no engine needed) and the engine markers.
+
+A test marked ``@pytest.mark.yade``, ``liggghts`` or ``sph`` needs that engine and is skipped, with the engine's
+install hint as the reason, where it is missing (ENGINE_MARKERS; the one place that decides it).
+"""
 
 from __future__ import annotations
 
@@ -8,6 +12,23 @@ import numpy as np
 import pytest
 
 DATA = Path(__file__).parent / "data"
+#: Test markers that name an engine the test needs.
+ENGINE_MARKERS = ("yade", "liggghts", "sph")
+
+
+def pytest_collection_modifyitems(config, items):
+    """Skip the tests marked with an engine that is not installed here (reason: the engine's install hint)."""
+    from orchestrator.engines import get_engine
+
+    missing = {}
+    for name in ENGINE_MARKERS:
+        engine = get_engine(name)
+        if not engine.available():
+            missing[name] = pytest.mark.skip(reason=f"{engine.label} is not installed: {engine.install_hint()}")
+    for item in items:
+        for name, skip in missing.items():
+            if item.get_closest_marker(name) is not None:
+                item.add_marker(skip)
 
 #: What the synthetic run holds (tests compare exported files against these).
 PROCESS_START = 0.3  # s
@@ -29,8 +50,8 @@ def build_synthetic_run(run_dir: Path, seed: int = 3) -> Path:
     """
     import trimesh
 
-    from orchestrator.analysis.drag_finishing import measure_drag_finishing
-    from orchestrator.backends.base import Result, Series
+    from orchestrator.kinds.drag_finishing.analysis import measure_drag_finishing
+    from orchestrator.engines.base import Result, Series
     from orchestrator.case import load_case
     from orchestrator.runh5 import RUN_FILE, write_run
 

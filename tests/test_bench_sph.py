@@ -6,8 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from orchestrator.backends.sph import SphBackend
-from orchestrator.bench_sph import (
+from orchestrator.workflows.bench_sph import (
     BenchRow,
     _runs,
     dam_break_2d_case,
@@ -19,8 +18,7 @@ from orchestrator.bench_sph import (
 )
 from orchestrator.cli import main
 
-needs_sph = pytest.mark.skipif(not SphBackend().available(),
-                               reason="the sph executable is not built (make sph)")
+needs_sph = pytest.mark.sph
 
 
 def test_neighbours_of_a_square_lattice():
@@ -103,7 +101,7 @@ def test_cli_refuses_zero_steps(capsys):
 
 
 def test_lammps_ratios_and_install_hint():
-    from orchestrator.bench_lammps import INSTALL_HINT
+    from orchestrator.workflows.bench_lammps import INSTALL_HINT
 
     def row(scene, engine, per_core):
         return BenchRow(scene, engine, 1, 100, 100, 10, 100.0, 1.0, 1.0, 2 * per_core, per_core)
@@ -119,7 +117,7 @@ def test_lammps_ratios_and_install_hint():
 
 
 def test_block_is_the_issues_scene():
-    from orchestrator.bench_lammps import block_3d_arrays, block_steps
+    from orchestrator.workflows.bench_lammps import block_3d_arrays, block_steps
 
     b = block_3d_arrays()
     assert len(b["positions"]) == 25_600 and b["h"] == pytest.approx(1.5e-3) and block_steps(200) == 500
@@ -128,7 +126,7 @@ def test_block_is_the_issues_scene():
 
 @needs_sph
 def test_block_and_lammps_smoke(tmp_path):
-    from orchestrator.bench_lammps import lammps_available
+    from orchestrator.workflows.bench_lammps import lammps_available
 
     rows = run_bench(tmp_path, steps_2d=2, steps_3d=2, threads=(1,), with_pysph=False)
     block = [r for r in rows if r.scene == "bench_block_3d"]

@@ -19,7 +19,7 @@ from pathlib import Path
 import pytest
 import tomli_w
 
-from orchestrator.backends import engine_names
+from orchestrator.engines import engine_names
 from orchestrator.case import load_case
 from orchestrator.errors import CaseError
 

@@ -20,9 +20,8 @@ import h5py
 import numpy as np
 import pytest
 
-from orchestrator.backends.yade import YadeBackend
 from orchestrator.case import load_case
-from orchestrator.compare import Comparison, EngineRun, parse_engines, text_tables, unit_of
+from orchestrator.workflows.compare import Comparison, EngineRun, parse_engines, text_tables, unit_of
 from orchestrator.errors import OrchestratorError
 from orchestrator.run import OVERHEAD_PHASES, PhaseClock, RunSummary, run_case
 
@@ -30,7 +29,7 @@ ROOT = Path(__file__).parent.parent
 IMPACT = ROOT / "cases" / "verification" / "chung_ooi_test2_sphere_plane.toml"  # the cheapest scene: 1 sphere
 TINY = Path(__file__).parent / "data" / "tiny_bowl.toml"
 PHASE_KEYS = [f"overhead_{name}_s" for name in OVERHEAD_PHASES]
-yade_installed = pytest.mark.skipif(not YadeBackend().available(), reason="Yade is not installed (apt-get install yade)")
+yade_installed = pytest.mark.yade
 
 
 def cli(*args, env=None):
@@ -117,14 +116,14 @@ def test_overlay_plot_of_two_engines(tmp_path):
     from matplotlib.image import imread
 
     from conftest import build_synthetic_run
-    from orchestrator.plots import plot_engine_forces
-    from orchestrator.report import _loaded_case
+    from orchestrator.kinds.drag_finishing.plots import plot_engine_forces
+    from orchestrator.runh5 import stored_case
     from orchestrator.runh5 import read_run
 
     first = read_run(build_synthetic_run(tmp_path / "a", seed=3))
     second = read_run(build_synthetic_run(tmp_path / "b", seed=4))
     empty = {"attrs": {}, "series": {}}
-    path = plot_engine_forces([("a 1.0", first), ("b 2.0", second), ("c (failed)", empty)], _loaded_case(first),
+    path = plot_engine_forces([("a 1.0", first), ("b 2.0", second), ("c (failed)", empty)], stored_case(first, "run.h5"),
                               tmp_path / "cmp.png")
     rgb = imread(path)[..., :3]
     assert rgb.shape[0] > 600 and rgb.std() > 0.05

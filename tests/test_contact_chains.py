@@ -8,10 +8,10 @@ import math
 import numpy as np
 import pytest
 
-from orchestrator.analysis.contact_chains import (angle_to_velocity, binned_mean, chain_strength, conditional_means,
+from orchestrator.kinds.drag_finishing.chains import (angle_to_velocity, binned_mean, chain_strength, conditional_means,
                                                   find_chains, force_peaks, lagged_correlation, peak_coincidence,
                                                   rod_pose, strong_threshold)
-from orchestrator.analysis.contact_intensity import (approach_speeds, nearest_facet, point_triangle_distance,
+from orchestrator.kinds.drag_finishing.intensity import (approach_speeds, nearest_facet, point_triangle_distance,
                                                      sector_sums)
 
 R_BALL = 0.003  # m
@@ -204,7 +204,7 @@ def test_analyze_prints_chains_and_intensity_on_the_synthetic_run(synthetic_run,
 
 
 def test_pictures_of_a_column_and_of_the_synthetic_run(tmp_path, synthetic_run):
-    from orchestrator.plots_chains import plot_chain_network, report_chains
+    from orchestrator.kinds.drag_finishing.plots_chains import plot_chain_network, report_chains
     from orchestrator.runh5 import read_run, stored_case
 
     snap, _ = column_snapshot()

@@ -11,8 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from orchestrator.analysis.impact import evaluate_checks
-from orchestrator.backends.yade import YadeBackend
+from orchestrator.kinds.impact.analysis import evaluate_checks
 from orchestrator.case import load_case
 from orchestrator.errors import EngineUnstable
 from orchestrator.run import run_case
@@ -21,8 +20,7 @@ from orchestrator.runh5 import read_run
 HARD = Path(__file__).parent.parent / "cases" / "hard"
 ENGINES = [
     "reference",
-    pytest.param("yade", marks=[pytest.mark.yade, pytest.mark.skipif(
-        not YadeBackend().available(), reason="Yade is not installed (apt-get install yade)")]),
+    pytest.param("yade", marks=[pytest.mark.yade, pytest.mark.yade]),
 ]
 
 

@@ -20,12 +20,12 @@ from pathlib import Path
 
 import pytest
 
-from orchestrator.backends.liggghts import LiggghtsBackend
-from orchestrator.backends.sph import SphBackend
-from orchestrator.backends.yade import YadeBackend
+from orchestrator.kinds import bind
+from orchestrator.kinds.sph_flow.sph import TEMPLATE as SPH_TEMPLATE, deck_context
+
 from orchestrator.case import load_case
 from orchestrator.errors import OrchestratorError
-from orchestrator.scene import build_scene
+from orchestrator.kinds import build_scene
 from orchestrator.templating import render
 
 HERE = Path(__file__).parent
@@ -128,9 +128,9 @@ def _decks(case_path: Path, engine: str, tmp_path: Path) -> tuple[str, str, dict
             names["/" + original + suffix] = "/" + original  # SPH mesh groups
         scene = build_scene(variant)
         if engine == "sph":
-            decks.append(render("sph/deck.json.j2", SphBackend(executable="/x").render_context(scene)))
+            decks.append(render(SPH_TEMPLATE, deck_context(scene)))
             continue
-        backend = LiggghtsBackend(executable="/x") if engine == "liggghts" else YadeBackend(executable="/x")
+        backend = bind(case.case.kind, engine, executable="/x")
         out = tmp_path / f"{engine}{len(decks)}"
         out.mkdir()
         backend.write_input(scene, out)
@@ -168,13 +168,13 @@ def _render_all(case_path: Path, tmp_path: Path, overrides=(), tag="") -> dict[s
     case = load_case(case_path, overrides=list(overrides)).model
     scene = build_scene(case)
     if case.case.kind == "sph_flow":
-        return {"deck.json": render("sph/deck.json.j2", SphBackend(executable="/x").render_context(scene))}
+        return {"deck.json": render(SPH_TEMPLATE, deck_context(scene))}
     decks = {}
-    for backend in (YadeBackend(executable="/x"), LiggghtsBackend(executable="/x")):
-        out = tmp_path / f"{backend.name}{tag}"
+    for backend in (bind(case.case.kind, "yade", executable="/x"), bind(case.case.kind, "liggghts", executable="/x")):
+        out = tmp_path / f"{backend.adapter.engine}{tag}"
         out.mkdir()
         backend.write_input(scene, out)
-        decks.update({f"{backend.name}/{p.name}": p.read_bytes() for p in out.iterdir()
+        decks.update({f"{backend.adapter.engine}/{p.name}": p.read_bytes() for p in out.iterdir()
                       if p.suffix in (".py", ".in", ".stl", ".data")})
     return decks
 

@@ -13,14 +13,15 @@ import numpy as np
 import pytest
 import tomli_w
 
-from orchestrator.analysis.impact import QUANTITIES, evaluate_checks, measure_impact
-from orchestrator.analysis.impact_theory import CLOSED_FORMS, expected_value
-from orchestrator.backends.base import Result, Series
+from orchestrator.kinds.impact.analysis import evaluate_checks, measure_impact
+from orchestrator.kinds.impact.theory import QUANTITIES
+from orchestrator.kinds.impact.theory import CLOSED_FORMS, expected_value
+from orchestrator.engines.base import Result, Series
 from orchestrator.case import load_case
 from orchestrator.errors import CaseError
-from orchestrator.scene import build_scene
-from orchestrator.scene.impact import critical_timestep
-from orchestrator.verify import scene_files
+from orchestrator.kinds import build_scene
+from orchestrator.kinds.impact.physics import critical_timestep
+from orchestrator.workflows.verify import scene_files
 
 ROOT = Path(__file__).parent.parent
 VERIFICATION = ROOT / "cases" / "verification"

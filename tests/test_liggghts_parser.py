@@ -12,13 +12,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from orchestrator.analysis import measure
-from orchestrator.analysis.impact import evaluate_checks
-from orchestrator.backends.liggghts import read_dump
-from orchestrator.backends.liggghts_drag import read_drag_output, read_vtk_cells
-from orchestrator.backends.liggghts_impact import read_impact_output
+from orchestrator.kinds import measure
+from orchestrator.kinds.impact.analysis import evaluate_checks
+from orchestrator.engines.liggghts_files import read_dump
+from orchestrator.kinds.drag_finishing.liggghts_output import read_drag_output, read_vtk_cells
+from orchestrator.kinds.impact.liggghts_output import read_impact_output
 from orchestrator.case import load_case
-from orchestrator.scene import bed_weight, build_scene
+from orchestrator.kinds import build_scene
+from orchestrator.kinds.drag_finishing.scene import bed_weight
 
 HERE = Path(__file__).parent
 IMPACTS = HERE / "data" / "liggghts_impact_output"

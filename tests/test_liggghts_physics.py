@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from orchestrator.backends.liggghts_physics import (MAX_BETA, MIN_COEFFICIENT_RESTITUTION, beta_for_restitution,
+from orchestrator.kinds.liggghts_physics import (MAX_BETA, MIN_COEFFICIENT_RESTITUTION, beta_for_restitution,
                                                     liggghts_beta, restitution_for_beta, tangential_damping_ratio,
                                                     wall_copies, wall_material)
 from orchestrator.reference import closed_form, contact

@@ -14,20 +14,21 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from orchestrator.analysis.impact import evaluate_checks
-from orchestrator.backends.liggghts import LiggghtsBackend
+from orchestrator.engines import get_engine
+
+from orchestrator.kinds.impact.analysis import evaluate_checks
 from orchestrator.case import load_case
 from orchestrator.run import run_case
 from orchestrator.runh5 import read_run
-from orchestrator.scene import bed_weight, build_scene
+from orchestrator.kinds import build_scene
+from orchestrator.kinds.drag_finishing.scene import bed_weight
 
 HERE = Path(__file__).parent
 TINY = HERE / "data" / "tiny_bowl.toml"
 
 pytestmark = [
     pytest.mark.liggghts,
-    pytest.mark.skipif(not LiggghtsBackend().available(),
-                       reason="LIGGGHTS is not installed (apt-get install liggghts, or set ORCHESTRATOR_LIGGGHTS)"),
+    pytest.mark.liggghts,
 ]
 
 
@@ -53,7 +54,7 @@ def test_summary_and_version(tiny_run):
     summary, run = tiny_run
     assert summary["status"] == "ok" and summary["engine"] == "liggghts" and summary["n_particles"] == 120
     assert summary["n_steps"] == run["attrs"]["n_steps"] > 1000
-    assert run["attrs"]["engine_version"] == LiggghtsBackend().version() == "PUBLIC 3.8.0"
+    assert run["attrs"]["engine_version"] == get_engine("liggghts").version() == "PUBLIC 3.8.0"
 
 
 def test_bowl_carries_the_bed_weight_at_rest(tiny_run, tiny_weight):
@@ -132,9 +133,7 @@ def test_sphere_drop_peaks_agree_across_engines(tmp_path):
     """The paper's sphere drop with the mapping applied: LIGGGHTS, Yade and the reference give the three peak
     forces within 1 % of each other (measured: LIGGGHTS 0.2-0.3 % below the closed form, Yade and the reference
     0.1-0.25 % above; 0.4-0.5 % apart)."""
-    from orchestrator.backends.yade import YadeBackend
-
-    if not YadeBackend().available():
+    if not get_engine("yade").available():
         pytest.skip("Yade is not installed (apt-get install yade)")
     loaded = load_case(HERE.parent / "cases" / "verification" / "uhlmann2015_sphere_drop.toml")
     peaks = {}

@@ -11,14 +11,16 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+
+from orchestrator.kinds import bind
 import trimesh
 
-from orchestrator.backends import liggghts
-from orchestrator.backends.liggghts import LOCAL_MPI_ENV, SINGLETON_ENV, LiggghtsBackend, LiggghtsProfile
-from orchestrator.backends.liggghts_drag import process_chunks
+from orchestrator.engines import liggghts
+from orchestrator.engines.liggghts import LOCAL_MPI_ENV, SINGLETON_ENV, Liggghts
+from orchestrator.kinds.drag_finishing.liggghts_deck import process_chunks
 from orchestrator.case import load_case
 from orchestrator.errors import OrchestratorError
-from orchestrator.scene import build_scene
+from orchestrator.kinds import build_scene
 
 from golden import assert_matches_golden
 
@@ -33,15 +35,16 @@ GOLDEN = {
 }
 
 
-def backend():
-    return LiggghtsBackend(executable="/nonexistent/liggghts")
+def liggghts(scene):
+    """The LIGGGHTS adapter of the scene's kind bound to a LIGGGHTS that is not installed (files only)."""
+    return bind(scene.case.case.kind, "liggghts", executable="/nonexistent/liggghts")
 
 
 @pytest.mark.parametrize("golden", sorted(GOLDEN))
 def test_rendered_deck_matches_golden(golden, tmp_path):
     case_file, overrides = GOLDEN[golden]
     scene = build_scene(load_case(case_file, overrides=list(overrides)).model)
-    backend().write_input(scene, tmp_path)
+    liggghts(scene).write_input(scene, tmp_path)
     rendered = (tmp_path / ("impact.in" if "impact" in golden else "drag_finishing.in")).read_text()
     assert_matches_golden(rendered, HERE / "golden" / golden)
     assert "{{" not in rendered and "{%" not in rendered
@@ -56,7 +59,7 @@ def _data_atoms(path: Path) -> np.ndarray:
 
 def test_the_cloud_and_meshes_reach_liggghts_unchanged(tmp_path):
     scene = build_scene(load_case(TINY).model)
-    backend().write_input(scene, tmp_path)
+    liggghts(scene).write_input(scene, tmp_path)
     atoms = _data_atoms(tmp_path / "balls.data")  # id type diameter density x y z
     np.testing.assert_array_equal(atoms[:, 0], np.arange(1, scene.n_particles + 1))
     np.testing.assert_array_equal(atoms[:, 2] / 2.0, scene.radii)
@@ -69,7 +72,7 @@ def test_the_cloud_and_meshes_reach_liggghts_unchanged(tmp_path):
 
 def test_impact_spheres_carry_velocity_and_spin(tmp_path):
     scene = build_scene(load_case(CASES / "chung_ooi_test4_oblique_30deg.toml").model)
-    backend().write_input(scene, tmp_path)
+    liggghts(scene).write_input(scene, tmp_path)
     text = (tmp_path / "spheres.data").read_text().splitlines()
     velocities = np.array(text[text.index("Velocities") + 2].split()[1:], dtype=float)
     np.testing.assert_array_equal(velocities, np.concatenate([scene.velocities[0], scene.angular_velocities[0]]))
@@ -82,7 +85,8 @@ def test_two_spheres_damped_beyond_liggghts_limit_are_refused():
                      overrides=["contacts=[{pair=['glass', 'glass'], restitution=0.2, friction=0.0}]",
                                 "model.damping='exact'"]).model
     with pytest.raises(OrchestratorError, match=r"contacts \(glass, glass\).*beta = 0\.731.*at most 0\.667"):
-        backend().check_scene(build_scene(case))
+        scene = build_scene(case)
+        liggghts(scene).check_scene(scene)
 
 
 def test_process_chunks_cut_at_timing_and_snapshots():
@@ -109,35 +113,35 @@ def test_profile_command_single_and_mpi(monkeypatch, tmp_path):
     for name in ("ORCHESTRATOR_LIGGGHTS_MPI", "ORCHESTRATOR_MPI_LOCAL", *LOCAL_MPI_ENV, *SINGLETON_ENV):
         monkeypatch.delenv(name, raising=False)
     monkeypatch.setattr(liggghts, "network_namespace", lambda: [])
-    command, env = LiggghtsProfile().command("impact.in")
+    command, env = Liggghts().command("impact.in")
     assert command[-7:] == [str(fake), "-in", "impact.in", "-log", "none", "-echo", "none"]
     assert "mpirun" not in " ".join(command) and env["OMP_WAIT_POLICY"] == "PASSIVE"
     # one rank: an isolated MPI singleton on shared memory (no orted, no TCP transport: no listening socket)
     assert env["OMPI_MCA_ess_singleton_isolated"] == "1" and env["OMPI_MCA_btl"] == "self,vader"
     monkeypatch.setattr(os, "geteuid", lambda: 0)
-    command, env = LiggghtsProfile(mpi_ranks=2).command("impact.in")
+    command, env = Liggghts(mpi_ranks=2).command("impact.in")
     assert command[:4] == ["/usr/bin/mpirun", "-np", "2", "--allow-run-as-root"]
     assert env["OMPI_MCA_mpi_yield_when_idle"] == "1"
     assert env["OMPI_MCA_oob_tcp_if_include"] == "lo" and "OMPI_MCA_ess_singleton_isolated" not in env
     monkeypatch.setattr(os, "geteuid", lambda: 1000)
     monkeypatch.setenv("ORCHESTRATOR_LIGGGHTS_MPI", "3")
-    command, _ = LiggghtsProfile().command("impact.in")
+    command, _ = Liggghts().command("impact.in")
     assert command[:3] == ["/usr/bin/mpirun", "-np", "3"] and "--allow-run-as-root" not in command
     # in a user and network namespace of its own mpirun is root, and its listeners reach no outside interface
     namespace = ["/usr/bin/unshare", "--user", "--map-root-user", "--net", "sh", "-c", "...", "/usr/bin/ip"]
     monkeypatch.setattr(liggghts, "network_namespace", lambda: namespace)
-    command, _ = LiggghtsProfile().command("impact.in")
+    command, _ = Liggghts().command("impact.in")
     assert command[:12] == namespace + ["/usr/bin/mpirun", "-np", "3", "--allow-run-as-root"]
     # what the user exported wins; ORCHESTRATOR_MPI_LOCAL=0 runs OpenMPI as configured (multi-node)
     monkeypatch.setenv("OMPI_MCA_btl", "self,vader,tcp")
-    _, env = LiggghtsProfile().command("impact.in")
+    _, env = Liggghts().command("impact.in")
     assert "OMPI_MCA_btl" not in env and env["OMPI_MCA_pml"] == "ob1"
     monkeypatch.setenv("ORCHESTRATOR_MPI_LOCAL", "0")
-    command, env = LiggghtsProfile().command("impact.in")
+    command, env = Liggghts().command("impact.in")
     assert command[0] == "/usr/bin/mpirun" and not any(k.startswith("OMPI_MCA_") and k != "OMPI_MCA_mpi_yield_when_idle"
                                                         for k in env)
     with pytest.raises(OrchestratorError, match="MPI ranks = 0"):
-        LiggghtsProfile(mpi_ranks=0)
+        Liggghts(mpi_ranks=0)
 
 
 def test_network_namespace_runs_a_program_with_loopback_only():

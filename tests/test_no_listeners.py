@@ -3,7 +3,7 @@ sampling every 10 ms the listening TCP sockets (/proc/net/tcp and tcp6, state 0A
 (the orchestrator and everything it started). Ours only, so that other work on the machine cannot fail the test.
 
 OpenMPI 4.1 left alone opens listeners on 0.0.0.0 and [::] even for one rank (the singleton's orted, the TCP
-transport); orchestrator/backends/liggghts.py keeps it to shared memory and puts mpirun into a network namespace.
+transport); orchestrator/engines/liggghts.py keeps it to shared memory and puts mpirun into a network namespace.
 """
 
 from __future__ import annotations
@@ -18,8 +18,9 @@ from pathlib import Path
 
 import pytest
 
-from orchestrator.backends.liggghts import LiggghtsBackend, network_namespace
-from orchestrator.backends.yade import YadeBackend
+from orchestrator.engines import get_engine
+
+from orchestrator.engines.liggghts import network_namespace
 
 HERE = Path(__file__).parent
 CASE = HERE.parent / "cases" / "verification" / "chung_ooi_test1_sphere_sphere.toml"
@@ -127,12 +128,11 @@ def test_the_watcher_sees_a_listener(tmp_path):
 
 
 @pytest.mark.liggghts
-@pytest.mark.skipif(not LiggghtsBackend().available(),
-                    reason="LIGGGHTS is not installed (apt-get install liggghts, or set ORCHESTRATOR_LIGGGHTS)")
+@pytest.mark.liggghts
 @pytest.mark.parametrize("ranks", [1, 2])
 def test_a_liggghts_run_listens_on_no_port(ranks, tmp_path, monkeypatch):
     monkeypatch.delenv("ORCHESTRATOR_MPI_LOCAL", raising=False)
-    if ranks > 1 and not LiggghtsBackend().profile.mpirun:
+    if ranks > 1 and not get_engine("liggghts").mpirun:
         pytest.skip("no mpirun (apt-get install openmpi-bin)")
     if ranks > 1 and not network_namespace():
         pytest.skip("no user namespaces (unshare -rn): mpirun's out-of-band channel binds every interface "
@@ -146,7 +146,7 @@ def test_a_liggghts_run_listens_on_no_port(ranks, tmp_path, monkeypatch):
 
 
 @pytest.mark.yade
-@pytest.mark.skipif(not YadeBackend().available(), reason="Yade is not installed (apt-get install yade)")
+@pytest.mark.yade
 def test_a_yade_run_listens_on_no_port(tmp_path):
     result, seen, samples = _run_and_watch(["run", str(CASE), "--engine", "yade", "--out", str(tmp_path / "run"),
                                             "--no-progress"])

@@ -10,7 +10,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from orchestrator.backends.yade import YadeBackend
 from orchestrator.runh5 import read_run
 
 CASE = Path(__file__).parent.parent / "cases" / "drag_finishing_uhlmann2015.toml"
@@ -18,7 +17,7 @@ CASE = Path(__file__).parent.parent / "cases" / "drag_finishing_uhlmann2015.toml
 pytestmark = [
     pytest.mark.slow,
     pytest.mark.yade,
-    pytest.mark.skipif(not YadeBackend().available(), reason="Yade is not installed (apt-get install yade)"),
+    pytest.mark.yade,
 ]
 
 

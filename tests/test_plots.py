@@ -8,8 +8,9 @@ import numpy as np
 import pytest
 
 from orchestrator.errors import ReadError
-from orchestrator.plots import _rod_at, plot_drag_finishing_forces, render_network
-from orchestrator.report import _loaded_case, analyze_run
+from orchestrator.kinds.drag_finishing.plots import _rod_at, plot_drag_finishing_forces, render_network
+from orchestrator.report import analyze_run
+from orchestrator.runh5 import stored_case
 from orchestrator.runh5 import read_run
 
 
@@ -29,7 +30,7 @@ def _assert_not_blank(rgb):
 
 def test_force_plot_is_written_and_not_blank(synthetic_run):
     run = read_run(synthetic_run)
-    path = plot_drag_finishing_forces(run, _loaded_case(run), synthetic_run / "forces.png")
+    path = plot_drag_finishing_forces(run, stored_case(run, "run.h5"), synthetic_run / "forces.png")
     assert path == synthetic_run / "forces.png"
     rgb = _image(path)
     assert rgb.shape[0] > 600 and rgb.shape[1] > 800
@@ -41,7 +42,7 @@ def test_force_plot_without_process_phase(synthetic_run, tmp_path):
     run["series"]["phase"] = np.zeros_like(run["series"]["phase"])
     run["attrs"]["process_start_time"] = math.nan
     run["attrs"]["status"] = "timeout"
-    path = plot_drag_finishing_forces(run, _loaded_case(run), tmp_path / "sub" / "forces.png")
+    path = plot_drag_finishing_forces(run, stored_case(run, "run.h5"), tmp_path / "sub" / "forces.png")
     _assert_not_blank(_image(path))
 
 

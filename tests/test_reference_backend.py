@@ -13,10 +13,10 @@ from pathlib import Path
 import pytest
 import tomli_w
 
-from orchestrator.backends.yade_impact import read_impact_output
+from orchestrator.kinds.impact.yade import read_impact_output
 from orchestrator.case import load_case
 from orchestrator.runh5 import read_run
-from orchestrator.scene import build_scene
+from orchestrator.kinds import build_scene
 
 ROOT = Path(__file__).parent.parent
 CASES = ROOT / "cases" / "verification"

@@ -18,15 +18,13 @@ import h5py
 import pytest
 
 from orchestrator import signals
-from orchestrator.backends.sph import SphBackend
 from orchestrator.cli import main
 from orchestrator.rundir import LOCK, MARKER, RunDirectory
 
 ROOT = Path(__file__).resolve().parent.parent
 SPHERE_PLANE = ROOT / "cases" / "verification" / "chung_ooi_test2_sphere_plane.toml"
 DAM_BREAK = ROOT / "cases" / "sph" / "dam_break_2d.toml"
-needs_sph = pytest.mark.skipif(not SphBackend().available(),
-                               reason="the sph executable is not built (make sph)")
+needs_sph = pytest.mark.sph
 
 
 def _run_reference(out: Path, *extra: str) -> int:
@@ -91,9 +89,9 @@ def test_force_removes_the_old_run_before_the_engine_starts(tmp_path, capsys, mo
     assert _run_reference(out) == 2  # without --force: refused, kept
     assert "already holds a run" in capsys.readouterr().err
 
-    from orchestrator.backends.reference import ReferenceBackend
+    from orchestrator.kinds.impact.reference import ReferenceImpact
 
-    monkeypatch.setattr(ReferenceBackend, "command", lambda self, workdir: (["false"], {}))
+    monkeypatch.setattr(ReferenceImpact, "command", lambda self, engine, scene, workdir: (["false"], {}))
     code = _run_reference(out, "--force")
     assert code == 4
     with h5py.File(out / "run.h5") as h5:

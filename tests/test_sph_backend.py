@@ -17,10 +17,12 @@ import h5py
 import numpy as np
 import pytest
 
-from orchestrator.backends.sph import SphBackend, read_sph_output
+from orchestrator.kinds import bind
+
+from orchestrator.kinds.sph_flow.sph import read_sph_output
 from orchestrator.case import load_case
 from orchestrator.cli import main
-from orchestrator.scene import build_scene
+from orchestrator.kinds import build_scene
 
 from golden import assert_matches_golden
 
@@ -31,12 +33,12 @@ DAM_BREAK = ROOT / "cases" / "sph" / "dam_break_2d.toml"
 CHANNEL = DATA / "sph_channel_3d.toml"
 REFERENCE_2D = DATA / "sph_reference_2d.toml"
 
-needs_sph = pytest.mark.skipif(not SphBackend().available(),
-                               reason="the sph executable is not built (engines/sph/build/sph); run 'make sph'")
+needs_sph = pytest.mark.sph
 
 
-def _backend() -> SphBackend:
-    return SphBackend(executable="/nonexistent/sph")
+def _backend():
+    """The sph adapter bound to an executable that does not exist (files only)."""
+    return bind("sph_flow", "sph", executable="/nonexistent/sph")
 
 
 @pytest.mark.parametrize("case_path,golden", [(DAM_BREAK, "sph_dam_break_2d.json"),
@@ -54,9 +56,10 @@ def test_rendered_deck_matches_golden(case_path, golden, tmp_path):
                                            ("spin", {"OMP_WAIT_POLICY": "ACTIVE", "GOMP_SPINCOUNT": "10000"})])
 def test_thread_wait_sets_the_openmp_environment(wait, expected, tmp_path):
     case = load_case(CHANNEL, overrides=[f"numerics.thread_wait={wait}", "numerics.threads=2"]).model
-    backend = SphBackend(executable="/nonexistent/sph", threads=2)
-    backend.write_input(build_scene(case), tmp_path)
-    _, env = backend.command(tmp_path)
+    backend = bind("sph_flow", "sph", executable="/nonexistent/sph", threads=2)
+    scene = build_scene(case)
+    backend.write_input(scene, tmp_path)
+    _, env = backend.command(scene, tmp_path)
     assert env == {"OMP_NUM_THREADS": "2", **expected}
 
 
@@ -117,8 +120,8 @@ def test_overlapping_blocks_fill_a_site_once_and_the_first_block_keeps_it():
 
 
 def test_box_and_plane_walls_as_meshes():
-    from orchestrator.case.sph import Wall
-    from orchestrator.scene.sph import wall_mesh
+    from orchestrator.kinds.sph_flow.case import Wall
+    from orchestrator.kinds.sph_flow.scene import wall_mesh
 
     tank = wall_mesh(Wall(shape="box", name="t", lo=(0.0, 0.0), hi=(2.0, 1.0), open_sides=("+y",)), 2)
     np.testing.assert_array_equal(tank.vertices[tank.faces], [[[0, 0], [2, 0]], [[2, 0], [2, 1]], [[0, 1], [0, 0]]])
@@ -176,7 +179,7 @@ def test_parser_of_a_killed_run(tmp_path):
 
 def test_stored_output_through_run_h5_analyze_and_export(capsys, tmp_path):
     """Engine-free: the stored output becomes run.h5 (as run_case writes it), which analyze and export read."""
-    from orchestrator.analysis import measure
+    from orchestrator.kinds import measure
     from orchestrator.runh5 import RUN_FILE, read_run, write_run
 
     loaded = load_case(REFERENCE_2D)

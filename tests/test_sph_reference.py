@@ -17,28 +17,28 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from orchestrator.backends.sph import SphBackend
+from orchestrator.kinds import bind
+
 from orchestrator.case import load_case
 from orchestrator.reference import sph as ref
 from orchestrator.reference.sph_walls import PenaltyWalls, penalty_force
-from orchestrator.scene import build_scene
+from orchestrator.kinds import build_scene
 
 DATA = Path(__file__).parent / "data"
 STEPS = 20
 #: Agreement required after 20 steps: positions relative to the largest displacement, densities relative.
 TOLERANCE = 1e-9
 
-needs_sph = pytest.mark.skipif(not SphBackend().available(),
-                               reason="the sph executable is not built (engines/sph/build/sph); run 'make sph'")
+needs_sph = pytest.mark.sph
 
 
 def _engine_frames(scene, workdir: Path) -> list[dict]:
     """Run the executable on the scene; every frame as {step, ids, positions, densities}."""
     import h5py
 
-    backend = SphBackend()
+    backend = bind("sph_flow", "sph")
     backend.write_input(scene, workdir)
-    command, env = backend.command(workdir)
+    command, env = backend.command(scene, workdir)
     done = subprocess.run(command, cwd=workdir, env={**env, "PATH": "/usr/bin:/bin"}, capture_output=True,
                           text=True, timeout=120)
     assert done.returncode == 0, done.stderr

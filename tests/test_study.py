@@ -9,13 +9,12 @@ from pathlib import Path
 
 import pytest
 
-from orchestrator.backends import engine_names
+from orchestrator.engines import engine_names
 
-from orchestrator.backends.yade import YadeBackend
 from orchestrator.study import Study, grid, zipped
 
 TINY = Path(__file__).parent / "data" / "tiny_bowl.toml"
-needs_yade = pytest.mark.skipif(not YadeBackend().available(), reason="Yade is not installed (apt-get install yade)")
+needs_yade = pytest.mark.yade
 
 
 def study_file(tmp_path, seeds=(7, 8), name="s.toml", extra=""):
@@ -176,7 +175,7 @@ SPHERE_PLANE = Path(__file__).parent.parent / "cases" / "verification" / "chung_
 def test_a_change_to_the_code_that_fills_the_input_reruns_the_run(tmp_path, monkeypatch):
     """The run identity hashes the rendered input files: changing only the Python that fills them (here the
     reference engine's scene description, not any template or case value) makes the study rerun the run."""
-    from orchestrator.backends import reference
+    from orchestrator.kinds.impact import reference
 
     study_path = tmp_path / "ref.toml"
     study_path.write_text(f"""
@@ -209,10 +208,10 @@ mode = "list"
 
 
 def test_the_mpi_rank_count_is_part_of_the_identity(monkeypatch):
-    from orchestrator.backends import get_backend
+    from orchestrator.engines import get_backend
     from orchestrator.case import load_case
     from orchestrator.identity import run_identity
-    from orchestrator.scene import build_scene
+    from orchestrator.kinds import build_scene
 
     loaded = load_case(TINY)
     scene = build_scene(loaded.model)

@@ -12,8 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from orchestrator.backends.yade import YadeBackend
-from orchestrator.verify import ROW_KEYS, scene_files
+from orchestrator.workflows.verify import ROW_KEYS, scene_files
 
 CASES = Path(__file__).parent.parent / "cases" / "verification"
 
@@ -98,9 +97,9 @@ SAME_PHYSICS = {
 
 
 @pytest.mark.yade
-@pytest.mark.skipif(not YadeBackend().available(), reason="Yade is not installed (apt-get install yade)")
+@pytest.mark.yade
 def test_verify_passes_on_every_installed_engine(tmp_path):
-    from orchestrator.verify import dem_engines
+    from orchestrator.workflows.verify import dem_engines
 
     engines = set(dem_engines())
     proc = cli("verify", "dem", "--json", "--out", tmp_path)

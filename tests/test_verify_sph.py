@@ -8,13 +8,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from orchestrator.backends.sph import SphBackend
 from orchestrator.case import load_case
 from orchestrator.cli import main
 from orchestrator.errors import OrchestratorError
 from orchestrator.reference.sph_flows import poiseuille_velocity
-from orchestrator.verify import ROW_KEYS
-from orchestrator.verify_sph import (
+from orchestrator.workflows.verify import ROW_KEYS
+from orchestrator.workflows.verify_sph import (
     FRONT_TOLERANCE,
     PRESSURE_TOLERANCE,
     PROFILE_TOLERANCE,
@@ -27,7 +26,7 @@ from orchestrator.verify_sph import (
 )
 
 CASES = Path(__file__).resolve().parent.parent / "cases" / "verification"
-needs_sph = pytest.mark.skipif(not SphBackend().available(), reason="the sph executable is not built (make sph)")
+needs_sph = pytest.mark.sph
 
 
 def _run_with_frames(frames, attrs=None):

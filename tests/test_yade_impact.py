@@ -12,9 +12,8 @@ from pathlib import Path
 
 import pytest
 
-from orchestrator.analysis.impact_theory import CLOSED_FORMS
-from orchestrator.backends.yade import YadeBackend
-from orchestrator.backends.yade_impact import yade_native_alpha
+from orchestrator.kinds.impact.theory import CLOSED_FORMS
+from orchestrator.kinds.impact.yade import yade_native_alpha
 from orchestrator.case import load_case
 from orchestrator.reference import closed_form
 from orchestrator.run import run_case
@@ -22,7 +21,7 @@ from test_reference_closed_form import EQ10_REBOUND_WITHOUT_TENSION
 
 pytestmark = [
     pytest.mark.yade,
-    pytest.mark.skipif(not YadeBackend().available(), reason="Yade is not installed (apt-get install yade)"),
+    pytest.mark.yade,
 ]
 
 CASES = Path(__file__).parent.parent / "cases" / "verification"

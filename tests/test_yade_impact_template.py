@@ -14,12 +14,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from orchestrator.backends.yade import YadeBackend
-from orchestrator.backends.yade_impact import (mindlin_shear_coefficient, read_impact_output, thornton_betan,
+from orchestrator.kinds import bind
+from orchestrator.kinds.impact.yade import impact_context
+
+from orchestrator.kinds.impact.yade import (mindlin_shear_coefficient, read_impact_output, thornton_betan,
                                                yade_damping_parameters)
 from orchestrator.case import load_case
 from orchestrator.reference import closed_form, contact
-from orchestrator.scene import build_scene
+from orchestrator.kinds import build_scene
 
 from golden import assert_matches_golden
 
@@ -31,7 +33,8 @@ STORED = HERE / "data" / "yade_impact_output"  # Yade 2023.02a on chung_ooi_test
 
 
 def backend():
-    return YadeBackend(executable="/nonexistent/yade")
+    """Yade's impact adapter bound to a Yade that is not installed (files only)."""
+    return bind("impact", "yade", executable="/nonexistent/yade")
 
 
 def test_rendered_script_matches_golden(tmp_path):
@@ -44,7 +47,7 @@ def test_rendered_script_matches_golden(tmp_path):
 def test_command_runs_the_impact_script(tmp_path):
     yade = backend()
     yade.write_input(build_scene(load_case(DROP).model), tmp_path)
-    command, env = yade.command(tmp_path)
+    command, env = yade.command(build_scene(load_case(DROP).model), tmp_path)
     assert command[-1].endswith("impact.py") and env["TMPDIR"].startswith(str(tmp_path.resolve()))
 
 
@@ -75,7 +78,7 @@ def test_damping_maps_to_betan_and_betas():
 
 
 def test_render_context_of_the_sphere_drop():
-    context = backend().render_context(build_scene(load_case(DROP).model))
+    context = impact_context(build_scene(load_case(DROP).model))
     (row,) = eval(context["pairs_betan"])  # noqa: S307 (a literal we rendered)
     alpha = closed_form.alpha_from_restitution(0.68)
     assert row[:2] == ("ceramic", "steel") and row[2] == pytest.approx(alpha / math.sqrt(6), rel=1e-12)
@@ -89,7 +92,7 @@ def test_render_context_of_the_sphere_drop():
 
 
 def test_rigid_wall_is_a_million_times_stiffer_than_the_sphere():
-    context = backend().render_context(build_scene(load_case(CASES / "chung_ooi_test2_sphere_plane.toml").model))
+    context = impact_context(build_scene(load_case(CASES / "chung_ooi_test2_sphere_plane.toml").model))
     materials = {m["name"]: float(m["young"]) for m in context["materials"]}
     assert materials["rigid"] == 1e6 * materials["aluminium_alloy"]
     assert context["plane"]["axis"] == 2 and context["plane"]["sense"] == 1

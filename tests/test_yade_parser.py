@@ -7,10 +7,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from orchestrator.analysis import measure
-from orchestrator.backends.yade import read_drag_finishing_output, read_series_csv
+from orchestrator.kinds import measure
+from orchestrator.kinds.drag_finishing.yade import read_drag_finishing_output, read_series_csv
 from orchestrator.case import load_case
-from orchestrator.scene import build_scene
+from orchestrator.kinds import build_scene
 
 HERE = Path(__file__).parent
 STORED = HERE / "data" / "yade_tiny_output"

@@ -11,9 +11,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from orchestrator.backends.yade import YadeBackend
+from orchestrator.engines import get_engine
+
 from orchestrator.runh5 import read_run
-from orchestrator.scene import bed_weight, build_scene
+from orchestrator.kinds import build_scene
+from orchestrator.kinds.drag_finishing.scene import bed_weight
 from orchestrator.case import load_case
 
 HERE = Path(__file__).parent
@@ -21,7 +23,7 @@ TINY = HERE / "data" / "tiny_bowl.toml"
 
 pytestmark = [
     pytest.mark.yade,
-    pytest.mark.skipif(not YadeBackend().available(), reason="Yade is not installed (apt-get install yade)"),
+    pytest.mark.yade,
 ]
 
 
@@ -42,7 +44,7 @@ def test_summary_json(tiny_run):
         assert key in summary
     assert summary["status"] == "ok" and summary["engine"] == "yade" and summary["n_particles"] == 120
     assert summary["n_steps"] == run["attrs"]["n_steps"] > 1000
-    assert run["attrs"]["engine_version"] == YadeBackend().version() != "unknown"
+    assert run["attrs"]["engine_version"] == get_engine("yade").version() != "unknown"
 
 
 def test_bowl_carries_the_bed_weight_at_rest(tiny_run):
@@ -93,7 +95,7 @@ def test_timeout_keeps_status_and_partial_data(tmp_path):
     run = read_run(out)
     assert run["attrs"]["status"] == "timeout"
     assert len(run["series"]["time"]) > 5  # what was measured before the stop is kept
-    from orchestrator.backends.yade import read_series_csv
+    from orchestrator.kinds.drag_finishing.yade import read_series_csv
 
     recorded = read_series_csv(out / "output" / "series.csv")
     assert run["attrs"]["n_steps"] == int(recorded["step"][-1]) > 1000  # the last recorded step
@@ -129,7 +131,7 @@ def test_soft_settling_then_stiffening_keeps_the_bed_at_rest(tmp_path):
 
 def test_remeasure_reproduces_the_stored_quantities(tiny_run):
     """A stored run re-analysed (what a study does when it reuses a run) gives the values written at run time."""
-    from orchestrator.analysis import remeasure
+    from orchestrator.measure import remeasure
 
     _, run = tiny_run
     stored = run["measured"]["attrs"]

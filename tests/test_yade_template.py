@@ -9,9 +9,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from orchestrator.backends.yade import YadeBackend
+from orchestrator.kinds import bind
+from orchestrator.kinds.drag_finishing.yade import render_context
+
 from orchestrator.case import load_case
-from orchestrator.scene import build_scene
+from orchestrator.kinds import build_scene
 
 from golden import assert_matches_golden
 
@@ -25,14 +27,14 @@ def tiny_scene():
 
 
 def test_rendered_script_matches_golden(tiny_scene, tmp_path):
-    YadeBackend(executable="/nonexistent/yade").write_input(tiny_scene, tmp_path)
+    bind("drag_finishing", "yade", executable="/nonexistent/yade").write_input(tiny_scene, tmp_path)
     rendered = (tmp_path / "drag_finishing.py").read_text()
     assert_matches_golden(rendered, GOLDEN)
     compile(rendered, "drag_finishing.py", "exec")  # valid python for Yade's interpreter
 
 
 def test_scene_inputs_round_trip(tiny_scene, tmp_path):
-    YadeBackend(executable="/nonexistent/yade").write_input(tiny_scene, tmp_path)
+    bind("drag_finishing", "yade", executable="/nonexistent/yade").write_input(tiny_scene, tmp_path)
     data = np.load(tmp_path / "scene.npz")
     np.testing.assert_array_equal(data["positions"], tiny_scene.positions)
     np.testing.assert_array_equal(data["radii"], tiny_scene.radii)
@@ -48,7 +50,7 @@ def test_same_seed_same_cloud(tiny_scene):
 
 
 def test_render_context_maps_case_to_yade(tiny_scene):
-    ctx = YadeBackend(executable="/nonexistent/yade").render_context(tiny_scene)
+    ctx = render_context(tiny_scene)
     case = tiny_scene.case
     assert float(ctx["dt"]) == pytest.approx(tiny_scene.timestep)
     # angular velocity of the rod about the bowl axis = v_w / path radius

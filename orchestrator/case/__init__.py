@@ -1,5 +1,5 @@
-"""Case files: TOML in, validated immutable models (SI units) out."""
+"""Case files: TOML in, validated immutable models (SI units) out; each kind's model is in orchestrator/kinds."""
 
-from .loader import CASE_KINDS, LoadedCase, load_case, parse_override
+from orchestrator.case.loader import LoadedCase, load_case, parse_override
 
-__all__ = ["CASE_KINDS", "LoadedCase", "load_case", "parse_override"]
+__all__ = ["LoadedCase", "load_case", "parse_override"]

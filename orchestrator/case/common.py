@@ -4,10 +4,15 @@ numerics. All quantities are SI (m, kg, s, Pa, N)."""
 from __future__ import annotations
 
 import math
+import stat
 import typing
+from pathlib import Path
 from typing import Annotated, Any
 
 from pydantic import AfterValidator, BaseModel, ConfigDict, Field, ValidationInfo, field_validator, model_validator
+
+from orchestrator.engines import engine_names
+from orchestrator.kinds import engines_for_kind
 
 #: Largest magnitude of any number in a case (SI units): far beyond physics, far below where products overflow;
 #: its inverse is the smallest non-zero magnitude.
@@ -95,16 +100,12 @@ class CaseMeta(Frozen):
     @field_validator("engine")
     @classmethod
     def _known_engine(cls, value: str) -> str:
-        from ..backends import engine_names
-
         if value not in engine_names():
             raise ValueError(f"unknown engine; allowed: {', '.join(engine_names())}")
         return value
 
     @model_validator(mode="after")
     def _engine_runs_kind(self):
-        from ..backends import engines_for_kind
-
         engines = engines_for_kind(self.kind)
         if engines and self.engine not in engines:
             raise ValueError(f"case.engine = {self.engine!r} does not run {self.kind} cases; allowed: {', '.join(engines)}")
@@ -164,7 +165,6 @@ def mesh_file(value, base_dir: str, extensions=MESH_EXTENSIONS):
     Raises ValueError (the loader names the key) when it does not exist, is not a regular file, has an
     extension other than `extensions`, or is larger than MAX_MESH_BYTES.
     """
-    from pathlib import Path
 
     path = value if value.is_absolute() else Path(base_dir) / value
     try:
@@ -172,7 +172,6 @@ def mesh_file(value, base_dir: str, extensions=MESH_EXTENSIONS):
     except OSError:
         raise ValueError(f"mesh file not found at {path}; give an existing mesh file "
                          f"({', '.join(extensions)}) or remove the key") from None
-    import stat
 
     if not stat.S_ISREG(info.st_mode):
         raise ValueError(f"{path} is not a regular file; give a mesh file ({', '.join(extensions)})")
@@ -186,7 +185,6 @@ def mesh_file(value, base_dir: str, extensions=MESH_EXTENSIONS):
 
 def rayleigh_timestep(radius_m: float, material: Material, stiffness_scale: float = 1.0) -> float:
     """Rayleigh critical time step of a sphere, s: pi R sqrt(rho/G) / (0.1631 nu + 0.8766)."""
-    import math
 
     shear = material.shear_modulus * stiffness_scale
     return math.pi * radius_m * math.sqrt(material.density / shear) / (0.1631 * material.poisson_ratio + 0.8766)

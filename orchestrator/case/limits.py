@@ -18,6 +18,9 @@ from __future__ import annotations
 import math
 import os
 
+from orchestrator.case.common import rayleigh_timestep
+from orchestrator.humanize import byte_size
+
 #: Most time steps a run may plan, -.
 MAX_STEPS = 1_000_000_000
 #: Most records of a time series (output.record_interval, output.series_interval), -.
@@ -46,7 +49,6 @@ def machine_memory() -> int | None:
 
 def check_memory(key: str, particles: float, per_particle: int, allowed: str) -> None:
     """Refuse a scene whose particles (at per_particle bytes each) need more than this machine's memory."""
-    from ..humanize import byte_size
 
     memory = machine_memory()
     need = particles * per_particle
@@ -84,7 +86,6 @@ def _count(value: float) -> str:
 # ---------------------------------------------------------------------------------------------------- DEM
 def check_drag_finishing(case) -> None:
     """Memory of the bed, step counts and the record interval of a drag-finishing case."""
-    from .common import rayleigh_timestep
 
     check_memory(f"media.count = {case.media.count}", case.media.count, BYTES_PER_DEM_PARTICLE, "fewer balls")
 
@@ -105,29 +106,6 @@ def check_drag_finishing(case) -> None:
     check_steps("settling.max_time + relax_time + stiffen_time", settle_time,
                 "the settling time step (settling.timestep_factor x the Rayleigh step at settling.stiffness_scale)",
                 settle)
-
-
-def check_impact(case) -> None:
-    """The explicit time step against the run, step counts and the number of records of an impact case."""
-    from ..scene.impact import critical_timestep
-
-    duration = case.simulation.duration
-    explicit = case.numerics.timestep
-    if explicit is not None and explicit > duration:
-        raise ValueError(f"numerics.timestep = {explicit:g} s is longer than the run (simulation.duration = "
-                         f"{duration:g} s): the run would be a single step; allowed: timestep < duration")
-    if explicit is not None:
-        step, step_key = explicit, "numerics.timestep"
-    else:
-        step = case.numerics.timestep_factor * critical_timestep(case)
-        step_key = "the time step (numerics.timestep_factor x the critical step)"
-        if not step > 0:
-            raise ValueError(f"numerics.timestep_factor = {case.numerics.timestep_factor:g} gives a time step of "
-                             f"{step:g} s; allowed: a factor that gives a positive step")
-    step = min(step, duration)
-    check_steps("simulation.duration", duration, step_key, step)
-    if case.output.record_interval is not None:  # below the step the DEM engines record every step
-        check_interval("output.record_interval", case.output.record_interval, "simulation.duration", duration)
 
 
 # ---------------------------------------------------------------------------------------------------- SPH

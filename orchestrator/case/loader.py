@@ -9,6 +9,7 @@ from __future__ import annotations
 import copy
 import hashlib
 import json
+import stat
 import tomllib
 import types
 import typing
@@ -18,14 +19,9 @@ from typing import Any
 
 from pydantic import BaseModel, ValidationError
 
-from ..errors import CaseError
-from .drag_finishing import DragFinishingCase
-from .impact import ImpactCase
-from .sph import SphFlowCase
+from orchestrator.errors import CaseError
+from orchestrator.kinds import get_kind, kind_names
 
-#: case.kind -> model class. Later scene kinds (SPH flows) add rows.
-CASE_KINDS: dict[str, type[BaseModel]] = {"drag_finishing": DragFinishingCase, "impact": ImpactCase,
-                                          "sph_flow": SphFlowCase}
 #: Largest case or study file read, bytes (the shipped ones are a few kB).
 MAX_TOML_BYTES = 16 * 1024 * 1024
 
@@ -194,12 +190,12 @@ def _validate(data: dict, base_dir: Path, where: str):
     if not isinstance(meta, dict):
         raise CaseError(f"{where}: case = {meta!r} is a value, not a table; write a [case] table with kind and name")
     kind = meta.get("kind")
-    allowed = ", ".join(CASE_KINDS)
+    allowed = ", ".join(kind_names())
     if kind is None:
         raise CaseError(f"{where}: case.kind: required key is missing; allowed: {allowed}")
-    if not isinstance(kind, str) or kind not in CASE_KINDS:
+    if not isinstance(kind, str) or kind not in kind_names():
         raise CaseError(f"{where}: case.kind = {kind!r} is not known; allowed: {allowed}")
-    model_cls = CASE_KINDS[kind]
+    model_cls = get_kind(kind).model()
     try:
         return model_cls.model_validate(data, context={"base_dir": str(base_dir)})
     except ValidationError as exc:
@@ -224,7 +220,6 @@ def to_toml(data: dict) -> str:
 
 def read_toml_file(path: Path, what: str) -> dict:
     """A TOML file as a dict; CaseError for a missing, non-text or malformed file (`what` names it)."""
-    import stat
 
     try:
         info = path.stat()

@@ -24,8 +24,7 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import brentq, minimize_scalar
 from scipy.special import beta as beta_function
 
-from .contact import damping_alpha
-
+from orchestrator.reference.contact import damping_alpha
 
 #: t_c = HERTZ_DURATION_FACTOR * delta_max / v: 2 int_0^1 dx / sqrt(1 - x^(5/2)) = (4/5) B(2/5, 1/2).
 HERTZ_DURATION_FACTOR = 0.8 * float(beta_function(0.4, 0.5))  # 2.943275...

@@ -38,9 +38,14 @@ from typing import Mapping, Sequence
 
 import numpy as np
 
-from . import closed_form, contact
-from .dem_forces import KIND_PLANE, KIND_SPHERE, KIND_TRIANGLE, ContactLaw, PairLaw, StepContacts
-from .dem_geometry import TriangleSearch, nearest_gaps, sphere_plane_contacts, sphere_sphere_contacts
+from orchestrator.reference import closed_form, contact
+from orchestrator.reference.dem_forces import KIND_PLANE, KIND_SPHERE, KIND_TRIANGLE, ContactLaw, PairLaw, StepContacts
+from orchestrator.reference.dem_geometry import (
+    TriangleSearch,
+    nearest_gaps,
+    sphere_plane_contacts,
+    sphere_sphere_contacts,
+)
 
 #: Largest scene the reference DEM accepts (brute numpy; engines are for larger ones).
 MAX_SPHERES = 2000

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import contact
+from orchestrator.reference import contact
 
 EVENT_FIELDS = ("sphere", "other_kind", "other", "wall", "start_time", "end_time", "impact_speed",
                 "rebound_speed", "peak_normal_force", "peak_time", "max_overlap")

@@ -29,8 +29,13 @@ from functools import lru_cache
 
 from scipy.integrate import solve_ivp
 
-from .closed_form import TOLERANCES, dimensionless_normal_force, finish_with_tension, normal_force_zero_event
-from .contact import SOLID_SPHERE_GYRATION
+from orchestrator.reference.closed_form import (
+    TOLERANCES,
+    dimensionless_normal_force,
+    finish_with_tension,
+    normal_force_zero_event,
+)
+from orchestrator.reference.contact import SOLID_SPHERE_GYRATION
 
 
 @dataclass(frozen=True)

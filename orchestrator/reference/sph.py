@@ -33,7 +33,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .sph_walls import PenaltyWalls
+from orchestrator.reference.sph_walls import PenaltyWalls
 
 FLUID, BOUNDARY = 0, 1
 
@@ -272,7 +272,7 @@ def simulate(state: SphState, model: SphModel, dt: float, n_steps: int, every: i
 
 
 def from_scene(scene) -> tuple[SphState, SphModel]:
-    """The state and model of an SphScene (orchestrator.scene.sph); ValueError for inlets or outlets."""
+    """The state and model of an SphScene (orchestrator.kinds.sph_flow.scene); ValueError for inlets or outlets."""
     case = scene.case
     if case.inlets or case.outlets:
         raise ValueError("the reference SPH does not model inlets and outlets")

@@ -20,8 +20,17 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from .. import signals
-from ..errors import CaseError, OrchestratorError
+from orchestrator import signals
+from orchestrator.case import load_case
+from orchestrator.engines import engine_names, get_engine
+from orchestrator.errors import CaseError, OrchestratorError
+from orchestrator.humanize import check_out_dir, make_out_dir
+from orchestrator.identity import run_identity
+from orchestrator.kinds import bind, build_scene, engines_for_kind
+from orchestrator.measure import remeasure
+from orchestrator.run import run_case
+from orchestrator.runh5 import read_run
+from orchestrator.study.spec import Sweep, load_study_spec
 
 INDEX_NAME = "index.csv"
 
@@ -70,7 +79,6 @@ class Study:
     @classmethod
     def from_file(cls, path, out_dir=None) -> "Study":
         """A Study from a study TOML file (see orchestrator.study.spec)."""
-        from .spec import load_study_spec
 
         spec, case_path = load_study_spec(path)
         return cls(case=case_path, points=spec.sweep.points(), engines=spec.study.engines, preset=spec.study.preset,
@@ -79,9 +87,6 @@ class Study:
 
     def plan(self) -> list[PlannedRun]:
         """Validate every run's case and engine, and compute identities (raises CaseError / OrchestratorError)."""
-        from ..backends import engine_names, get_backend
-        from ..case import load_case
-        from ..identity import run_identity
 
         planned = []
         for engine in self.engines:
@@ -97,13 +102,13 @@ class Study:
         _check_engines_run(self.engines, cases, self.case)
         versions = {}
         for engine in self.engines:
-            backend = get_backend(engine)
-            backend.check_available()
-            versions[engine] = backend.version()
+            program = get_engine(engine)
+            program.check_available()
+            versions[engine] = program.version()
         for point, loaded in zip(self.points, cases):
             scene = _build_scene(loaded)
             for engine in self.engines:
-                run_id = run_identity(loaded, engine, versions[engine], get_backend(engine), scene)
+                run_id = run_identity(loaded, engine, versions[engine], bind(loaded.kind, engine, scene), scene)
                 planned.append(PlannedRun(run_id, engine, dict(point), self.out_dir / f"{engine}-{run_id[:12]}",
                                           loaded.model.numerics.threads))
         self._planned = planned
@@ -112,7 +117,6 @@ class Study:
     def run(self, executor: Executor | None = None, force: bool = False, progress: bool = True,
             max_workers: int | None = None) -> list[dict]:
         """Run what is not finished yet (everything with force); returns one row per run and writes index.csv."""
-        from ..humanize import check_out_dir, make_out_dir
 
         check_out_dir(self.out_dir)
         planned = self.plan()
@@ -176,8 +180,6 @@ class Study:
 
 def _build_scene(loaded):
     """The scene of a planned run (its engine inputs decide the run's identity)."""
-    from ..scene import build_scene
-
     try:
         return build_scene(loaded.model)
     except ValueError as exc:
@@ -195,8 +197,6 @@ def _stop_workers(executor: ProcessPoolExecutor, signum: int) -> None:
 
 def _check_engines_run(engines, cases, case_path: Path) -> None:
     """Raise OrchestratorError when a study engine does not run the kind of the study's case."""
-    from ..backends import engines_for_kind
-
     for kind in dict.fromkeys(loaded.kind for loaded in cases):
         allowed = engines_for_kind(kind)
         wrong = [engine for engine in engines if engine not in allowed]
@@ -210,14 +210,12 @@ def _check_engines_run(engines, cases, case_path: Path) -> None:
 
 def grid(parameters: dict[str, list]) -> list[dict]:
     """Every combination of the given values (dotted case keys -> lists)."""
-    from .spec import Sweep
 
     return Sweep(mode="grid", parameters=parameters).points()
 
 
 def zipped(parameters: dict[str, list]) -> list[dict]:
     """The i-th values of each list together (lists of equal length)."""
-    from .spec import Sweep
 
     return Sweep(mode="zip", parameters=parameters).points()
 
@@ -225,8 +223,6 @@ def zipped(parameters: dict[str, list]) -> list[dict]:
 def execute_run(case_path: str, preset: str | None, point: dict, engine: str, run_dir: str,
                 timeout_s: float | None, run_id: str) -> dict:
     """Run one study point (in a worker process); returns its row. Never raises for a failed run."""
-    from ..case import load_case
-    from ..run import run_case
 
     run_path = Path(run_dir)
     if run_path.exists():
@@ -272,9 +268,6 @@ def finished_row(run: PlannedRun) -> dict | None:
 def _fresh_measures(path: Path) -> dict:
     """A reused run's quantities recomputed by the current analysis (a new measure needs no rerun);
     empty when the stored run cannot be re-read, and the stored values stand."""
-    from ..analysis import remeasure
-    from ..errors import OrchestratorError
-    from ..runh5 import read_run
 
     try:
         return remeasure(read_run(path))

@@ -5,7 +5,7 @@ from __future__ import annotations
 import contextlib
 import os
 
-from ..errors import OrchestratorError
+from orchestrator.errors import OrchestratorError
 
 
 @contextlib.contextmanager

@@ -8,10 +8,15 @@ import base64
 import io
 import json
 import math
+import tempfile
 from pathlib import Path
 
-from ..errors import OrchestratorError
-from .core import INDEX_NAME, STUDY_INFO, read_index_rows
+from orchestrator import __version__
+from orchestrator.errors import OrchestratorError
+from orchestrator.kinds.drag_finishing.plots import plot_drag_finishing_forces
+from orchestrator.runh5 import read_run, stored_case
+from orchestrator.study.core import INDEX_NAME, STUDY_INFO, read_index_rows
+from orchestrator.templating import render
 
 #: Quantities plotted against wall time when the index has them: (column, its error column, label with units).
 TRADE_OFF_QUANTITIES = (
@@ -62,9 +67,6 @@ def write_study_report(study_dir, quantity: str = "fn_mean", reference: str = "f
     """
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
-
-    from .. import __version__
-    from ..templating import render
 
     study_dir = Path(study_dir)
     index = study_dir / INDEX_NAME
@@ -146,11 +148,6 @@ def write_study_report(study_dir, quantity: str = "fn_mean", reference: str = "f
 
 def _run_plots(rows: list[dict]) -> list[dict]:
     """Each finished drag-finishing run's force plot, as base64 PNG."""
-    import tempfile
-
-    from ..report import _loaded_case
-    from ..runh5 import read_run
-    from ..plots import plot_drag_finishing_forces
 
     plots = []
     for r in rows:
@@ -161,7 +158,7 @@ def _run_plots(rows: list[dict]) -> list[dict]:
         if "workpiece_force" not in run.get("series", {}):
             continue
         with tempfile.TemporaryDirectory() as tmp:
-            png = plot_drag_finishing_forces(run, _loaded_case(run), Path(tmp) / "f.png")
+            png = plot_drag_finishing_forces(run, stored_case(run, "run.h5"), Path(tmp) / "f.png")
             data = base64.b64encode(png.read_bytes()).decode()
         title = ", ".join(f"{k.removeprefix('param:')} = {v}" for k, v in r.items() if k.startswith("param:"))
         plots.append({"title": f"{title} ({r['engine']})", "png": data})

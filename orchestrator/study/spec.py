@@ -27,7 +27,8 @@ from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
-from ..errors import CaseError
+from orchestrator.case.loader import format_validation_error, read_toml_file
+from orchestrator.errors import CaseError
 
 
 class _Frozen(BaseModel):
@@ -92,7 +93,6 @@ class StudySpec(_Frozen):
 
 def load_study_spec(path: str | Path) -> tuple[StudySpec, Path]:
     """Read and validate a study file; returns (spec, absolute case path). Raises CaseError with clear messages."""
-    from ..case.loader import format_validation_error, read_toml_file
 
     path = Path(path)
     raw = read_toml_file(path, "study")

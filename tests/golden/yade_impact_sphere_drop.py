@@ -1,5 +1,5 @@
 # Yade script for an impact scene (a few spheres, optionally one flat wall).
-# Rendered by orchestrator from templates/yade/impact.py.j2; edit the case
+# Rendered by orchestrator from orchestrator/kinds/impact/templates/yade.py.j2; edit the case
 # file, not this script. Runs in Yade's own python (numpy, no h5py) and
 # writes plain files into output/; the orchestrator turns them into run.h5.
 # Units: SI (m, kg, s, N, Pa).

@@ -1,5 +1,5 @@
 # Yade script for the drag-finishing scene (Uhlmann, Eulitz, Dethlefs 2015).
-# Rendered by orchestrator from templates/yade/drag_finishing.py.j2; edit the
+# Rendered by orchestrator from orchestrator/kinds/drag_finishing/templates/yade.py.j2; edit the
 # case file, not this script. Runs in Yade's own python (numpy, no h5py) and
 # writes plain files into output/; the orchestrator turns them into run.h5.
 # Units: SI (m, kg, s, N, Pa).

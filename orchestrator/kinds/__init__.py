@@ -1,0 +1,76 @@
+"""Process kinds, registered by name and imported lazily (as meshio's register_format, ASE's calculators).
+
+A kind registers with one line below (or, for a kind outside the package, with ``register(name, module)``); its
+module defines ``KIND`` (kinds.base.Kind). Nothing of a kind is imported until it is asked for.
+"""
+
+from __future__ import annotations
+
+import importlib
+
+from orchestrator.engines import get_engine
+from orchestrator.errors import OrchestratorError
+from orchestrator.kinds.base import Adapter, Bound, Kind
+
+_REGISTRY: dict[str, str] = {}
+_LOADED: dict[str, Kind] = {}
+
+
+def register(name: str, module: str) -> None:
+    """Register the kind `name`, defined as KIND in the importable module `module`."""
+    _REGISTRY[name] = module
+    _LOADED.pop(name, None)
+
+
+register("drag_finishing", "orchestrator.kinds.drag_finishing")
+register("impact", "orchestrator.kinds.impact")
+register("sph_flow", "orchestrator.kinds.sph_flow")
+
+
+def kind_names() -> list[str]:
+    """Names of every registered kind, sorted."""
+    return sorted(_REGISTRY)
+
+
+def get_kind(name: str) -> Kind:
+    """The Kind registered under name (OrchestratorError naming the known kinds otherwise)."""
+    if name not in _REGISTRY:
+        raise OrchestratorError(f"unknown case kind {name!r}; allowed: {', '.join(kind_names())}")
+    if name not in _LOADED:
+        _LOADED[name] = importlib.import_module(_REGISTRY[name]).KIND
+    return _LOADED[name]
+
+
+def engines_for_kind(name: str) -> list[str]:
+    """Names of the engines that run cases of this kind (the kind's adapters), sorted."""
+    return get_kind(name).engines()
+
+
+def kinds_for_engine(engine: str) -> list[str]:
+    """Names of the kinds the engine runs, sorted."""
+    return [name for name in kind_names() if engine in get_kind(name).adapters]
+
+
+def build_scene(case):
+    """The scene of a validated case model, built by its kind."""
+    return get_kind(case.case.kind).scene(case)
+
+
+def measure(case, result) -> dict[str, float]:
+    """The case's measured quantities from a Result, by its kind (SI units; empty if the run has too little data)."""
+    return get_kind(case.case.kind).measured(case, result)
+
+
+def bind(kind: str, engine: str, scene=None, **profile) -> Bound:
+    """The adapter of engine for kind bound to the engine's profile (engines.get_engine(engine, **profile)).
+
+    Raises OrchestratorError when the engine does not run the kind (with the kind's reason when it has one: pass the
+    scene) or the profile options do not apply to the engine.
+    """
+
+    adapter = get_kind(kind).adapter(engine, scene)
+    return Bound(get_engine(engine, **profile), adapter)
+
+
+__all__ = ["Adapter", "Bound", "Kind", "bind", "build_scene", "measure", "engines_for_kind", "get_kind", "kind_names", "kinds_for_engine",
+           "register"]

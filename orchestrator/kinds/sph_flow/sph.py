@@ -1,0 +1,201 @@
+"""The sph executable runs SPH flows: the deck's values, the HDF5 input files and the reader of out.h5
+(engines.sph starts the executable)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+from orchestrator.engines.base import Result, Series
+from orchestrator.kinds.base import Adapter
+from orchestrator.runh5 import _plain
+from orchestrator.runner import LOG_NAME, tail
+from orchestrator.templating import render
+
+TEMPLATE = Path(__file__).resolve().parent / "templates" / "sph.json.j2"
+DECK = "deck.json"
+OUTPUT = "out.h5"
+#: Wall-time interval of the engine's PROGRESS lines, s.
+PROGRESS_INTERVAL_S = 1.0
+
+
+class SphFlow(Adapter):
+    """SPH flows as a JSON deck (templates/sph.json.j2) with particles.h5 and meshes.h5."""
+
+    engine = "sph"
+    templates = (TEMPLATE,)
+
+    def write_input(self, engine, scene, workdir: Path) -> None:
+        write_particles(scene, workdir / "particles.h5")
+        if scene.meshes:
+            write_meshes(scene, workdir / "meshes.h5")
+        (workdir / DECK).write_text(render(TEMPLATE, deck_context(scene, threads=engine.threads)))
+
+    def command(self, engine, scene, workdir: Path) -> tuple[list[str], dict[str, str]]:
+        return [engine.executable or "sph", DECK], engine.environment(scene.case.numerics.thread_wait)
+
+    def read_output(self, engine, scene, workdir: Path) -> Result:
+        return read_sph_output(workdir, scene)
+
+
+def deck_context(scene, threads: int = 1) -> dict:
+    """The template's values for a scene: numbers via repr, lists and texts via json (SI units)."""
+    case = scene.case
+    fluid, physics, numerics, output = case.fluid, case.physics, case.numerics, case.output
+    num = repr
+    vec = lambda values: json.dumps([float(v) for v in values])  # noqa: E731
+    periodic = None
+    if case.domain.periodic:
+        axes = list(case.domain.periodic)
+        periodic = {"axes": json.dumps(axes), "lo": vec(case.domain.lo[a] for a in axes),
+                    "hi": vec(case.domain.hi[a] for a in axes)}
+    av = physics.artificial_viscosity
+    wall = physics.wall_penalty
+    return {
+        "dimension": case.dimension,
+        "physics": json.dumps(list(scene.physics)),
+        "rho0": num(fluid.density),
+        "c0": num(scene.c0),
+        "v_max": num(fluid.max_speed),
+        "gamma": num(fluid.gamma),
+        "background_pressure": num(fluid.background_pressure),
+        "h": num(scene.h),
+        "dx": num(numerics.dx),
+        "viscosity": None if fluid.viscosity is None else num(fluid.viscosity),
+        "alpha": None if av is None else num(av.alpha),
+        "beta": None if av is None else num(av.beta),
+        "body_force": None if physics.body_force is None else vec(physics.body_force),
+        "meshes": [{"name": json.dumps(name), "group": json.dumps("/" + name)} for name in scene.meshes],
+        "wall": None if wall is None else {"range": num(wall.range), "s": num(wall.s), "psi": num(wall.psi)},
+        "periodic": periodic,
+        "inlets": [_patch_json(p, velocity=p.velocity, layers=p.layers) for p in case.inlets],
+        "outlets": [_patch_json(p, layers=p.layers) for p in case.outlets],
+        "dt": None if numerics.dt is None else num(numerics.dt),
+        "time_step": {k: num(v) for k, v in numerics.adaptive.items()},
+        "max_steps": numerics.max_steps,
+        "max_density_deviation": num(numerics.max_density_deviation),
+        "t_end": num(case.simulation.duration),
+        "threads": int(threads),
+        "frame_interval": num(output.frame_interval),
+        "series_interval": num(output.series_interval or output.frame_interval),
+        "progress_interval": num(PROGRESS_INTERVAL_S),
+        "probes": [json.dumps({"name": p.name, "point": [float(c) for c in p.point]}) for p in output.probes],
+        "flow_planes": [_patch_json(p) for p in output.flow_planes],
+    }
+
+
+def _patch_json(patch, **extra) -> str:
+    """A disc or rectangle patch (flow plane, inlet, outlet) as the deck's JSON object."""
+    item = {"name": patch.name, "center": [float(c) for c in patch.center],
+            "normal": [float(c) for c in patch.normal]}
+    if patch.radius is not None:
+        item["radius"] = float(patch.radius)
+    else:
+        if patch.u is not None:
+            item["u"] = [float(c) for c in patch.u]
+        item["half_extents"] = [float(c) for c in patch.half_extents]
+    item.update({k: (float(v) if isinstance(v, float) else v) for k, v in extra.items()})
+    return json.dumps(item)
+
+
+def write_particles(scene, path: Path) -> None:
+    """The particle input file: positions (n,D) m, velocities (n,D) m/s, masses (n) kg, densities (n)
+    kg/m^3, kind (n) int8 (0 fluid, 1 fixed boundary)."""
+    import h5py
+
+    with h5py.File(path, "w") as h5:
+        h5["positions"] = np.asarray(scene.positions, dtype=np.float64)
+        h5["velocities"] = np.asarray(scene.velocities, dtype=np.float64)
+        h5["masses"] = np.asarray(scene.masses, dtype=np.float64)
+        h5["densities"] = np.asarray(scene.densities, dtype=np.float64)
+        h5["kind"] = np.asarray(scene.kind, dtype=np.int8)
+
+
+def write_meshes(scene, path: Path) -> None:
+    """The wall meshes: one group /<name> per wall with vertices (nv,D) m and faces (nf,D) int64."""
+    import h5py
+
+    with h5py.File(path, "w") as h5:
+        for name, mesh in scene.meshes.items():
+            group = h5.create_group(name)
+            group["vertices"] = np.asarray(mesh.vertices, dtype=np.float64)
+            group["faces"] = np.asarray(mesh.faces, dtype=np.int64)
+
+
+#: Descriptions of the series the executable writes (by name or prefix).
+SERIES_DESCRIPTIONS = {
+    "pressure_probe_": "Shepard-normalised kernel interpolation of the fluid pressure at the probe "
+                       "(NaN when no fluid within 2h)",
+    "flow_rate_": "fluid volume crossing the patch along its normal per unit time, since the last record",
+    "inflow_": "fluid volume added by the inlet per unit time",
+    "outflow_": "fluid volume removed by the outlet per unit time",
+    "wall_force_": "penalty force of the fluid on the wall mesh (eq. 14)",
+    "kinetic_energy": "kinetic energy of the fluid",
+    "max_density_deviation": "max |rho/rho0 - 1| over the fluid",
+}
+#: Root attributes of out.h5 copied into run.h5 (engine name -> run.h5 name).
+ENGINE_ATTRS = {"n_steps": "n_steps", "dt_mean": "dt", "t_final": "simulated_time", "wall_time_s": "engine_wall_time_s",
+                "particle_steps_per_s": "particle_steps_per_s", "physics": "physics", "h": "h", "dx": "dx",
+                "dimension": "dimension", "last_good_frame": "last_good_frame"}
+FRAME_ARRAYS = ("ids", "kind", "positions", "velocities", "densities", "pressures")
+
+
+def read_sph_output(workdir: Path, scene=None) -> Result:
+    """Parse out.h5 of a run (complete, partial or missing) into a Result; meshes from the scene."""
+    import h5py
+
+    result = Result()
+    path = Path(workdir) / OUTPUT
+    if scene is not None:
+        result.meshes = {name: {"vertices": np.asarray(m.vertices), "faces": np.asarray(m.faces)}
+                         for name, m in scene.meshes.items()}
+    if not path.is_file():
+        result.status = "failed"
+        result.message = _engine_error(workdir) or f"the engine wrote no {OUTPUT}"
+        return result
+    try:
+        with h5py.File(path, "r") as h5:
+            attrs = {k: _plain(v) for k, v in h5.attrs.items()}
+            result.attrs.update({ENGINE_ATTRS[k]: v for k, v in attrs.items() if k in ENGINE_ATTRS})
+            series = h5.get("series", {})
+            if "time" in series:
+                result.time = np.asarray(series["time"][()], dtype=float)
+            for name in series:
+                if name == "time":
+                    continue
+                ds = series[name]
+                description = next((text for key, text in SERIES_DESCRIPTIONS.items() if name.startswith(key)), "")
+                result.series[name] = Series(np.asarray(ds[()]), _plain(ds.attrs.get("units", "")), description)
+            frames = h5.get("frames", {})
+            for key in sorted(frames, key=int):
+                group = frames[key]
+                if not all(name in group for name in FRAME_ARRAYS):
+                    break  # a frame cut off while it was written
+                arrays = {name: np.asarray(group[name][()]) for name in FRAME_ARRAYS}
+                arrays["step"] = np.int64(group.attrs.get("step", -1))
+                result.frames.append((float(group.attrs["time"]), arrays))
+    except (OSError, KeyError, ValueError) as exc:
+        result.status = "failed"
+        result.message = f"cannot read {path}: {exc}"
+        return result
+    status = attrs.get("status", "running")
+    message = attrs.get("message", "")
+    if status == "ok":
+        result.status, result.message = "ok", message
+    elif status == "unstable":
+        result.status, result.message = "unstable", message
+    elif status == "terminated":
+        result.status, result.message = "failed", message or "stopped by a signal"
+    else:
+        result.status = "failed"
+        result.message = _engine_error(workdir) or "the engine ended without finishing (status 'running' in out.h5)"
+    return result
+
+
+def _engine_error(workdir: Path) -> str:
+    """The engine's last 'error: ...' line in the run's log, without the prefix ('' if none)."""
+
+    lines = [line for line in tail(Path(workdir) / LOG_NAME, 200).splitlines() if line.startswith("error: ")]
+    return lines[-1].removeprefix("error: ") if lines else ""

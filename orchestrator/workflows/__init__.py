@@ -1,0 +1,1 @@
+"""Workflows over many runs: verification suites, engine comparison, calibration, time-step sweep, benchmarks."""

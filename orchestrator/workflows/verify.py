@@ -1,0 +1,248 @@
+"""`orchestrator verify dem`: every verification scene on every installed DEM
+engine and on the reference, checked against its closed form.
+
+The scenes are the impact cases in cases/verification/ (shipped with the
+package); each case's [[expected]] table names the quantity, the closed form
+or value and the relative tolerance. One table row per (scene, engine,
+check); a run that ends unstable or failed gives failing rows with the reason.
+A PNG overlays the normal-force curves of every engine per scene.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import math
+import os
+import tomllib
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from orchestrator.case import load_case
+from orchestrator.engines import engine_names, get_engine
+from orchestrator.errors import EngineNotFound, OrchestratorError
+from orchestrator.humanize import make_out_dir
+from orchestrator.kinds import engines_for_kind
+from orchestrator.kinds.impact.analysis import evaluate_checks
+from orchestrator.kinds.impact.theory import QUANTITIES
+from orchestrator.kinds.impact.plots import plot_force_curves  # noqa: F401  (verify dem draws it)
+from orchestrator.run import run_case
+from orchestrator.runh5 import read_run
+
+#: The keys of one row of `orchestrator verify dem --json`, in order.
+ROW_KEYS = ("scene", "engine", "quantity", "value", "expected", "rel_error", "tolerance", "passed")
+_CANDIDATE_DIRS = (
+    Path(__file__).resolve().parent / "verification_cases",  # installed wheel
+    Path(__file__).resolve().parent.parent / "cases" / "verification",  # source checkout / editable install
+)
+
+
+def verification_dir() -> Path:
+    """Directory holding the verification scenes (cases/verification)."""
+    for candidate in _CANDIDATE_DIRS:
+        if candidate.is_dir():
+            return candidate
+    raise OrchestratorError("the verification scenes (cases/verification) are missing; reinstall the package")
+
+
+def scene_files(directory: Path | None = None, kind: str = "impact") -> list[Path]:
+    """The verification case files of one case kind (impact: DEM; sph_flow: SPH), sorted by name."""
+
+    directory = Path(directory) if directory is not None else verification_dir()
+    if not directory.is_dir():
+        what = "does not exist" if not directory.exists() else "is not a directory"
+        raise OrchestratorError(f"--cases {directory} {what}; give a directory of case files (*.toml), e.g. "
+                                "cases/verification")
+    files = []
+    for path in sorted(directory.glob("*.toml")):
+        try:
+            meta = tomllib.loads(path.read_text(encoding="utf-8")).get("case", {})
+            file_kind = meta.get("kind") if isinstance(meta, dict) else kind
+        except (OSError, ValueError, RecursionError):  # ValueError: TOMLDecodeError and UnicodeDecodeError
+            file_kind = kind  # let the case loader report what is wrong with it
+        if file_kind == kind:
+            files.append(path)
+    if not files:
+        raise OrchestratorError(f"no {kind} case files (*.toml) in {directory}")
+    return files
+
+
+def load_scenes(files: list[Path], overrides=(), preset: str | None = None) -> None:
+    """Validate every scene with the overrides before any run starts (CaseError naming the file and key)."""
+
+    for path in files:
+        load_case(path, preset=preset, overrides=overrides)
+
+
+def dem_engines(requested=None) -> list[str]:
+    """Engines that run impact cases: the requested ones (each must be installed), or every installed one.
+
+    Raises EngineNotFound for a requested engine that is missing and
+    OrchestratorError for one that cannot run impact cases.
+    """
+    if requested:
+        out = []
+        for name in requested:
+            if name not in engine_names():
+                raise OrchestratorError(f"unknown engine {name!r}; allowed: {', '.join(engine_names())}")
+            if name not in dem_engine_names():
+                raise OrchestratorError(f"{name} does not run DEM impact scenes; DEM engines: "
+                                        f"{', '.join(dem_engine_names())}")
+            get_engine(name).check_available()
+            out.append(name)
+        return list(dict.fromkeys(out))
+    return [name for name in dem_engine_names() if get_engine(name).available()]
+
+
+def dem_engine_names() -> list[str]:
+    """Every registered engine that runs impact cases, installed or not."""
+    return engines_for_kind("impact")
+
+
+@dataclass
+class CheckedRun:
+    """One verification scene run on one engine: status, check rows (ROW_KEYS) and run directory;
+    wall_time_s: the engine's compute time, s."""
+
+    scene: str
+    engine: str
+    status: str
+    message: str
+    run_dir: Path
+    rows: list[dict] = field(default_factory=list)
+    wall_time_s: float = math.nan
+
+
+@dataclass
+class SceneRun(CheckedRun):
+    """One DEM scene on one engine: its rows, status and the curves to plot."""
+
+    time: object = None  # (n,) s
+    normal_force: object = None  # (n,) N
+    peaks: object = None  # (k, 2): peak time s, peak force N of each contact
+
+
+def run_scene(case_file: Path, engine: str, out_dir: Path, overrides=(), timeout_s: float | None = 600.0) -> SceneRun:
+    """Run one verification scene on one engine and check it (never raises for a failed run)."""
+    import numpy as np
+
+    loaded = load_case(case_file, overrides=overrides)
+    run_dir = Path(out_dir)
+    status, message = "ok", ""
+    try:
+        summary = run_case(loaded, engine=engine, out_dir=run_dir, timeout_s=timeout_s, progress=False, force=True)
+        measured, wall = summary.measured, summary.wall_time_s
+    except EngineNotFound:
+        raise
+    except OrchestratorError as exc:
+        summary = exc.summary
+        status = summary.status if summary is not None else "failed"
+        message = str(exc).split("\n")[0]
+        measured = summary.measured if summary is not None else {}
+        wall = summary.wall_time_s if summary is not None else math.nan
+    result = SceneRun(loaded.name, engine, status, message, run_dir, wall_time_s=wall)
+    try:
+        run = read_run(run_dir)
+    except OrchestratorError:
+        run = {"attrs": {}}
+    deviation = run["attrs"].get("deviation", "")
+    for check in evaluate_checks(loaded.model, measured):
+        passed = check.passed and status == "ok"
+        note = message if status != "ok" else check.note or (f"{engine}: {deviation}" if not passed and deviation
+                                                              else "")
+        result.rows.append({"scene": loaded.name, "engine": engine, "quantity": check.quantity, "value": check.value,
+                            "expected": check.expected, "rel_error": check.rel_error, "tolerance": check.tolerance,
+                            "passed": bool(passed), "source": check.source, "note": note})
+    series = run.get("series", {})
+    if "normal_force" in series:
+        result.time, result.normal_force = series["time"], series["normal_force"]
+    events = run.get("events", {})
+    if "peak_time" in events:
+        result.peaks = np.column_stack([events["peak_time"], events["peak_normal_force"]])
+    return result
+
+
+def run_verification(engines=None, out_dir=None, cases_dir=None, overrides=(), workers: int | None = None,
+                     timeout_s: float | None = 600.0, on_done=None) -> list[SceneRun]:
+    """Every scene in cases_dir on every engine; run directories under out_dir/<scene>/<engine>.
+
+    engines: names (default: every installed DEM engine, the reference included);
+    overrides: --set strings applied to every scene (e.g. numerics.timestep_factor=0.1);
+    workers: parallel runs (default: the number of cores); on_done(run, done, total) is
+    called as each run finishes; timeout_s: wall-time limit of each run, s.
+    """
+    files = scene_files(cases_dir)
+    load_scenes(files, overrides)
+    names = dem_engines(engines)
+
+    out_dir = make_out_dir(Path(out_dir) if out_dir is not None else default_out_dir())
+    jobs = [(path, engine) for path in files for engine in names]
+    return run_in_pool(run_scene, [(path, engine, out_dir / path.stem / engine, overrides, timeout_s)
+                                   for path, engine in jobs], workers, on_done)
+
+
+def run_in_pool(function, jobs: list[tuple], workers: int | None = None, on_done=None) -> list:
+    """function(*job) for every job on a process pool of `workers` (default: the number of cores);
+    on_done(result, done, total) as each ends; the results in the order of jobs."""
+    if workers is not None and workers < 1:
+        raise OrchestratorError(f"--workers {workers}: allowed: 1 or more")
+    workers = workers or max(1, min(len(jobs), os.cpu_count() or 1))
+    # processes, not threads: each run writes and reads its run.h5, and HDF5 is safest one file per process
+    with ProcessPoolExecutor(max_workers=workers) as pool:
+        futures = [pool.submit(function, *job) for job in jobs]
+        if on_done is not None:
+            for done, future in enumerate(as_completed(futures), 1):
+                on_done(future.result(), done, len(futures))
+        return [future.result() for future in futures]
+
+
+def default_out_dir(root: Path = Path("runs"), suite: str = "dem") -> Path:
+    """runs/verify-<suite>-<UTC timestamp>."""
+    stamp = _dt.datetime.now(_dt.timezone.utc).strftime("%Y%m%dT%H%M%S")
+    return root / f"verify-{suite}-{stamp}"
+
+
+def rows_of(runs: list[SceneRun]) -> list[dict]:
+    """Every check row of the runs, as dicts with ROW_KEYS (plus source and note)."""
+    return [row for run in runs for row in run.rows]
+
+
+def json_rows(runs: list[SceneRun]) -> list[dict]:
+    """Rows with exactly ROW_KEYS; NaN becomes None."""
+    def clean(value):
+        return None if isinstance(value, float) and not math.isfinite(value) else value
+
+    return [{key: clean(row[key]) for key in ROW_KEYS} for row in rows_of(runs)]
+
+
+def format_table(runs: list[SceneRun], unit_of=None) -> str:
+    """The plain-text table: scene, engine, quantity, value, expected, rel_error, tolerance, passed; notes below.
+
+    unit_of(quantity) -> SI unit text (default: the impact quantities' units); runs: anything with `rows`.
+    """
+
+    unit_of = unit_of or (lambda quantity: QUANTITIES.get(quantity, ("",))[0])
+    header = ("scene", "engine", "quantity", "value", "expected", "rel_error", "tolerance", "passed")
+    lines, notes = [], []
+    table = []
+    for row in rows_of(runs):
+        unit = unit_of(row["quantity"])
+        cells = [row["scene"], row["engine"], f"{row['quantity']} [{unit}]", _num(row["value"]),
+                 _num(row["expected"]), _num(row["rel_error"], ".2e"), _num(row["tolerance"], ".2g"),
+                 "yes" if row["passed"] else "NO"]
+        if row["note"]:
+            notes.append(f"{row['scene']} / {row['engine']}: {row['note']}")
+        table.append(cells)
+    widths = [max(len(h), *(len(r[i]) for r in table)) if table else len(h) for i, h in enumerate(header)]
+    lines.append("  ".join(h.ljust(w) for h, w in zip(header, widths)))
+    for cells in table:
+        lines.append("  ".join(c.ljust(w) for c, w in zip(cells, widths)))
+    for note in dict.fromkeys(notes):
+        lines.append(f"note: {note}")
+    return "\n".join(lines)
+
+
+def _num(value, fmt: str = ".6g") -> str:
+    if value is None or (isinstance(value, float) and not math.isfinite(value)):
+        return "-"
+    return format(value, fmt)
