@@ -66,3 +66,22 @@ def test_every_command_has_its_help(command, capsys):
     out = capsys.readouterr().out
     assert stopped.value.code == 0 and out.startswith(f"usage: orchestrator {command}")
     assert len(out.splitlines()) > 4  # the options, each explained
+
+
+def test_every_command_has_its_module_and_function():
+    """One module per command (issue 12 item 4): each registers its parsers with a function to run, and no
+    function of the command line is over 150 lines."""
+    import argparse
+    import ast
+    import pkgutil
+
+    import orchestrator.cli as cli
+
+    sub = next(a for a in cli._parser()._actions if isinstance(a, argparse._SubParsersAction))
+    assert list(sub.choices) == list(COMMANDS)
+    assert all(callable(parser.get_default("func")) for parser in sub.choices.values())
+    for info in pkgutil.iter_modules(cli.__path__):
+        path = Path(cli.__path__[0]) / f"{info.name}.py"
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                assert node.end_lineno - node.lineno < 150, f"{path.name}: {node.name}"

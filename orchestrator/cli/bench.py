@@ -1,0 +1,56 @@
+"""orchestrator bench sph: particle-steps per second of the sph executable (and PySPH) on dam breaks."""
+
+from __future__ import annotations
+
+import json
+import sys
+
+from orchestrator.cli.common import check_options
+from orchestrator.errors import OrchestratorError
+from orchestrator.workflows.bench_sph import format_report, json_report, run_bench
+
+
+def add_parser(sub) -> None:
+    bench = sub.add_parser(
+        "bench", help="speed of an engine: particle-steps per second on standard scenes",
+        description="bench sph: time the sph executable on a 2D dam break (PySPH's dam_break_2d: dx = 0.03 m, "
+        "h = 1.3 dx, 2278 fluid particles) and a 3D dam break (25 360 particles), each on 1 thread and on 2 threads "
+        "(idle threads spinning briefly, numerics.thread_wait = spin, and sleeping at once, passive), and, "
+        "when PySPH is importable ('make pysph'), the same 2D dam break in PySPH on one core. Prints particle-steps "
+        "per second (over the loop's wall time and per CPU second), mean neighbours per fluid particle, the "
+        "2-thread speed-ups and the ratio to PySPH. Run it on an otherwise idle machine: spinning threads on "
+        "shared cores run many times slower.")
+    bench.add_argument("suite", choices=["sph"], help="which engine: sph")
+    bench.add_argument("--steps-2d", type=int, default=2000, metavar="N", help="steps of the 2D runs (default 2000)")
+    bench.add_argument("--steps-3d", type=int, default=200, metavar="N", help="steps of the 3D runs (default 200)")
+    bench.add_argument("--repeat", type=int, default=3, metavar="N",
+                       help="make every run N times, round after round, and keep the fastest of each (default 3)")
+    bench.add_argument("--no-pysph", action="store_true", help="skip PySPH even when it is installed")
+    bench.add_argument("--out", metavar="DIR", help="run directories (default: runs/bench-sph-<time>)")
+    bench.add_argument("--json", action="store_true",
+                       help="print one JSON object: rows (scene, engine, threads, particles, fluid, steps, neighbours, "
+                       "wall_s, cpu_s, particle_steps_per_s, per_core, status, note, wait, repeats) and summary (speed-ups, "
+                       "ratios)")
+    bench.set_defaults(func=cmd_bench)
+
+
+def cmd_bench(args) -> int:
+
+    for option, value, most in (("--steps-2d", args.steps_2d, 10**9), ("--steps-3d", args.steps_3d, 10**9),
+                                ("--repeat", args.repeat, 1000)):
+        if not 1 <= value <= most:
+            raise OrchestratorError(f"{option} {value}: allowed: 1 to {most}")
+    check_options(args)
+
+    def done(row):
+        wait = f" ({row.wait})" if row.wait != "-" else ""
+        print(f"bench: {row.scene} on {row.engine}, {row.threads} thread(s){wait}: {row.status}", file=sys.stderr,
+              flush=True)
+
+    rows = run_bench(args.out, steps_2d=args.steps_2d, steps_3d=args.steps_3d,
+                     with_pysph=False if args.no_pysph else None, on_done=done, repeats=args.repeat)
+    if args.json:
+        print(json.dumps(json_report(rows)))
+    else:
+        print(format_report(rows))
+    return 0 if all(row.status == "ok" for row in rows) else 1
