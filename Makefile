@@ -57,7 +57,7 @@ demo: setup $(DEMO_DIR)/run.h5
 	$(BIN)/orchestrator analyze $(DEMO_DIR)
 
 # Rerun only when the case, templates or package changed since the last run.
-$(DEMO_DIR)/run.h5: $(DEMO_CASE) $(wildcard templates/yade/*.j2) $(wildcard orchestrator/*.py orchestrator/*/*.py)
+$(DEMO_DIR)/run.h5: $(DEMO_CASE) $(wildcard orchestrator/kinds/*/templates/*.j2) $(wildcard orchestrator/*.py orchestrator/*/*.py orchestrator/*/*/*.py)
 	$(BIN)/orchestrator run $(DEMO_CASE) --preset quick --out $(DEMO_DIR) --force
 
 test: setup

@@ -131,6 +131,8 @@ def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float |
     case = loaded.model
     engine = engine or case.case.engine
     kind = get_kind(case.case.kind)
+    if engine not in kind.adapters and engine not in kind.refusals:
+        kind.adapter(engine)  # raises: names the engines that run the kind (before looking for the engine)
     profile = {"threads": case.numerics.threads}
     if mpi_ranks is not None:
         profile["mpi_ranks"] = mpi_ranks

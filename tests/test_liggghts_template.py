@@ -35,7 +35,7 @@ GOLDEN = {
 }
 
 
-def liggghts(scene):
+def liggghts_adapter(scene):
     """The LIGGGHTS adapter of the scene's kind bound to a LIGGGHTS that is not installed (files only)."""
     return bind(scene.case.case.kind, "liggghts", executable="/nonexistent/liggghts")
 
@@ -44,7 +44,7 @@ def liggghts(scene):
 def test_rendered_deck_matches_golden(golden, tmp_path):
     case_file, overrides = GOLDEN[golden]
     scene = build_scene(load_case(case_file, overrides=list(overrides)).model)
-    liggghts(scene).write_input(scene, tmp_path)
+    liggghts_adapter(scene).write_input(scene, tmp_path)
     rendered = (tmp_path / ("impact.in" if "impact" in golden else "drag_finishing.in")).read_text()
     assert_matches_golden(rendered, HERE / "golden" / golden)
     assert "{{" not in rendered and "{%" not in rendered
@@ -59,7 +59,7 @@ def _data_atoms(path: Path) -> np.ndarray:
 
 def test_the_cloud_and_meshes_reach_liggghts_unchanged(tmp_path):
     scene = build_scene(load_case(TINY).model)
-    liggghts(scene).write_input(scene, tmp_path)
+    liggghts_adapter(scene).write_input(scene, tmp_path)
     atoms = _data_atoms(tmp_path / "balls.data")  # id type diameter density x y z
     np.testing.assert_array_equal(atoms[:, 0], np.arange(1, scene.n_particles + 1))
     np.testing.assert_array_equal(atoms[:, 2] / 2.0, scene.radii)
@@ -72,7 +72,7 @@ def test_the_cloud_and_meshes_reach_liggghts_unchanged(tmp_path):
 
 def test_impact_spheres_carry_velocity_and_spin(tmp_path):
     scene = build_scene(load_case(CASES / "chung_ooi_test4_oblique_30deg.toml").model)
-    liggghts(scene).write_input(scene, tmp_path)
+    liggghts_adapter(scene).write_input(scene, tmp_path)
     text = (tmp_path / "spheres.data").read_text().splitlines()
     velocities = np.array(text[text.index("Velocities") + 2].split()[1:], dtype=float)
     np.testing.assert_array_equal(velocities, np.concatenate([scene.velocities[0], scene.angular_velocities[0]]))
@@ -86,7 +86,7 @@ def test_two_spheres_damped_beyond_liggghts_limit_are_refused():
                                 "model.damping='exact'"]).model
     with pytest.raises(OrchestratorError, match=r"contacts \(glass, glass\).*beta = 0\.731.*at most 0\.667"):
         scene = build_scene(case)
-        liggghts(scene).check_scene(scene)
+        liggghts_adapter(scene).check_scene(scene)
 
 
 def test_process_chunks_cut_at_timing_and_snapshots():

@@ -208,14 +208,14 @@ mode = "list"
 
 
 def test_the_mpi_rank_count_is_part_of_the_identity(monkeypatch):
-    from orchestrator.engines import get_backend
+    from orchestrator.kinds import bind
     from orchestrator.case import load_case
     from orchestrator.identity import run_identity
     from orchestrator.kinds import build_scene
 
     loaded = load_case(TINY)
     scene = build_scene(loaded.model)
-    one = run_identity(loaded, "liggghts", "3.8.0", get_backend("liggghts", mpi_ranks=1), scene)
-    two = run_identity(loaded, "liggghts", "3.8.0", get_backend("liggghts", mpi_ranks=2), scene)
+    one = run_identity(loaded, "liggghts", "3.8.0", bind("drag_finishing", "liggghts", mpi_ranks=1), scene)
+    two = run_identity(loaded, "liggghts", "3.8.0", bind("drag_finishing", "liggghts", mpi_ranks=2), scene)
     assert one != two
-    assert one == run_identity(loaded, "liggghts", "3.8.0", get_backend("liggghts", mpi_ranks=1), scene)
+    assert one == run_identity(loaded, "liggghts", "3.8.0", bind("drag_finishing", "liggghts", mpi_ranks=1), scene)

@@ -1,24 +1,26 @@
 """The `orchestrator` command line: one module per command, each with `add_parser(subparsers)` (its options,
 help and `set_defaults(func=...)`) and its command function; this module assembles the parser in the order
-of --help, runs the chosen command and turns errors and signals into messages and exit codes. Heavy modules
-are imported inside the commands, so `orchestrator --help` stays fast."""
+of --help, runs the chosen command and turns errors and signals into messages and exit codes.
+
+The command modules (and through them numpy, pydantic and the package) are a lazy registry, loaded by name once
+the signal handlers are installed: a Ctrl-C during start-up is then a clean exit 130, never a traceback."""
 
 from __future__ import annotations
 
 import argparse
+import importlib
 import json
 import sys
 import tempfile
 import traceback
 
 from orchestrator import __version__, signals
-from orchestrator.cli import analyze, bench, calibrate, compare, doctor, export, run, study, verify
 from orchestrator.cli.common import jsonable
 from orchestrator.errors import OrchestratorError
 from orchestrator.signals import Interrupted
 
-# In the order --help lists them; study registers study, status and report.
-COMMAND_MODULES = (run, analyze, study, verify, calibrate, compare, bench, doctor, export)
+# Modules under orchestrator.cli, in the order --help lists them; study registers study, status and report.
+COMMAND_MODULES = ("run", "analyze", "study", "verify", "calibrate", "compare", "bench", "doctor", "export")
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -30,8 +32,8 @@ def _parser() -> argparse.ArgumentParser:
     )
     parser.add_argument("--version", action="version", version=f"orchestrator {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
-    for module in COMMAND_MODULES:
-        module.add_parser(sub)
+    for name in COMMAND_MODULES:
+        importlib.import_module(f"orchestrator.cli.{name}").add_parser(sub)
     return parser
 
 

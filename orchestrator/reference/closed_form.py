@@ -20,14 +20,11 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
-from scipy.integrate import solve_ivp
-from scipy.optimize import brentq, minimize_scalar
-from scipy.special import beta as beta_function
 
 from orchestrator.reference.contact import damping_alpha
 
 #: t_c = HERTZ_DURATION_FACTOR * delta_max / v: 2 int_0^1 dx / sqrt(1 - x^(5/2)) = (4/5) B(2/5, 1/2).
-HERTZ_DURATION_FACTOR = 0.8 * float(beta_function(0.4, 0.5))  # 2.943275...
+HERTZ_DURATION_FACTOR = 0.8 * math.gamma(0.4) * math.gamma(0.5) / math.gamma(0.9)  # 2.943275... (B(a, b) by Gamma)
 #: Maximum dimensionless overlap of the undamped impact, (5/4)^(2/5).
 _UNDAMPED_PEAK_OVERLAP = 1.25**0.4
 TOLERANCES = dict(rtol=1e-11, atol=1e-13, method="DOP853")
@@ -84,6 +81,9 @@ def dimensionless_normal_force(x, y, alpha):
 @lru_cache(maxsize=256)
 def damped_hertz_impact(alpha: float, no_tension: bool = True) -> DampedHertzImpact:
     """Integrate the dimensionless damped Hertz impact (alpha >= 0, dimensionless)."""
+    from scipy.optimize import minimize_scalar
+    from scipy.integrate import solve_ivp
+
     if alpha < 0:
         raise ValueError(f"damping alpha must be >= 0, got {alpha}")
 
@@ -142,6 +142,7 @@ def _deepest(_, state):
 
 def finish_with_tension(alpha, tau_start, x_start, y_start):
     """Carry on past F_n = 0 with the viscous term pulling, until the overlap is zero."""
+    from scipy.integrate import solve_ivp
 
     def rhs(_, state):
         return [state[1], -dimensionless_normal_force(state[0], state[1], alpha)]
@@ -168,6 +169,8 @@ def alpha_from_restitution(restitution: float, no_tension: bool = True) -> float
     default): eq. 10 then overshoots the rebound (e.g. 0.70 for e_n = 0.68).
     Without the clip eq. 10 is exact, and so is this root.
     """
+    from scipy.optimize import brentq
+
     if not 0.0 < restitution <= 1.0:
         raise ValueError(f"restitution must be in (0, 1], got {restitution}")
     if restitution == 1.0:

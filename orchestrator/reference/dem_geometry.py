@@ -12,7 +12,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 FACE, EDGE, VERTEX = 0, 1, 2
 
@@ -37,6 +36,8 @@ def _rowdot(a, b):
 
 def sphere_sphere_contacts(positions, radii) -> Detected:
     """Overlapping sphere pairs i < j (normal from i to j) by a k-d tree search."""
+    from scipy.spatial import cKDTree
+
     if len(radii) < 2:
         return Detected.empty()
     pairs = cKDTree(positions).query_pairs(2.0 * float(radii.max()), output_type="ndarray")
@@ -111,6 +112,8 @@ class TriangleSearch:
     """
 
     def __init__(self, vertices, faces):
+        from scipy.spatial import cKDTree
+
         self.corners = np.asarray(vertices, float)[np.asarray(faces)]  # (T,3,3) at t = 0
         centroids = self.corners.mean(axis=1)
         self.reach = float(np.linalg.norm(self.corners - centroids[:, None, :], axis=2).max())
@@ -211,6 +214,8 @@ def _one_contact_per_feature(sphere, feature, closest, overlap, radii) -> np.nda
 def nearest_gaps(positions, radii, plane_points, plane_normals, searches, shifts):
     """Lower bound of each sphere's gap, m, to any other sphere, plane or triangle
     (negative when touching): used to take long steps in free flight."""
+    from scipy.spatial import cKDTree
+
     gaps = np.full(len(radii), np.inf)
     if len(radii) > 1:
         distance, _ = cKDTree(positions).query(positions, k=2)

@@ -27,7 +27,6 @@ import math
 from dataclasses import dataclass
 from functools import lru_cache
 
-from scipy.integrate import solve_ivp
 
 from orchestrator.reference.closed_form import (
     TOLERANCES,
@@ -140,6 +139,8 @@ def oblique_impact_mindlin(tangent_of_incidence: float, friction: float, stiffne
     The tangential force ends with F_n (mu F_n = 0); the normal motion does
     not feel it.
     """
+    from scipy.integrate import solve_ivp
+
     lam, mu, eps = float(stiffness_ratio), float(friction), float(overlap_over_radius)
     stick, slip, pinned = "stick", "slip", "pinned"
 

@@ -32,8 +32,8 @@ from orchestrator.runh5 import read_run
 #: The keys of one row of `orchestrator verify dem --json`, in order.
 ROW_KEYS = ("scene", "engine", "quantity", "value", "expected", "rel_error", "tolerance", "passed")
 _CANDIDATE_DIRS = (
-    Path(__file__).resolve().parent / "verification_cases",  # installed wheel
-    Path(__file__).resolve().parent.parent / "cases" / "verification",  # source checkout / editable install
+    Path(__file__).resolve().parent.parent / "verification_cases",  # installed wheel
+    Path(__file__).resolve().parent.parent.parent / "cases" / "verification",  # source checkout / editable install
 )
 
 

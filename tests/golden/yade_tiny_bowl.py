@@ -108,7 +108,7 @@ PROCESS_DURATION = 0.1
 NETWORK_TIMES = [0.05]
 BOWL_RADIUS = 0.02
 BOWL_HEIGHT = 0.05
-PLANNED_STEPS = 53348
+PLANNED_STEPS = 53349
 PHASES = ("settle", "insert", "relax", "process")
 
 state = {"phase": 0, "t_phase": 0.0, "bed_height": None, "settled": None, "tip_target": None,

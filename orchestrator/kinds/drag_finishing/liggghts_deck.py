@@ -29,7 +29,7 @@ from pathlib import Path
 import numpy as np
 
 from orchestrator.engines.liggghts_files import write_data_file, write_stl_ascii
-from orchestrator.kinds.drag_finishing.scene import settling_timestep
+from orchestrator.kinds.drag_finishing.schedule import every, schedule
 from orchestrator.kinds.impact.yade import yade_native_alpha
 from orchestrator.kinds.liggghts_physics import liggghts_beta, restitution_for_beta
 
@@ -53,8 +53,6 @@ def damping_restitution(restitution: float) -> float:
     return restitution_for_beta(liggghts_beta(yade_native_alpha(restitution)))
 
 
-def _every(interval: float, step: float) -> int:
-    return max(1, round(interval / step))
 
 
 def drag_context(scene) -> dict:
@@ -70,18 +68,8 @@ def drag_context(scene) -> dict:
         pair = case.contact(names[0], names[k])
         restitution[0, k] = restitution[k, 0] = damping_restitution(pair.restitution)
         friction[0, k] = friction[k, 0] = pair.friction
-    dt, dt_settle = scene.timestep, settling_timestep(case)
-    stiffen = scale != soft or dt != dt_settle
-    record_every, record_every_settle = _every(case.output.record_interval, dt), \
-        _every(case.output.record_interval, dt_settle)
-    control_every = min(record_every, _every(1e-3, dt))
-    stages = max(1, round(case.settling.stiffen_time / (control_every * dt)))
-    relax_steps_settle = _every(case.settling.relax_time, dt_settle) if case.settling.relax_time > 0 else 0
-    relax_steps = _every(case.settling.relax_time, dt) if case.settling.relax_time > 0 else 0
-    process_steps = _every(case.process.duration, dt)
-    after_insert = relax_steps_settle + (stages * control_every + relax_steps if stiffen else 0) + process_steps
-    insert_steps = (case.workpiece.submersion_depth + 2 * case.media.radius) / case.workpiece.insertion_speed / dt_settle
-    planned = case.settling.max_time / dt_settle + insert_steps + after_insert
+    plan = schedule(scene)
+    dt, dt_settle, stiffen, control_every = plan.dt, plan.dt_settle, plan.stiffen, plan.control_every
     return {
         "media_material": names[0], "bowl_material": names[1], "rod_material": names[2],
         "stiffness_scale": repr(scale),
@@ -103,24 +91,24 @@ def drag_context(scene) -> dict:
         "rotation_period": repr(2.0 * math.pi / case.angular_velocity),
         "dt": repr(dt), "dt_settle": repr(dt_settle),
         "stiffen": stiffen, "stiffen_factor": repr(scale / soft), "stiffen_time": repr(case.settling.stiffen_time),
-        "stiffen_stages": stages, "stage_steps": control_every,
+        "stiffen_stages": plan.stiffen_stages, "stage_steps": control_every,
         "relax_time": repr(case.settling.relax_time),
-        "relax_steps_settle": relax_steps_settle, "relax_steps": relax_steps,
-        "record_every": record_every, "record_every_settle": record_every_settle,
-        "control_every_settle": min(record_every_settle, _every(1e-3, dt_settle)),
-        "progress_every": max(100, int(planned) // 400),
-        "steps_after_insert": after_insert,
-        "planned_steps": int(planned),
-        "process_chunks": process_chunks(process_steps, [round(t / dt) for t in case.output.network_times],
-                                         checkpoint_every(case, dt)),
+        "relax_steps_settle": plan.relax_steps_settle, "relax_steps": plan.relax_steps,
+        "record_every": plan.record_every, "record_every_settle": plan.record_every_settle,
+        "control_every_settle": plan.control_every_settle,
+        "progress_every": max(100, plan.planned_steps // 400),
+        "steps_after_insert": plan.steps_after_insert,
+        "planned_steps": plan.planned_steps,
+        "process_chunks": process_chunks(plan.process_steps, [round(t / dt) for t in case.output.network_times],
+                                         checkpointevery(case, dt)),
         "resume": None,
     }
 
 
-def checkpoint_every(case, dt: float) -> int | None:
+def checkpointevery(case, dt: float) -> int | None:
     """Process steps between checkpoints (output.checkpoint_interval), or None."""
     interval = case.output.checkpoint_interval
-    return None if interval is None else _every(interval, dt)
+    return None if interval is None else every(interval, dt)
 
 
 def process_chunks(total: int, network_steps: list[int], checkpoint_steps: int | None = None) -> list[dict]:

@@ -11,7 +11,7 @@ import numpy as np
 from orchestrator.engines.base import Result, Series
 from orchestrator.errors import OrchestratorError, ReadError
 from orchestrator.kinds.base import Adapter
-from orchestrator.kinds.drag_finishing.scene import settling_timestep
+from orchestrator.kinds.drag_finishing.schedule import schedule
 from orchestrator.templating import render
 
 TEMPLATE = Path(__file__).resolve().parent / "templates" / "yade.py.j2"
@@ -87,22 +87,8 @@ def render_context(scene) -> dict:
     pairs = case.touching_pairs()
     # ascii(): a Python literal of the names whatever they hold (escapes beyond ASCII too)
     rows = lambda value: ascii(tuple((a, b, value(case.contact(a, b))) for a, b in pairs))  # noqa: E731
-    dt = scene.timestep
-    dt_settle = settling_timestep(case)
-    stiffen = scale != soft or dt != dt_settle
-
-    def every(interval: float, step: float) -> int:
-        return max(1, round(interval / step))
-
-    record_every = every(case.output.record_interval, dt)
-    record_every_settle = every(case.output.record_interval, dt_settle)
-    settle_steps = case.settling.max_time / dt_settle
-    insert_steps = (case.workpiece.submersion_depth + 2 * case.media.radius) / case.workpiece.insertion_speed
-    insert_steps /= dt_settle
-    relax_steps = case.settling.relax_time / dt_settle
-    if stiffen:
-        relax_steps += (case.settling.stiffen_time + case.settling.relax_time) / dt
-    planned = settle_steps + insert_steps + relax_steps + case.process.duration / dt
+    plan = schedule(scene)
+    dt, dt_settle, stiffen = plan.dt, plan.dt_settle, plan.stiffen
     return {
         "stiffness_scale": repr(scale),
         "settling_stiffness_scale": repr(soft),
@@ -110,8 +96,8 @@ def render_context(scene) -> dict:
         "stiffen_factor": repr(scale / soft),
         "stiffen_time": repr(case.settling.stiffen_time),
         "dt_settle": repr(dt_settle),
-        "control_every_settle": min(record_every_settle, every(1e-3, dt_settle)),
-        "record_every_settle": record_every_settle,
+        "control_every_settle": plan.control_every_settle,
+        "record_every_settle": plan.record_every_settle,
         "materials": materials,
         "pairs_en": rows(lambda c: c.restitution),
         "pairs_es": rows(lambda c: c.e_t),
@@ -123,8 +109,8 @@ def render_context(scene) -> dict:
         "angular_velocity": repr(case.angular_velocity),
         "settling_damping": repr(case.settling.damping),
         "gravity": repr((0.0, 0.0, -9.81)),
-        "control_every": min(record_every, every(1e-3, dt)),
-        "record_every": record_every,
+        "control_every": plan.control_every,
+        "record_every": plan.record_every,
         "dt": repr(dt),
         "settle_max_time": repr(case.settling.max_time),
         "settle_unbalanced": repr(case.settling.unbalanced_force),
@@ -137,7 +123,7 @@ def render_context(scene) -> dict:
         "checkpoint_interval": repr(case.output.checkpoint_interval),
         "bowl_radius": repr(case.bowl.inner_radius),
         "bowl_height": repr(case.bowl.height),
-        "planned_steps": int(planned),
+        "planned_steps": plan.planned_steps,
     }
 
 

@@ -1,0 +1,333 @@
+"""The parts of an SPH flow case (kind "sph_flow"): domain, fluid, physics terms, particle blocks, walls, inlets and
+outlets, probes, numerics and output. SI units (m, kg, s, Pa, N); in 2D a mass is per metre of depth (kg/m) and a
+force per metre (N/m). case.py assembles them into SphFlowCase and checks them against each other."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Annotated, Literal
+
+from pydantic import Field, ValidationInfo, field_validator, model_validator
+
+from orchestrator.case.common import Frozen, Name, NonNegative, Positive, mesh_file
+
+#: Optional physics terms of the sph executable (engines/sph/src/physics_terms.h).
+PHYSICS_TERMS = ("morris_viscosity", "artificial_viscosity", "body_force", "wall_penalty")
+
+
+#: Sides of a box wall, for BoxWall.open_sides.
+BOX_SIDES = ("-x", "+x", "-y", "+y", "-z", "+z")
+
+
+#: Relative tolerance of "is a multiple of dx" and "lies inside the domain".
+LATTICE_TOLERANCE = 1e-6
+
+
+Finite = Annotated[float, Field(allow_inf_nan=False)]
+
+
+Vector = Annotated[tuple[Finite, ...], Field(min_length=2, max_length=3)]
+
+
+def _norm(vector) -> float:
+    return math.sqrt(sum(c * c for c in vector))
+
+
+class Domain(Frozen):
+    """The box that holds the scene, and its periodic axes."""
+
+    dimension: Literal[2, 3] = Field(description="2 (x, y) or 3 (x, y, z)")
+    lo: Vector = Field(description="lower corner of the box, m (one value per axis)")
+    hi: Vector = Field(description="upper corner of the box, m; along a periodic axis the period is hi - lo")
+    periodic: tuple[int, ...] = Field((), description="indices of the periodic axes (0 = x, 1 = y, 2 = z), -")
+
+    @field_validator("periodic")
+    @classmethod
+    def _distinct_axes(cls, value: tuple[int, ...]) -> tuple[int, ...]:
+        if len(set(value)) != len(value):
+            raise ValueError("an axis is listed twice")
+        return value
+
+    @model_validator(mode="after")
+    def _box(self):
+        for key in ("lo", "hi"):
+            if len(getattr(self, key)) != self.dimension:
+                raise ValueError(f"domain.{key} has {len(getattr(self, key))} values; allowed: one per axis "
+                                 f"(domain.dimension = {self.dimension})")
+        for axis, (a, b) in enumerate(zip(self.lo, self.hi)):
+            if not b > a:
+                raise ValueError(f"domain.hi[{axis}] = {b} is not above domain.lo[{axis}] = {a}; allowed: hi > lo")
+        for axis in self.periodic:
+            if not 0 <= axis < self.dimension:
+                raise ValueError(f"domain.periodic lists axis {axis}; allowed: 0 to {self.dimension - 1}")
+        return self
+
+    def contains(self, point, margin: float = 0.0) -> bool:
+        """True if point (m) lies inside the box grown by margin (m) on every side."""
+        return all(lo - margin <= p <= hi + margin for p, lo, hi in zip(point, self.lo, self.hi))
+
+
+class Fluid(Frozen):
+    """The fluid: reference density, viscosity and the weakly compressible equation of state (eq. 6)."""
+
+    density: Positive = Field(description="reference density rho0, kg/m^3")
+    viscosity: Positive | None = Field(
+        None, description="kinematic viscosity nu, m^2/s; given exactly when physics.terms has morris_viscosity"
+    )
+    max_speed: Positive = Field(description="largest speed expected in the flow, m/s (sets c0 = 10 max_speed)")
+    sound_speed: Positive | None = Field(
+        None, description="reference sound speed c0, m/s; default 10 max_speed; at least 10 max_speed"
+    )
+    gamma: float = Field(7.0, ge=1, description="exponent of the Tait equation of state, -")
+    background_pressure: Finite = Field(0.0, description="background pressure p_B of eq. 6, Pa")
+
+    @property
+    def c0(self) -> float:
+        """Reference sound speed, m/s: sound_speed, or 10 max_speed."""
+        return self.sound_speed if self.sound_speed is not None else 10.0 * self.max_speed
+
+    @model_validator(mode="after")
+    def _fast_enough(self):
+        if self.sound_speed is not None and self.sound_speed < 10.0 * self.max_speed * (1 - 1e-12):
+            raise ValueError(f"fluid.sound_speed = {self.sound_speed} m/s is below 10 x fluid.max_speed = "
+                             f"{10 * self.max_speed:g} m/s; weakly compressible SPH needs c0 >= 10 v_max "
+                             "(density error < 1 %); raise sound_speed or leave it out")
+        return self
+
+
+class ArtificialViscosity(Frozen):
+    """Monaghan's artificial viscosity (eqs. 11-12)."""
+
+    alpha: NonNegative = Field(description="linear coefficient alpha, -")
+    beta: NonNegative = Field(0.0, description="quadratic coefficient beta, -")
+
+
+class WallPenalty(Frozen):
+    """The penalty force of eq. 14 between a particle and a mesh face at distance d."""
+
+    range: Positive = Field(description="R, distance beyond which the wall does not act, m")
+    s: Positive = Field(description="distance of zero force (repulsive below s, attractive between s and R), m")
+    psi: NonNegative = Field(description="force at zero distance psi, N (2D: N/m)")
+
+    @model_validator(mode="after")
+    def _s_below_range(self):
+        if not self.s < self.range:
+            raise ValueError(f"physics.wall_penalty.s = {self.s} m is not below range = {self.range} m; allowed: s < R")
+        return self
+
+
+class Physics(Frozen):
+    """The optional terms the scene uses, and their parameters (given exactly when the term is on)."""
+
+    terms: tuple[str, ...] = Field(
+        description="optional terms switched on: morris_viscosity, artificial_viscosity, body_force, wall_penalty "
+                    "(continuity, Tait EOS and pressure gradient are always on)"
+    )
+    body_force: Vector | None = Field(None, description="body force per unit mass (e.g. gravity), m/s^2")
+    artificial_viscosity: ArtificialViscosity | None = None
+    wall_penalty: WallPenalty | None = None
+
+    @field_validator("terms")
+    @classmethod
+    def _known_terms(cls, value: tuple[str, ...]) -> tuple[str, ...]:
+        for term in value:
+            if term not in PHYSICS_TERMS:
+                raise ValueError(f"unknown term {term!r}; allowed: {', '.join(PHYSICS_TERMS)} (continuity, "
+                                 "Tait EOS and pressure gradient are always on)")
+        if len(set(value)) != len(value):
+            raise ValueError("a term is listed twice")
+        return value
+
+    @model_validator(mode="after")
+    def _parameters_with_terms(self):
+        for term, key in (("body_force", "body_force"), ("artificial_viscosity", "artificial_viscosity"),
+                          ("wall_penalty", "wall_penalty")):
+            given = getattr(self, key) is not None
+            if term in self.terms and not given:
+                raise ValueError(f"physics.terms has {term!r} but physics.{key} is missing")
+            if given and term not in self.terms:
+                raise ValueError(f"physics.{key} is given but {term!r} is not in physics.terms; add it or remove the key")
+        return self
+
+
+class Block(Frozen):
+    """A box filled with particles on the lattice lo + (i + 1/2) dx: fluid, or fixed boundary particles.
+
+    Where blocks overlap, a lattice site holds one particle, of the first block
+    that covers it. Every particle has mass rho0 dx^D.
+    """
+
+    name: Name = Field(description="identifier")
+    kind: Literal["fluid", "boundary"] = Field(
+        description="fluid: moves; boundary: fixed boundary particles (never move; velocity is the wall's)"
+    )
+    lo: Vector = Field(description="lower corner, m")
+    hi: Vector = Field(description="upper corner, m; hi - lo must be a multiple of numerics.dx along every axis")
+    velocity: Vector | None = Field(None, description="initial velocity (fluid) or wall velocity (boundary), m/s; "
+                                                      "default zero")
+    hydrostatic_surface: Finite | None = Field(
+        None, description="height of the free surface along -body_force, m: particles below start at the "
+                          "hydrostatic density (Tait EOS of rho0 |g| depth); default rho0 everywhere"
+    )
+
+
+#: Keys each wall shape takes (besides shape and name), required first then optional.
+WALL_KEYS = {
+    "box": (("lo", "hi"), ("open_sides",)),
+    "plane": (("center", "normal", "half_extents"), ("u",)),
+    "stl": (("file",), ("scale", "translate")),
+}
+
+
+class Wall(Frozen):
+    """A triangle-mesh wall (2D: segments) acting on the fluid by the penalty force of eq. 14.
+
+    shape = "box": the faces of an axis-aligned box lo..hi (2D: its four
+    edges), minus open_sides. shape = "plane": a rectangle (3D, half_extents
+    [a, b] along u and normal x u) or a segment (2D, half_extents [a]) centred
+    on center. shape = "stl": a mesh file (STL, OBJ, PLY: what trimesh reads;
+    3D only), scaled then translated.
+    """
+
+    shape: Literal["box", "plane", "stl"] = Field(description="box, plane or stl")
+    name: Name = Field(description="identifier (series wall_force_<name>)")
+    lo: Vector | None = Field(None, description="box: lower corner, m")
+    hi: Vector | None = Field(None, description="box: upper corner, m")
+    open_sides: tuple[Literal["-x", "+x", "-y", "+y", "-z", "+z"], ...] = Field(
+        (), description="box: sides left out, e.g. ['+y'] for a 2D tank open at the top"
+    )
+    center: Vector | None = Field(None, description="plane: centre, m")
+    normal: Vector | None = Field(None, description="plane: normal (normalised on use), -")
+    half_extents: tuple[Positive, ...] | None = Field(
+        None, min_length=1, max_length=2, description="plane: half-lengths, m: [a] in 2D; [a, b] along u and "
+                                                      "normal x u in 3D"
+    )
+    u: Vector | None = Field(None, description="plane: in-plane direction of half_extents[0] (3D only), -")
+    file: Path | None = Field(None, description="stl: mesh file, relative to the case file")
+    scale: Positive | None = Field(None, description="stl: factor applied to the file's coordinates (1e-3 for mm), -")
+    translate: Vector | None = Field(None, description="stl: shift applied after scaling, m")
+
+    @field_validator("file")
+    @classmethod
+    def _exists(cls, value: Path | None, info: ValidationInfo) -> Path | None:
+        if value is None:
+            return None
+        return mesh_file(value, (info.context or {}).get("base_dir", "."))
+
+    @model_validator(mode="after")
+    def _keys_of_shape(self):
+        required, optional = WALL_KEYS[self.shape]
+        for key in required:
+            if getattr(self, key) is None:
+                raise ValueError(f"a {self.shape} wall needs {key} (it takes {', '.join(required + optional)})")
+        for other, (req, opt) in WALL_KEYS.items():
+            for key in req + opt:
+                if other != self.shape and key not in required + optional and \
+                        getattr(self, key) not in (None, ()):
+                    raise ValueError(f"{key} is not a key of a {self.shape} wall; it takes "
+                                     f"{', '.join(required + optional)}")
+        return self
+
+
+class Patch(Frozen):
+    """A patch of a plane: a disc (radius) or a rectangle (half_extents [a, b], with u, in 3D).
+
+    In 2D it is a segment normal to `normal` of half-length radius (or half_extents [a]).
+    """
+
+    name: Name = Field(description="identifier")
+    center: Vector = Field(description="centre, m")
+    normal: Vector = Field(description="normal: the direction of positive flow (normalised on use), -")
+    radius: Positive | None = Field(None, description="disc radius (2D: segment half-length), m")
+    half_extents: tuple[Positive, ...] | None = Field(
+        None, min_length=1, max_length=2, description="rectangle half-lengths, m: [a, b] in 3D, [a] in 2D"
+    )
+    u: Vector | None = Field(None, description="rectangle direction of half_extents[0] (3D only), -")
+
+    @model_validator(mode="after")
+    def _one_shape(self):
+        if (self.radius is None) == (self.half_extents is None):
+            raise ValueError("give exactly one of radius (disc) and half_extents (rectangle)")
+        if self.u is not None and self.half_extents is None:
+            raise ValueError("u is only for rectangles (with half_extents)")
+        return self
+
+
+class Inlet(Patch):
+    """A velocity inlet: fluid enters through the patch along `normal` at `velocity`."""
+
+    velocity: Positive = Field(description="inflow speed along the normal, m/s (at most fluid.max_speed)")
+    layers: int = Field(3, ge=1, le=100, description="buffer layers behind the patch (layers dx must cover 2h), -")
+
+
+class Outlet(Patch):
+    """An outlet: fluid crossing the patch along `normal` is removed `layers` dx downstream."""
+
+    layers: int = Field(3, ge=1, le=100, description="buffer layers after the patch (layers dx must cover 2h), -")
+
+
+class Probe(Frozen):
+    """A pressure probe: the kernel-interpolated fluid pressure at a point."""
+
+    name: Name = Field(description="identifier (series pressure_probe_<name>)")
+    point: Vector = Field(description="position, m")
+
+
+class SphNumerics(Frozen):
+    """Resolution and time stepping (eq. 13)."""
+
+    dx: Positive = Field(description="particle spacing, m")
+    h_over_dx: float = Field(1.3, ge=0.5, le=5.0, description="smoothing length over spacing h/dx, - (kernel support "
+                             "2h; below 0.5 a particle has no neighbours, above 5 thousands in 3D)")
+    dt: Positive | None = Field(None, description="fixed time step, s; leave out for the adaptive step")
+    cfl: Positive | None = Field(None, description="adaptive step: dt <= cfl h / (c0 + |v|max), - (default 0.25)")
+    viscous_factor: Positive | None = Field(
+        None, description="adaptive step: dt <= factor h^2 / nu, - (default 0.125; with morris_viscosity)"
+    )
+    force_factor: Positive | None = Field(None, description="adaptive step: dt <= factor sqrt(h / |a|max), - "
+                                                            "(default 0.25)")
+    max_density_deviation: Positive = Field(
+        0.1, description="the run stops as unstable when a fluid particle has |rho/rho0 - 1| above this, -"
+    )
+    max_steps: int | None = Field(None, ge=1, le=1_000_000_000, description="optional cap on the number of steps, -")
+    threads: int = Field(1, ge=1, le=256, description="OpenMP threads of the engine")
+    thread_wait: Literal["passive", "spin"] = Field(
+        "passive", description="how idle OpenMP threads wait (threads > 1): passive sleeps at once, safe when "
+        "cores are shared (parallel runs, other jobs); spin polls about 10^4 times first (GOMP_SPINCOUNT), "
+        "faster on small scenes when every thread has a core of its own (2D dam break, 3918 particles: "
+        "2 threads 1.8 x one instead of 1.3 x) and many times slower when threads outnumber free cores")
+
+    @model_validator(mode="after")
+    def _fixed_or_adaptive(self):
+        factors = [k for k in ("cfl", "viscous_factor", "force_factor") if getattr(self, k) is not None]
+        if self.dt is not None and factors:
+            raise ValueError(f"numerics.dt (fixed step) and numerics.{factors[0]} (adaptive step) are both given; "
+                             "give one of them")
+        return self
+
+    @property
+    def h(self) -> float:
+        """Smoothing length h = h_over_dx dx, m."""
+        return self.h_over_dx * self.dx
+
+    @property
+    def adaptive(self) -> dict[str, float]:
+        """Factors of the adaptive step (the engine's defaults where not given), -."""
+        return {"cfl": self.cfl or 0.25, "viscous": self.viscous_factor or 0.125, "force": self.force_factor or 0.25}
+
+
+class SphSimulation(Frozen):
+    """How long to run."""
+
+    duration: Positive = Field(description="end time t_end (the run starts at t = 0), s")
+
+
+class SphOutput(Frozen):
+    """What is recorded: frames, series, probes and flow planes."""
+
+    frame_interval: Positive = Field(description="time between particle frames, s")
+    series_interval: Positive | None = Field(None, description="time between series records, s "
+                                                               "(default frame_interval)")
+    probes: tuple[Probe, ...] = ()
+    flow_planes: tuple[Patch, ...] = ()
