@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import datetime as _dt
 import errno
 import os
 import signal
@@ -106,6 +107,18 @@ def check_out_dir(path, option: str = "--out") -> Path:
     if not os.access(existing, os.W_OK | os.X_OK):
         raise OrchestratorError(f"{option} {shown}: cannot write into {existing} (permission denied or read-only); "
                                 "give a folder you can write to")
+    return path
+
+
+def stamped_dir(name: str, root=Path("runs")) -> Path:
+    """root/<name>-<UTC timestamp, seconds>, with -2, -3 ... appended when that exists (the path of a new folder,
+    not created): how every command names the folder it makes when no --out is given."""
+    stamp = _dt.datetime.now(_dt.timezone.utc).strftime("%Y%m%dT%H%M%S")
+    base = Path(root) / f"{name}-{stamp}"
+    path, n = base, 1
+    while path.exists():
+        n += 1
+        path = base.with_name(f"{base.name}-{n}")
     return path
 
 

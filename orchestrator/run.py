@@ -14,7 +14,7 @@ from orchestrator.case import load_case
 from orchestrator.engines import get_engine
 from orchestrator.engines.base import Result
 from orchestrator.errors import EngineFailed, EngineTimeout, EngineUnstable, OrchestratorError, ReadError
-from orchestrator.humanize import describe_returncode, os_problem
+from orchestrator.humanize import describe_returncode, os_problem, stamped_dir
 from orchestrator.kinds import Bound, get_kind
 from orchestrator.rundir import MARKER, RunDirectory, run_info
 from orchestrator.runh5 import RUN_FILE, write_run
@@ -87,14 +87,8 @@ PROBE_ABOVE_STEPS = 200_000
 
 
 def default_run_dir(case_name: str, engine: str, root: Path = Path("runs")) -> Path:
-    """runs/<case>-<engine>-<UTC timestamp> (a new directory)."""
-    stamp = _dt.datetime.now(_dt.timezone.utc).strftime("%Y%m%dT%H%M%S")
-    base = root / f"{case_name}-{engine}-{stamp}"
-    path, n = base, 1
-    while path.exists():
-        n += 1
-        path = base.with_name(f"{base.name}-{n}")
-    return path
+    """runs/<case>-<engine>-<UTC timestamp> (a new directory; humanize.stamped_dir)."""
+    return stamped_dir(f"{case_name}-{engine}", root)
 
 
 def resumable_run(run_dir) -> tuple:

@@ -12,7 +12,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from orchestrator.workflows.verify import ROW_KEYS, scene_files
+from orchestrator.workflows.base import ROW_KEYS
+from orchestrator.workflows.verify import scene_files
 
 CASES = Path(__file__).parent.parent / "cases" / "verification"
 

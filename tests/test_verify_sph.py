@@ -12,7 +12,7 @@ from orchestrator.case import load_case
 from orchestrator.cli import main
 from orchestrator.errors import OrchestratorError
 from orchestrator.reference.sph_flows import poiseuille_velocity
-from orchestrator.workflows.verify import ROW_KEYS
+from orchestrator.workflows.base import ROW_KEYS
 from orchestrator.kinds.sph_flow.checks import check_dam_break, check_poiseuille, checks_for
 from orchestrator.kinds.sph_flow.checks_base import FRONT_TOLERANCE, PRESSURE_TOLERANCE, PROFILE_TOLERANCE
 from orchestrator.workflows.verify_sph import (

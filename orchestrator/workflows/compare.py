@@ -17,7 +17,6 @@ overlays the engines' force series.
 
 from __future__ import annotations
 
-import datetime as _dt
 import math
 import sys
 import time
@@ -26,15 +25,16 @@ from pathlib import Path
 
 from orchestrator.engines import engine_names, get_engine
 from orchestrator.errors import EngineNotFound, OrchestratorError, ReadError
-from orchestrator.humanize import make_out_dir
+from orchestrator.humanize import make_out_dir, stamped_dir
 from orchestrator.kinds import engines_for_kind, kinds_for_engine
 from orchestrator.kinds.drag_finishing.analysis import comparison_rows
 from orchestrator.kinds.drag_finishing.plots import plot_engine_forces
 from orchestrator.kinds.impact.analysis import evaluate_checks
+from orchestrator.kinds.impact.plots import plot_force_curves
 from orchestrator.kinds.impact.theory import QUANTITIES
 from orchestrator.run import OVERHEAD_PHASES, run_case
 from orchestrator.runh5 import RUN_FILE, read_run
-from orchestrator.workflows.verify import SceneRun, plot_force_curves
+from orchestrator.workflows.verify import SceneRun
 
 #: Units of the drag-finishing measured quantities (analysis.drag_finishing) that are not forces; impact ones are
 #: in analysis.impact.QUANTITIES.
@@ -175,9 +175,8 @@ def parse_engines(text: str) -> list[str]:
 
 
 def default_out_dir(case_name: str, root: Path = Path("runs")) -> Path:
-    """runs/compare-<case>-<UTC timestamp>."""
-    stamp = _dt.datetime.now(_dt.timezone.utc).strftime("%Y%m%dT%H%M%S")
-    return root / f"compare-{case_name}-{stamp}"
+    """runs/compare-<case>-<UTC timestamp> (humanize.stamped_dir)."""
+    return stamped_dir(f"compare-{case_name}", root)
 
 
 def why_not(engine: str, loaded) -> str:

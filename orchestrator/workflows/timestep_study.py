@@ -16,7 +16,8 @@ from pathlib import Path
 
 from orchestrator.plots import save_pyplot_figure
 from orchestrator.runh5 import read_run
-from orchestrator.workflows.verify import default_out_dir, run_verification
+from orchestrator.workflows.base import workflow_dir
+from orchestrator.workflows.verify import run_verification
 
 #: Factors swept by default (fractions of the critical step).
 DEFAULT_FACTORS = (0.01, 0.02, 0.05, 0.1, 0.2, 0.5, 1.0)
@@ -42,8 +43,7 @@ class SweepPoint:
 def run_timestep_sweep(factors=DEFAULT_FACTORS, engines=None, out_dir=None, cases_dir=None, workers=None):
     """Run verification at each factor; returns (points, runs by factor). Run directories: out_dir/f<factor>/..."""
 
-    out_dir = Path(out_dir) if out_dir is not None else default_out_dir().with_name(
-        default_out_dir().name.replace("verify-dem", "timestep-sweep"))
+    out_dir = workflow_dir(out_dir, "timestep-sweep")
     runs_by_factor = {}
     for factor in factors:
         runs_by_factor[factor] = run_verification(engines=engines, out_dir=out_dir / f"f{factor:g}",

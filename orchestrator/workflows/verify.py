@@ -10,27 +10,23 @@ A PNG overlays the normal-force curves of every engine per scene.
 
 from __future__ import annotations
 
-import datetime as _dt
 import math
-import os
 import tomllib
-from concurrent.futures import ProcessPoolExecutor, as_completed
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 from orchestrator.case import load_case
 from orchestrator.engines import engine_names, get_engine
 from orchestrator.errors import EngineNotFound, OrchestratorError
-from orchestrator.humanize import make_out_dir
+from orchestrator.humanize import stamped_dir
 from orchestrator.kinds import engines_for_kind
 from orchestrator.kinds.impact.analysis import evaluate_checks
 from orchestrator.kinds.impact.theory import QUANTITIES
-from orchestrator.kinds.impact.plots import plot_force_curves  # noqa: F401  (verify dem draws it)
 from orchestrator.run import run_case
 from orchestrator.runh5 import read_run
+from orchestrator.workflows.base import CheckedRun, run_in_pool, workflow_dir
+from orchestrator.workflows.base import format_table as base_table
 
-#: The keys of one row of `orchestrator verify dem --json`, in order.
-ROW_KEYS = ("scene", "engine", "quantity", "value", "expected", "rel_error", "tolerance", "passed")
 _CANDIDATE_DIRS = (
     Path(__file__).resolve().parent.parent / "verification_cases",  # installed wheel
     Path(__file__).resolve().parent.parent.parent / "cases" / "verification",  # source checkout / editable install
@@ -100,20 +96,6 @@ def dem_engine_names() -> list[str]:
 
 
 @dataclass
-class CheckedRun:
-    """One verification scene run on one engine: status, check rows (ROW_KEYS) and run directory;
-    wall_time_s: the engine's compute time, s."""
-
-    scene: str
-    engine: str
-    status: str
-    message: str
-    run_dir: Path
-    rows: list[dict] = field(default_factory=list)
-    wall_time_s: float = math.nan
-
-
-@dataclass
 class SceneRun(CheckedRun):
     """One DEM scene on one engine: its rows, status and the curves to plot."""
 
@@ -175,74 +157,19 @@ def run_verification(engines=None, out_dir=None, cases_dir=None, overrides=(), w
     load_scenes(files, overrides)
     names = dem_engines(engines)
 
-    out_dir = make_out_dir(Path(out_dir) if out_dir is not None else default_out_dir())
+    out_dir = workflow_dir(out_dir, "verify-dem")
     jobs = [(path, engine) for path in files for engine in names]
     return run_in_pool(run_scene, [(path, engine, out_dir / path.stem / engine, overrides, timeout_s)
                                    for path, engine in jobs], workers, on_done)
 
 
-def run_in_pool(function, jobs: list[tuple], workers: int | None = None, on_done=None) -> list:
-    """function(*job) for every job on a process pool of `workers` (default: the number of cores);
-    on_done(result, done, total) as each ends; the results in the order of jobs."""
-    if workers is not None and workers < 1:
-        raise OrchestratorError(f"--workers {workers}: allowed: 1 or more")
-    workers = workers or max(1, min(len(jobs), os.cpu_count() or 1))
-    # processes, not threads: each run writes and reads its run.h5, and HDF5 is safest one file per process
-    with ProcessPoolExecutor(max_workers=workers) as pool:
-        futures = [pool.submit(function, *job) for job in jobs]
-        if on_done is not None:
-            for done, future in enumerate(as_completed(futures), 1):
-                on_done(future.result(), done, len(futures))
-        return [future.result() for future in futures]
-
-
 def default_out_dir(root: Path = Path("runs"), suite: str = "dem") -> Path:
-    """runs/verify-<suite>-<UTC timestamp>."""
-    stamp = _dt.datetime.now(_dt.timezone.utc).strftime("%Y%m%dT%H%M%S")
-    return root / f"verify-{suite}-{stamp}"
-
-
-def rows_of(runs: list[SceneRun]) -> list[dict]:
-    """Every check row of the runs, as dicts with ROW_KEYS (plus source and note)."""
-    return [row for run in runs for row in run.rows]
-
-
-def json_rows(runs: list[SceneRun]) -> list[dict]:
-    """Rows with exactly ROW_KEYS; NaN becomes None."""
-    def clean(value):
-        return None if isinstance(value, float) and not math.isfinite(value) else value
-
-    return [{key: clean(row[key]) for key in ROW_KEYS} for row in rows_of(runs)]
+    """runs/verify-<suite>-<UTC timestamp> (humanize.stamped_dir)."""
+    return stamped_dir(f"verify-{suite}", root)
 
 
 def format_table(runs: list[SceneRun], unit_of=None) -> str:
-    """The plain-text table: scene, engine, quantity, value, expected, rel_error, tolerance, passed; notes below.
-
-    unit_of(quantity) -> SI unit text (default: the impact quantities' units); runs: anything with `rows`.
-    """
-
-    unit_of = unit_of or (lambda quantity: QUANTITIES.get(quantity, ("",))[0])
-    header = ("scene", "engine", "quantity", "value", "expected", "rel_error", "tolerance", "passed")
-    lines, notes = [], []
-    table = []
-    for row in rows_of(runs):
-        unit = unit_of(row["quantity"])
-        cells = [row["scene"], row["engine"], f"{row['quantity']} [{unit}]", _num(row["value"]),
-                 _num(row["expected"]), _num(row["rel_error"], ".2e"), _num(row["tolerance"], ".2g"),
-                 "yes" if row["passed"] else "NO"]
-        if row["note"]:
-            notes.append(f"{row['scene']} / {row['engine']}: {row['note']}")
-        table.append(cells)
-    widths = [max(len(h), *(len(r[i]) for r in table)) if table else len(h) for i, h in enumerate(header)]
-    lines.append("  ".join(h.ljust(w) for h, w in zip(header, widths)))
-    for cells in table:
-        lines.append("  ".join(c.ljust(w) for c, w in zip(cells, widths)))
-    for note in dict.fromkeys(notes):
-        lines.append(f"note: {note}")
-    return "\n".join(lines)
+    """base.format_table with the impact quantities' units by default."""
+    return base_table(runs, unit_of or (lambda quantity: QUANTITIES.get(quantity, ("",))[0]))
 
 
-def _num(value, fmt: str = ".6g") -> str:
-    if value is None or (isinstance(value, float) and not math.isfinite(value)):
-        return "-"
-    return format(value, fmt)

@@ -13,14 +13,14 @@ from pathlib import Path
 from orchestrator.case import load_case
 from orchestrator.engines import get_engine
 from orchestrator.errors import EngineNotFound, OrchestratorError
-from orchestrator.humanize import make_out_dir
 from orchestrator.kinds.sph_flow.checks import checks_for
 from orchestrator.kinds.sph_flow.checks_base import ENGINE, UNITS, check_row
 from orchestrator.plots import save_pyplot_figure
 from orchestrator.run import run_case
 from orchestrator.runh5 import read_run
-from orchestrator.workflows.verify import CheckedRun, load_scenes, run_in_pool
+from orchestrator.workflows.base import CheckedRun, run_in_pool, workflow_dir
 from orchestrator.workflows.verify import default_out_dir as suite_dir
+from orchestrator.workflows.verify import load_scenes
 from orchestrator.workflows.verify import scene_files as kind_files
 
 
@@ -86,7 +86,7 @@ def run_verification(out_dir=None, cases_dir=None, overrides=(), workers: int | 
         files = [f for f in files if f.stem in only]
     load_scenes(files, overrides, preset)
 
-    out_dir = make_out_dir(Path(out_dir) if out_dir is not None else default_out_dir())
+    out_dir = workflow_dir(out_dir, "verify-sph")
     get_engine(ENGINE).check_available()
     return run_in_pool(run_scene, [(path, out_dir / path.stem, overrides, timeout_s, preset) for path in files],
                        workers, on_done)

@@ -14,10 +14,7 @@ import math
 import numpy as np
 
 from orchestrator.errors import OrchestratorError
-from orchestrator.kinds.sph_flow.checks_base import (  # noqa: F401
-    ENGINE,
-    FORCE_TOLERANCE,
-    FORMULA_TOLERANCE,
+from orchestrator.kinds.sph_flow.checks_base import (
     FRONT_DATASETS,
     FRONT_TOLERANCE,
     PARTICLE_PRESSURE_TOLERANCE,
@@ -25,9 +22,7 @@ from orchestrator.kinds.sph_flow.checks_base import (  # noqa: F401
     PRESSURE_TOLERANCE,
     PROFILE_TIMES,
     PROFILE_TOLERANCE,
-    SLIDE_TOLERANCE,
     SPURIOUS_SPEED_TOLERANCE,
-    UNITS,
     block_of,
     body_force_of,
     check_row,

@@ -8,25 +8,13 @@ import math
 import numpy as np
 
 from orchestrator.errors import OrchestratorError
-from orchestrator.kinds.sph_flow.checks_base import (  # noqa: F401
-    ENGINE,
+from orchestrator.kinds.sph_flow.checks_base import (
     FORCE_TOLERANCE,
     FORMULA_TOLERANCE,
-    FRONT_DATASETS,
-    FRONT_TOLERANCE,
-    PARTICLE_PRESSURE_TOLERANCE,
-    PRESSURE_AVERAGE_S,
-    PRESSURE_TOLERANCE,
-    PROFILE_TIMES,
-    PROFILE_TOLERANCE,
     SLIDE_TOLERANCE,
-    SPURIOUS_SPEED_TOLERANCE,
-    UNITS,
-    block_of,
     body_force_of,
     check_row,
     fluid_mask,
-    frame_at,
     frames_of,
     relative,
 )

@@ -1,0 +1,99 @@
+"""What every workflow over many runs shares (automan's Problem is the model): one folder per workflow
+(humanize.stamped_dir: runs/<workflow>-<UTC timestamp> unless --out), its runs on a process pool, one result per
+run with check rows, and one table of those rows.
+
+A check row has ROW_KEYS (plus source and note): the scene, the engine, the measured quantity, its value, the
+expected value, rel_error = |value - expected| / |expected| (unless the note names another scale), the tolerance
+and whether it passed. `verify dem`, `verify sph` and the time-step sweep produce them; compare, bench, calibrate
+and studies use the same folders and pool.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from orchestrator.errors import OrchestratorError
+from orchestrator.humanize import make_out_dir, stamped_dir
+
+#: The keys of one check row (`verify dem|sph --json`), in order.
+ROW_KEYS = ("scene", "engine", "quantity", "value", "expected", "rel_error", "tolerance", "passed")
+
+
+@dataclass
+class CheckedRun:
+    """One scene run on one engine: status, check rows (ROW_KEYS plus source and note) and run directory;
+    wall_time_s: the engine's compute time, s."""
+
+    scene: str
+    engine: str
+    status: str
+    message: str
+    run_dir: Path
+    rows: list[dict] = field(default_factory=list)
+    wall_time_s: float = math.nan
+
+
+def workflow_dir(out_dir, name: str, root: Path = Path("runs")) -> Path:
+    """The workflow's folder, created: out_dir, or root/<name>-<UTC timestamp> when out_dir is None."""
+    return make_out_dir(Path(out_dir) if out_dir is not None else stamped_dir(name, root))
+
+
+def run_in_pool(function, jobs: list[tuple], workers: int | None = None, on_done=None) -> list:
+    """function(*job) for every job on a process pool of `workers` (default: the number of cores);
+    on_done(result, done, total) as each ends; the results in the order of jobs."""
+    if workers is not None and workers < 1:
+        raise OrchestratorError(f"--workers {workers}: allowed: 1 or more")
+    workers = workers or max(1, min(len(jobs), os.cpu_count() or 1))
+    # processes, not threads: each run writes and reads its run.h5, and HDF5 is safest one file per process
+    with ProcessPoolExecutor(max_workers=workers) as pool:
+        futures = [pool.submit(function, *job) for job in jobs]
+        if on_done is not None:
+            for done, future in enumerate(as_completed(futures), 1):
+                on_done(future.result(), done, len(futures))
+        return [future.result() for future in futures]
+
+
+def rows_of(runs: list[CheckedRun]) -> list[dict]:
+    """Every check row of the runs, as dicts with ROW_KEYS (plus source and note)."""
+    return [row for run in runs for row in run.rows]
+
+
+def json_rows(runs: list[CheckedRun]) -> list[dict]:
+    """Rows with exactly ROW_KEYS; NaN becomes None."""
+    def clean(value):
+        return None if isinstance(value, float) and not math.isfinite(value) else value
+
+    return [{key: clean(row[key]) for key in ROW_KEYS} for row in rows_of(runs)]
+
+
+def format_table(runs: list[CheckedRun], unit_of) -> str:
+    """The plain-text table: scene, engine, quantity [unit_of(quantity)], value, expected, rel_error, tolerance,
+    passed; the rows' notes below."""
+    header = ("scene", "engine", "quantity", "value", "expected", "rel_error", "tolerance", "passed")
+    lines, notes = [], []
+    table = []
+    for row in rows_of(runs):
+        unit = unit_of(row["quantity"])
+        cells = [row["scene"], row["engine"], f"{row['quantity']} [{unit}]", _num(row["value"]),
+                 _num(row["expected"]), _num(row["rel_error"], ".2e"), _num(row["tolerance"], ".2g"),
+                 "yes" if row["passed"] else "NO"]
+        if row["note"]:
+            notes.append(f"{row['scene']} / {row['engine']}: {row['note']}")
+        table.append(cells)
+    widths = [max(len(h), *(len(r[i]) for r in table)) if table else len(h) for i, h in enumerate(header)]
+    lines.append("  ".join(h.ljust(w) for h, w in zip(header, widths)))
+    for cells in table:
+        lines.append("  ".join(c.ljust(w) for c, w in zip(cells, widths)))
+    for note in dict.fromkeys(notes):
+        lines.append(f"note: {note}")
+    return "\n".join(lines)
+
+
+def _num(value, fmt: str = ".6g") -> str:
+    if value is None or (isinstance(value, float) and not math.isfinite(value)):
+        return "-"
+    return format(value, fmt)
