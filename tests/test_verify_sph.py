@@ -10,11 +10,12 @@ import pytest
 
 from orchestrator.case import load_case
 from orchestrator.cli import main
-from orchestrator.errors import OrchestratorError
+from orchestrator.errors import CaseError, OrchestratorError
 from orchestrator.reference.sph_flows import poiseuille_velocity
 from orchestrator.workflows.base import ROW_KEYS
-from orchestrator.kinds.sph_flow.checks import check_dam_break, check_poiseuille, checks_for
-from orchestrator.kinds.sph_flow.checks_base import FRONT_TOLERANCE, PRESSURE_TOLERANCE, PROFILE_TOLERANCE
+from orchestrator.kinds.sph_flow.case_parts import CHECK_QUANTITIES
+from orchestrator.kinds.sph_flow.checks import CHECKS, check_dam_break, check_poiseuille, evaluate
+from orchestrator.kinds.sph_flow.checks_base import tolerance_of
 from orchestrator.workflows.verify_sph import (
     run_verification,
     scene_files,
@@ -49,10 +50,26 @@ def test_every_sph_scene_has_checks_and_units():
     assert {f.stem for f in files} == {"sph_poiseuille_morris1997", "sph_couette_morris1997", "sph_hydrostatic_tank",
                                        "sph_dam_break_2d", "sph_penalty_column", "sph_penalty_incline"}
     for path in files:
-        assert callable(checks_for(load_case(path).name))
+        case = load_case(path).model
+        assert case.expected and all(row.check in CHECKS for row in case.expected)
+    assert set(CHECKS) == set(CHECK_QUANTITIES)  # the case model's table of checks is the code's
     assert unit_of("u_profile(t=0.1 s)") == "m/s" and unit_of("surge_front_Z[koshizuka_oka_1996]") == "-"
-    with pytest.raises(OrchestratorError, match="no SPH checks for the scene 'sph_other'"):
-        checks_for("sph_other")
+    bare = load_case(CASES / "sph_poiseuille_morris1997.toml", overrides=["expected=[]"]).model
+    with pytest.raises(OrchestratorError, match="sph_poiseuille_morris1997 has no \\[\\[expected\\]\\] rows"):
+        evaluate(bare, {})
+
+
+def test_the_expected_rows_choose_the_checks_and_their_tolerances():
+    """Checks are data: a quantity left out of [[expected]] is not reported, a tolerance comes from the row."""
+    path = CASES / "sph_hydrostatic_tank.toml"
+    case = load_case(path).model
+    assert tolerance_of(case, "pressure_profile") == 0.02 and tolerance_of(case, "particle_pressure") == 0.05
+    only = load_case(path, overrides=['expected=[{check="hydrostatic", quantity="spurious_speed", tolerance=0.5}]'])
+    assert tolerance_of(only.model, "spurious_speed") == 0.5 and tolerance_of(only.model, "pressure_profile") is None
+    with pytest.raises(CaseError, match="quantity = 'u_profile' is not measured by check 'hydrostatic'"):
+        load_case(path, overrides=['expected=[{check="hydrostatic", quantity="u_profile", tolerance=0.1}]'])
+    with pytest.raises(CaseError, match="needs a tolerance"):
+        load_case(path, overrides=['expected=[{check="hydrostatic", quantity="spurious_speed"}]'])
 
 
 def test_profile_check_passes_the_series_and_fails_a_3_percent_error():
@@ -63,7 +80,7 @@ def test_profile_check_passes_the_series_and_fails_a_3_percent_error():
     rows, _ = check_poiseuille(case, _run_with_frames(_channel_frames(case, perturb=0.03)))
     assert not any(r["passed"] for r in rows)
     assert rows[-1]["rel_error"] == pytest.approx(0.03, rel=2e-3)
-    assert PROFILE_TOLERANCE == 0.02 and plot["lines"]
+    assert tolerance_of(case, "u_profile") == 0.02 and plot["lines"]
 
 
 def test_dam_break_check_compares_over_the_measured_range():
@@ -80,7 +97,7 @@ def test_dam_break_check_compares_over_the_measured_range():
         frames.append((T / scale, {"kind": np.zeros(2, np.int8), "positions": x}))
     rows, plot = check_dam_break(case, _run_with_frames(frames))
     ko = next(r for r in rows if "koshizuka" in r["quantity"])
-    assert ko["passed"] and ko["rel_error"] == pytest.approx(0.05, abs=0.01) and FRONT_TOLERANCE == 0.10
+    assert ko["passed"] and ko["rel_error"] == pytest.approx(0.05, abs=0.01) and tolerance_of(case, "surge_front_Z") == 0.10
     assert {r["quantity"] for r in rows} == {"surge_front_Z[koshizuka_oka_1996]",
                                              "surge_front_Z[martin_moyce_1952_a2.25in]"}
 
@@ -101,7 +118,7 @@ def test_every_scene_at_its_quick_preset_passes(tmp_path):
             assert r["rel_error"] < KNOWN_FAILURES[(r["scene"], r["quantity"])], r
     assert {run.status for run in runs} == {"ok"}
     by = {(r["scene"], r["quantity"].split("(")[0].split("[")[0]): r for r in rows}
-    assert by[("sph_hydrostatic_tank", "pressure_profile")]["rel_error"] < PRESSURE_TOLERANCE
+    assert by[("sph_hydrostatic_tank", "pressure_profile")]["rel_error"] < 0.02
     assert by[("sph_penalty_incline", "eq14_wall_force")]["rel_error"] < 1e-9
     assert by[("sph_penalty_column", "min_distance_to_wall")]["value"] > 0
     assert len(rows) == 24

@@ -13,7 +13,7 @@ from pathlib import Path
 from orchestrator.case import load_case
 from orchestrator.engines import get_engine
 from orchestrator.errors import EngineNotFound, OrchestratorError
-from orchestrator.kinds.sph_flow.checks import checks_for
+from orchestrator.kinds.sph_flow.checks import evaluate
 from orchestrator.kinds.sph_flow.checks_base import ENGINE, UNITS, check_row
 from orchestrator.plots import save_pyplot_figure
 from orchestrator.run import run_case
@@ -37,7 +37,8 @@ def run_scene(case_file: Path, out_dir: Path, overrides=(), timeout_s: float | N
     """Run one SPH verification scene on the sph executable and check it (never raises for a failed run)."""
 
     loaded = load_case(case_file, preset=preset, overrides=overrides)
-    check = checks_for(loaded.name)
+    if not loaded.model.expected:
+        evaluate(loaded.model, {})  # raises: the scene names no checks
     run_dir = Path(out_dir)
     status, message, wall = "ok", "", math.nan
     try:
@@ -55,7 +56,8 @@ def run_scene(case_file: Path, out_dir: Path, overrides=(), timeout_s: float | N
     except OrchestratorError:
         run = {"attrs": {}}
     try:
-        result.rows, result.plot = check(loaded.model, run)
+        result.rows, plots = evaluate(loaded.model, run)
+        result.plot = plots[0]
     except (KeyError, IndexError, ValueError) as exc:  # a run that stopped too early to measure
         result.rows = [check_row(loaded.name, "run", None, None, None, None, passed=False,
                             note=f"cannot evaluate the checks: {type(exc).__name__}: {exc}")]

@@ -33,6 +33,7 @@ from orchestrator.kinds.sph_flow.case_parts import (  # noqa: F401  (the parts a
     Patch,
     Physics,
     Probe,
+    SphExpected,
     SphNumerics,
     SphOutput,
     SphSimulation,
@@ -56,6 +57,8 @@ class SphFlowCase(Frozen):
     numerics: SphNumerics
     simulation: SphSimulation
     output: SphOutput
+    expected: tuple[SphExpected, ...] = Field((), description="the verification checks of the scene (orchestrator "
+                                              "verify sph), with their tolerances")
 
     @property
     def dimension(self) -> int:

@@ -331,3 +331,36 @@ class SphOutput(Frozen):
                                                                "(default frame_interval)")
     probes: tuple[Probe, ...] = ()
     flow_planes: tuple[Patch, ...] = ()
+
+
+#: The comparisons an SPH scene can ask for in its [[expected]] rows, and the quantities each measures
+#: (kinds/sph_flow/checks.py computes them; the scene's rows give the tolerances).
+CHECK_QUANTITIES = {
+    "poiseuille_series": ("u_profile",),
+    "couette_series": ("u_profile",),
+    "hydrostatic": ("pressure_profile", "particle_pressure", "spurious_speed", "simulated_time"),
+    "surge_front": ("surge_front_Z",),
+    "penalty_column": ("eq14_wall_force", "min_distance_to_wall", "floor_force"),
+    "penalty_incline": ("eq14_wall_force", "min_distance_to_wall", "slide_distance", "distance_to_plane",
+                        "plane_force"),
+}
+
+
+class SphExpected(Frozen):
+    """One [[expected]] row of an SPH scene: a quantity of one comparison (CHECK_QUANTITIES) and its tolerance, the
+    largest rel_error that passes (its scale is in the row's note: e.g. profiles over the steady peak speed, -).
+    A quantity without a tolerance passes on its own condition (min_distance_to_wall: > 0)."""
+
+    check: Literal[tuple(CHECK_QUANTITIES)] = Field(description="the comparison, e.g. 'poiseuille_series'")
+    quantity: str = Field(description="a quantity the comparison measures, e.g. 'u_profile'")
+    tolerance: float | None = Field(None, gt=0, lt=1, description="largest rel_error that passes, -")
+
+    @model_validator(mode="after")
+    def _known_quantity(self):
+        allowed = CHECK_QUANTITIES[self.check]
+        if self.quantity not in allowed:
+            raise ValueError(f"quantity = {self.quantity!r} is not measured by check {self.check!r}; allowed: "
+                             f"{', '.join(allowed)}")
+        if self.tolerance is None and self.quantity != "min_distance_to_wall":
+            raise ValueError(f"quantity {self.quantity!r} needs a tolerance (the largest rel_error that passes)")
+        return self

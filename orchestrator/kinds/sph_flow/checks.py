@@ -1,7 +1,7 @@
 """The SPH verification checks: each scene of cases/verification/sph_*.toml against its closed form, series
 solution or measurement, computed from its run.h5 (frames, probe and wall-force series) and the case itself.
 
-A scene's checks are chosen by its case name (SCENE_CHECKS, by prefix). Rows have the keys of `verify dem`
+A scene's [[expected]] rows choose the comparisons (CHECKS) and give each quantity its tolerance. Rows have the keys of `verify dem`
 (verify.ROW_KEYS); rel_error is |value - expected| / |expected| unless the row's note names another scale
 (profiles: the largest deviation over the profile divided by the steady peak speed; the surge front: the largest
 deviation over the measured points divided by the measured Z). Each check also returns what to plot.
@@ -16,13 +16,9 @@ import numpy as np
 from orchestrator.errors import OrchestratorError
 from orchestrator.kinds.sph_flow.checks_base import (
     FRONT_DATASETS,
-    FRONT_TOLERANCE,
-    PARTICLE_PRESSURE_TOLERANCE,
     PRESSURE_AVERAGE_S,
-    PRESSURE_TOLERANCE,
     PROFILE_TIMES,
-    PROFILE_TOLERANCE,
-    SPURIOUS_SPEED_TOLERANCE,
+    base_quantity,
     block_of,
     body_force_of,
     check_row,
@@ -30,6 +26,7 @@ from orchestrator.kinds.sph_flow.checks_base import (
     frame_at,
     frames_of,
     relative,
+    tolerance_of,
 )
 from orchestrator.kinds.sph_flow.checks_walls import check_penalty_column, check_penalty_incline
 from orchestrator.reference.dam_break_data import SURGE_FRONT_DATA, dimensionless_front, dimensionless_time
@@ -85,14 +82,14 @@ def _channel_rows(case, run, y0, gap, peak, exact, source):
         mid = np.abs(y - gap / 2) <= np.min(np.abs(y - gap / 2)) + 1e-12 * gap
         label = "steady" if t_want == t_end else "start-up"
         rows.append(check_row(name, f"u_profile(t={t:.3g} s)", np.mean(u[mid]), np.mean(u_exact[mid]), linf,
-                         PROFILE_TOLERANCE, source=source,
+                         tolerance_of(case, "u_profile"), source=source,
                          note=f"u_profile: value, expected = mid-gap speed; rel_error = max over the profile of "
                               f"|u - u_series| / {abs(peak):.3g} m/s (the steady peak)"))
         colour = f"C{k}"
         lines.append((y / gap, u / peak, ".", colour, None))
         lines.append((y_line / gap, exact(y_line, t) / peak, "-", colour, f"t = {t:.3g} s ({label})"))
     if not times or not frames:
-        rows.append(check_row(name, "u_profile", None, None, None, PROFILE_TOLERANCE, passed=False,
+        rows.append(check_row(name, "u_profile", None, None, None, tolerance_of(case, "u_profile"), passed=False,
                          note="no frames recorded"))
     plot = {"title": f"{name}: u/u_peak (dots SPH, lines series)", "xlabel": "y / L", "ylabel": "u / u_peak",
             "lines": lines}
@@ -122,14 +119,14 @@ def check_hydrostatic(case, run) -> tuple[list[dict], dict]:
         expected = hydrostatic_pressure(heights, depth, rho0, g)
         l1 = float(np.mean(np.abs(measured - expected))) / scale
         deepest = int(np.argmin(heights))
-        rows.append(check_row(name, "pressure_profile", measured[deepest], expected[deepest], l1, PRESSURE_TOLERANCE,
+        rows.append(check_row(name, "pressure_profile", measured[deepest], expected[deepest], l1, tolerance_of(case, "pressure_profile"),
                          source=source,
                          note=f"pressure_profile: {len(probes)} probes on a vertical line, averaged over the last "
                               f"{PRESSURE_AVERAGE_S:g} s; value, expected at the deepest; rel_error = mean "
                               f"|p - rho g (H - y)| / (rho g H = {scale:.4g} Pa)"))
         lines.append((measured / scale, heights / depth, "s", "C1", "probes (kernel-interpolated)"))
     else:
-        rows.append(check_row(name, "pressure_profile", None, None, None, PRESSURE_TOLERANCE, passed=False,
+        rows.append(check_row(name, "pressure_profile", None, None, None, tolerance_of(case, "pressure_profile"), passed=False,
                          note="pressure_profile: the case has no pressure probes, or they recorded nothing"))
     frames = frames_of(run)
     if frames:
@@ -141,13 +138,13 @@ def check_hydrostatic(case, run) -> tuple[list[dict], dict]:
         l1 = float(np.mean(np.abs(p - exact))) / scale
         bottom = y <= y.min() + 0.5 * case.numerics.dx
         rows.append(check_row(name, "particle_pressure", np.mean(p[bottom]), np.mean(exact[bottom]), l1,
-                         PARTICLE_PRESSURE_TOLERANCE, source=source,
+                         tolerance_of(case, "particle_pressure"), source=source,
                          note=f"particle_pressure: every fluid particle's own pressure at t = {t:.3g} s; value, "
                               "expected: mean of the bottom row; rel_error = mean |p - rho g (H - y)| / (rho g H); "
                               "weakly compressible SPH without density diffusion carries a few % of particle-level "
                               "noise, hence the wider tolerance"))
         speed = float(np.max(np.linalg.norm(np.asarray(frame["velocities"])[fluid], axis=1)))
-        rows.append(check_row(name, "spurious_speed", speed, 0.0, speed / math.sqrt(g * depth), SPURIOUS_SPEED_TOLERANCE,
+        rows.append(check_row(name, "spurious_speed", speed, 0.0, speed / math.sqrt(g * depth), tolerance_of(case, "spurious_speed"),
                          source="at rest",
                          note=f"spurious_speed: fastest fluid particle at t = {t:.3g} s; rel_error = value / "
                               f"sqrt(g H) = {math.sqrt(g * depth):.3g} m/s"))
@@ -155,10 +152,11 @@ def check_hydrostatic(case, run) -> tuple[list[dict], dict]:
     y_line = np.linspace(0.0, depth, 50)
     lines.append((hydrostatic_pressure(y_line, depth, rho0, g) / scale, y_line / depth, "-", "k", "rho g (H - y)"))
     reached = float(run["attrs"].get("simulated_time", 0.0))
+    limit = tolerance_of(case, "simulated_time")
     rows.append(check_row(name, "simulated_time", reached, case.simulation.duration,
-                     relative(reached, case.simulation.duration), 1e-6, source="case simulation.duration",
-                     passed=run["attrs"].get("status") == "ok" and
-                     relative(reached, case.simulation.duration) <= 1e-6,
+                     relative(reached, case.simulation.duration), limit, source="case simulation.duration",
+                     passed=run["attrs"].get("status") == "ok" and limit is not None and
+                     relative(reached, case.simulation.duration) <= limit,
                      note="simulated_time: stable to the end of the run (status ok)"))
     plot = {"title": f"{name}: pressure", "xlabel": "p / (rho g H)", "ylabel": "y / H", "lines": lines}
     return rows, plot
@@ -188,14 +186,14 @@ def check_dam_break(case, run) -> tuple[list[dict], dict]:
         if key not in FRONT_DATASETS:
             continue
         if not inside.any():
-            rows.append(check_row(name, f"surge_front_Z[{data.name}]", None, None, None, FRONT_TOLERANCE, passed=False,
+            rows.append(check_row(name, f"surge_front_Z[{data.name}]", None, None, None, tolerance_of(case, "surge_front_Z"), passed=False,
                              note="surge_front_Z: the run ended before the first measured point"))
             continue
         simulated = np.interp(Te[inside], T, Z)
         errors = np.abs(simulated - Ze[inside]) / Ze[inside]
         worst = int(np.argmax(errors))
         rows.append(check_row(name, f"surge_front_Z[{data.name}]", simulated[-1], Ze[inside][-1], float(errors[worst]),
-                         FRONT_TOLERANCE, source=f"{data.experiment}; digitised by {data.digitised_by}",
+                         tolerance_of(case, "surge_front_Z"), source=f"{data.experiment}; digitised by {data.digitised_by}",
                          note=f"surge_front_Z: value, expected at the last measured T; rel_error = max over "
                               f"{int(inside.sum())} points of |Z - Z_exp| / Z_exp (worst at T = "
                               f"{Te[inside][worst]:.3g}); front = rightmost fluid particle + dx/2, "
@@ -207,21 +205,27 @@ def check_dam_break(case, run) -> tuple[list[dict], dict]:
     return rows, plot
 
 
-#: Case-name prefix -> the checks of that scene (the longest matching prefix wins).
-SCENE_CHECKS = {
-    "sph_poiseuille": check_poiseuille,
-    "sph_couette": check_couette,
-    "sph_hydrostatic": check_hydrostatic,
-    "sph_dam_break": check_dam_break,
-    "sph_penalty_column": check_penalty_column,
-    "sph_penalty_incline": check_penalty_incline,
+#: The comparisons a scene's [[expected]] rows name (case_parts.CHECK_QUANTITIES lists what each measures).
+CHECKS = {
+    "poiseuille_series": check_poiseuille,
+    "couette_series": check_couette,
+    "hydrostatic": check_hydrostatic,
+    "surge_front": check_dam_break,
+    "penalty_column": check_penalty_column,
+    "penalty_incline": check_penalty_incline,
 }
 
 
-def checks_for(name: str):
-    """The check function of a scene by its case name; OrchestratorError when none matches."""
-    matches = [prefix for prefix in SCENE_CHECKS if name.startswith(prefix)]
-    if not matches:
-        raise OrchestratorError(f"no SPH checks for the scene {name!r}; scene names start with one of: "
-                                f"{', '.join(SCENE_CHECKS)}")
-    return SCENE_CHECKS[max(matches, key=len)]
+def evaluate(case, run) -> tuple[list[dict], list[dict]]:
+    """The check rows and plots of the comparisons the scene's [[expected]] rows name, with their tolerances; only
+    the quantities the rows list. OrchestratorError for a scene without [[expected]] rows."""
+    if not case.expected:
+        raise OrchestratorError(f"{case.case.name} has no [[expected]] rows: nothing to check; add rows such as "
+                                '[[expected]] check = "poiseuille_series", quantity = "u_profile", tolerance = 0.02')
+    rows, plots = [], []
+    for check in dict.fromkeys(row.check for row in case.expected):
+        listed = {row.quantity for row in case.expected if row.check == check}
+        measured, plot = CHECKS[check](case, run)
+        rows += [row for row in measured if base_quantity(row["quantity"]) in listed]
+        plots.append(plot)
+    return rows, plots

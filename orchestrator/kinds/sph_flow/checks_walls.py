@@ -9,14 +9,12 @@ import numpy as np
 
 from orchestrator.errors import OrchestratorError
 from orchestrator.kinds.sph_flow.checks_base import (
-    FORCE_TOLERANCE,
-    FORMULA_TOLERANCE,
-    SLIDE_TOLERANCE,
     body_force_of,
     check_row,
     fluid_mask,
     frames_of,
     relative,
+    tolerance_of,
 )
 from orchestrator.reference.sph_walls import penalty_force
 
@@ -60,7 +58,7 @@ def _formula_rows(case, run, centre, normal, force):
         worst = max(worst, abs(engine - on_plane) / max(abs(on_plane), 1e-300))
         last = (engine, on_plane)
     rows = [
-        check_row(name, "eq14_wall_force", last[0], last[1], worst, FORMULA_TOLERANCE,
+        check_row(name, "eq14_wall_force", last[0], last[1], worst, tolerance_of(case, "eq14_wall_force"),
              source="eq. 14 (orchestrator.reference.sph_walls.penalty_force) at each frame's distances",
              note="eq14_wall_force: value = the engine's recorded wall force along the normal, expected = eq. 14 "
                   "summed over the particles at the last frame; rel_error = worst over all frames"),
@@ -86,7 +84,7 @@ def check_penalty_column(case, run) -> tuple[list[dict], dict]:
     push = -(recorded @ normal) if len(recorded) else np.zeros(0)  # the fluid pushes the floor against n
     late = time >= 0.5 * case.simulation.duration
     mean = float(np.mean(push[late])) if late.any() else math.nan
-    rows = [check_row(name, "floor_force", mean, weight, relative(mean, weight), FORCE_TOLERANCE,
+    rows = [check_row(name, "floor_force", mean, weight, relative(mean, weight), tolerance_of(case, "floor_force"),
                  source="weight of the column, rho0 N dx^3 g",
                  note="floor_force: the fluid's push on the floor along -n, averaged over the second half of the run")]
     rows += _formula_rows(case, run, centre, normal, force)
@@ -119,13 +117,14 @@ def check_penalty_incline(case, run) -> tuple[list[dict], dict]:
     pressed = -(recorded @ normal) if len(recorded) else np.zeros(1) * math.nan
     rows = [
         check_row(name, "slide_distance", slide[-1], slide_exact[-1], relative(slide[-1], slide_exact[-1]),
-             SLIDE_TOLERANCE, source="frictionless slide g sin(theta) t^2 / 2",
+             tolerance_of(case, "slide_distance"), source="frictionless slide g sin(theta) t^2 / 2",
              note=f"slide_distance: along the slope after {t[-1]:.3g} s"),
-        check_row(name, "distance_to_plane", d[-1], d_star, float(np.max(np.abs(d - d_star))) / d_star, SLIDE_TOLERANCE,
+        check_row(name, "distance_to_plane", d[-1], d_star, float(np.max(np.abs(d - d_star))) / d_star,
+             tolerance_of(case, "distance_to_plane"),
              source="eq. 14 balance F(d*) = m g cos(theta)",
              note="distance_to_plane: rel_error = largest deviation from d* over every frame / d*"),
         check_row(name, "plane_force", float(np.mean(pressed)), load, float(np.max(np.abs(pressed - load))) / load,
-             SLIDE_TOLERANCE, source="m g cos(theta)",
+             tolerance_of(case, "plane_force"), source="m g cos(theta)",
              note="plane_force: the particle's push on the plane along -n; rel_error = worst record"),
     ]
     rows += _formula_rows(case, run, centre, normal, force)
