@@ -1,20 +1,5 @@
-"""The scene of an impact case: sphere arrays, the wall, gravity, the time
-step, and the damping constant alpha of each contact pair. SI units.
-
-The critical time step of an impact scene is the smaller of
-- the Rayleigh step of the smallest sphere (waves through a sphere; what
-  Yade and LIGGGHTS users scale), and
-- the stability limit 2/omega_max of the stiffest Hertz contact at the
-  fastest closing speed the scene can reach (omega_max from the tangent
-  stiffness 3/2 k_n delta_max^(1/2) at the deepest overlap): 1.461
-  delta_max / v, about half the Hertz contact duration.
-The contact limit binds only in fast impacts: in every verification scene
-the Rayleigh step is the smaller (by 1.4x for the glass spheres of Chung &
-Ooi's test 1 up to 3.4x for the sphere drop); those glass spheres would need
-about 60 m/s each. The default factor 0.05 gives 60 to 140 steps per contact
-in the verification scenes, and at least 40 wherever the contact limit binds
-(see the README's time-step study).
-"""
+"""The scene of an impact case: sphere arrays, the wall, gravity, the time step and the contact pairs' physics
+(built once for every engine; the physics and the choice of the time step are in physics.py). SI units."""
 
 from __future__ import annotations
 
