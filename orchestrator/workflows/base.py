@@ -1,6 +1,8 @@
-"""What every workflow over many runs shares (automan's Problem is the model): one folder per workflow
-(humanize.stamped_dir: runs/<workflow>-<UTC timestamp> unless --out), its runs on a process pool, one result per
-run with check rows, and one table of those rows.
+"""What every workflow over many runs shares (automan's Problem is the model): a Workflow names its folder
+(humanize.stamped_dir: runs/<workflow>-<UTC timestamp> unless --out), checks everything before anything runs,
+lists its jobs (a module-level function and its arguments, each run writing into its own folder under the
+workflow's), runs them on a process pool (or one after the other) and hands the results, in the order of the jobs,
+to whoever tabulates and plots them. One result per run has check rows; one table shows those rows.
 
 A check row has ROW_KEYS (plus source and note): the scene, the engine, the measured quantity, its value, the
 expected value, rel_error = |value - expected| / |expected| (unless the note names another scale), the tolerance
@@ -15,6 +17,7 @@ import os
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Callable
 
 from orchestrator.errors import OrchestratorError
 from orchestrator.humanize import make_out_dir, stamped_dir
@@ -35,6 +38,45 @@ class CheckedRun:
     run_dir: Path
     rows: list[dict] = field(default_factory=list)
     wall_time_s: float = math.nan
+
+
+@dataclass
+class Workflow:
+    """Many runs as one piece of work (automan's Problem).
+
+    name: the folder's prefix (runs/<name>-<UTC timestamp> when run() gets no out_dir); jobs(folder) -> the jobs,
+    [(function, args)], each function a module-level callable (it runs in a worker process) that writes into its
+    own folder under `folder`; prepare(): validates everything (cases, engines) before the folder is made and
+    anything runs; parallel: on a process pool (False: one after the other in this process, e.g. for timings or
+    runs that show their own progress).
+    """
+
+    name: str
+    jobs: Callable[[Path], list[tuple[Callable, tuple]]]
+    prepare: Callable[[], None] = lambda: None
+    parallel: bool = True
+
+    def run(self, out_dir=None, workers: int | None = None, on_done=None) -> tuple[Path, list]:
+        """Prepare, make the folder, run every job; returns (folder, results in the order of the jobs).
+
+        workers: parallel runs (default: the number of cores); on_done(result, done, total) as each ends.
+        """
+        self.prepare()
+        folder = workflow_dir(out_dir, self.name)
+        jobs = self.jobs(folder)
+        if self.parallel:
+            return folder, run_in_pool(_call, jobs, workers, on_done)
+        results = []
+        for done, (function, args) in enumerate(jobs, 1):
+            results.append(function(*args))
+            if on_done is not None:
+                on_done(results[-1], done, len(jobs))
+        return folder, results
+
+
+def _call(function, args):
+    """function(*args) (what a pool worker runs for one job)."""
+    return function(*args)
 
 
 def workflow_dir(out_dir, name: str, root: Path = Path("runs")) -> Path:

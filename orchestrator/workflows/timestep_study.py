@@ -16,8 +16,8 @@ from pathlib import Path
 
 from orchestrator.plots import save_pyplot_figure
 from orchestrator.runh5 import read_run
-from orchestrator.workflows.base import workflow_dir
-from orchestrator.workflows.verify import run_verification
+from orchestrator.workflows.base import Workflow
+from orchestrator.workflows.verify import dem_verification
 
 #: Factors swept by default (fractions of the critical step).
 DEFAULT_FACTORS = (0.01, 0.02, 0.05, 0.1, 0.2, 0.5, 1.0)
@@ -43,12 +43,24 @@ class SweepPoint:
 def run_timestep_sweep(factors=DEFAULT_FACTORS, engines=None, out_dir=None, cases_dir=None, workers=None):
     """Run verification at each factor; returns (points, runs by factor). Run directories: out_dir/f<factor>/..."""
 
-    out_dir = workflow_dir(out_dir, "timestep-sweep")
-    runs_by_factor = {}
-    for factor in factors:
-        runs_by_factor[factor] = run_verification(engines=engines, out_dir=out_dir / f"f{factor:g}",
-                                                  cases_dir=cases_dir, workers=workers,
-                                                  overrides=[f"numerics.timestep_factor={factor}"])
+    sweeps = {factor: dem_verification(engines, cases_dir, [f"numerics.timestep_factor={factor}"])
+              for factor in factors}
+    planned: list[float] = []  # the factor of each job, in order
+
+    def prepare():
+        for sweep in sweeps.values():
+            sweep.prepare()
+
+    def jobs(folder: Path):
+        out = []
+        for factor, sweep in sweeps.items():
+            mine = sweep.jobs(folder / f"f{factor:g}")
+            planned.extend([factor] * len(mine))
+            out += mine
+        return out
+
+    _, results = Workflow("timestep-sweep", jobs, prepare).run(out_dir, workers)
+    runs_by_factor = {factor: [run for f, run in zip(planned, results) if f == factor] for factor in factors}
     return summarize(runs_by_factor), runs_by_factor
 
 

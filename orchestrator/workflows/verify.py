@@ -24,7 +24,7 @@ from orchestrator.kinds.impact.analysis import evaluate_checks
 from orchestrator.kinds.impact.theory import QUANTITIES
 from orchestrator.run import run_case
 from orchestrator.runh5 import read_run
-from orchestrator.workflows.base import CheckedRun, run_in_pool, workflow_dir
+from orchestrator.workflows.base import CheckedRun, Workflow
 from orchestrator.workflows.base import format_table as base_table
 
 _CANDIDATE_DIRS = (
@@ -144,23 +144,32 @@ def run_scene(case_file: Path, engine: str, out_dir: Path, overrides=(), timeout
     return result
 
 
-def run_verification(engines=None, out_dir=None, cases_dir=None, overrides=(), workers: int | None = None,
-                     timeout_s: float | None = 600.0, on_done=None) -> list[SceneRun]:
-    """Every scene in cases_dir on every engine; run directories under out_dir/<scene>/<engine>.
+def dem_verification(engines=None, cases_dir=None, overrides=(), timeout_s: float | None = 600.0,
+                     name: str = "verify-dem") -> Workflow:
+    """The Workflow of every scene in cases_dir on every engine, run directories <folder>/<scene>/<engine>.
 
-    engines: names (default: every installed DEM engine, the reference included);
-    overrides: --set strings applied to every scene (e.g. numerics.timestep_factor=0.1);
-    workers: parallel runs (default: the number of cores); on_done(run, done, total) is
-    called as each run finishes; timeout_s: wall-time limit of each run, s.
+    engines: names (default: every installed DEM engine, the reference included); overrides: --set strings applied
+    to every scene (e.g. numerics.timestep_factor=0.1); timeout_s: wall-time limit of each run, s.
     """
     files = scene_files(cases_dir)
-    load_scenes(files, overrides)
-    names = dem_engines(engines)
+    names: list[str] = []
 
-    out_dir = workflow_dir(out_dir, "verify-dem")
-    jobs = [(path, engine) for path in files for engine in names]
-    return run_in_pool(run_scene, [(path, engine, out_dir / path.stem / engine, overrides, timeout_s)
-                                   for path, engine in jobs], workers, on_done)
+    def prepare():
+        load_scenes(files, overrides)
+        names[:] = dem_engines(engines)
+
+    def jobs(folder: Path):
+        return [(run_scene, (path, engine, folder / path.stem / engine, overrides, timeout_s))
+                for path in files for engine in names]
+
+    return Workflow(name, jobs, prepare)
+
+
+def run_verification(engines=None, out_dir=None, cases_dir=None, overrides=(), workers: int | None = None,
+                     timeout_s: float | None = 600.0, on_done=None) -> list[SceneRun]:
+    """Run dem_verification (see there) into out_dir; workers: parallel runs (default: the number of cores);
+    on_done(run, done, total) as each run finishes. Returns the SceneRuns in the order scene x engine."""
+    return dem_verification(engines, cases_dir, overrides, timeout_s).run(out_dir, workers, on_done)[1]
 
 
 def default_out_dir(root: Path = Path("runs"), suite: str = "dem") -> Path:

@@ -18,7 +18,7 @@ from orchestrator.kinds.sph_flow.checks_base import ENGINE, UNITS, check_row
 from orchestrator.plots import save_pyplot_figure
 from orchestrator.run import run_case
 from orchestrator.runh5 import read_run
-from orchestrator.workflows.base import CheckedRun, run_in_pool, workflow_dir
+from orchestrator.workflows.base import CheckedRun, Workflow
 from orchestrator.workflows.verify import default_out_dir as suite_dir
 from orchestrator.workflows.verify import load_scenes
 from orchestrator.workflows.verify import scene_files as kind_files
@@ -83,15 +83,16 @@ def run_verification(out_dir=None, cases_dir=None, overrides=(), workers: int | 
     cores; each run uses the case's numerics.threads); on_done(run, done, total) as each run ends.
     """
 
-    files = scene_files(cases_dir)
-    if only:
-        files = [f for f in files if f.stem in only]
-    load_scenes(files, overrides, preset)
+    files = [f for f in scene_files(cases_dir) if not only or f.stem in only]
 
-    out_dir = workflow_dir(out_dir, "verify-sph")
-    get_engine(ENGINE).check_available()
-    return run_in_pool(run_scene, [(path, out_dir / path.stem, overrides, timeout_s, preset) for path in files],
-                       workers, on_done)
+    def prepare():
+        load_scenes(files, overrides, preset)
+
+    def jobs(folder: Path):
+        get_engine(ENGINE).check_available()  # after the folder: a bad --out is named first
+        return [(run_scene, (path, folder / path.stem, overrides, timeout_s, preset)) for path in files]
+
+    return Workflow("verify-sph", jobs, prepare).run(out_dir, workers, on_done)[1]
 
 
 def default_out_dir(root: Path = Path("runs")) -> Path:
