@@ -34,7 +34,6 @@ from orchestrator.case import load_case
 from orchestrator.case.loader import to_toml
 from orchestrator.engines import get_engine
 from orchestrator.errors import OrchestratorError
-from orchestrator.humanize import stamped_dir
 from orchestrator.kinds import build_scene
 from orchestrator.run import run_case
 from orchestrator.runh5 import read_run
@@ -262,11 +261,6 @@ def summary(rows: list[BenchRow]) -> dict:
 
     out.update(lammps_summary(by))
     return out
-
-
-def default_out_dir(root: Path = Path("runs")) -> Path:
-    """runs/bench-sph-<UTC timestamp> (humanize.stamped_dir)."""
-    return stamped_dir("bench-sph", root)
 
 
 def json_report(rows: list[BenchRow]) -> dict:

@@ -25,7 +25,6 @@ from pathlib import Path
 
 from orchestrator.engines import engine_names, get_engine
 from orchestrator.errors import EngineNotFound, OrchestratorError, ReadError
-from orchestrator.humanize import make_out_dir, stamped_dir
 from orchestrator.kinds import engines_for_kind, kinds_for_engine
 from orchestrator.kinds.drag_finishing.analysis import comparison_rows
 from orchestrator.kinds.drag_finishing.plots import plot_engine_forces
@@ -34,6 +33,7 @@ from orchestrator.kinds.impact.plots import plot_force_curves
 from orchestrator.kinds.impact.theory import QUANTITIES
 from orchestrator.run import OVERHEAD_PHASES, run_case
 from orchestrator.runh5 import RUN_FILE, read_run
+from orchestrator.workflows.base import Workflow
 from orchestrator.workflows.verify import SceneRun
 
 #: Units of the drag-finishing measured quantities (analysis.drag_finishing) that are not forces; impact ones are
@@ -174,11 +174,6 @@ def parse_engines(text: str) -> list[str]:
     return names
 
 
-def default_out_dir(case_name: str, root: Path = Path("runs")) -> Path:
-    """runs/compare-<case>-<UTC timestamp> (humanize.stamped_dir)."""
-    return stamped_dir(f"compare-{case_name}", root)
-
-
 def why_not(engine: str, loaded) -> str:
     """Why engine cannot run this case here ('' when it can): not installed (with the install hint), or the
     case's kind is not one it runs."""
@@ -204,35 +199,44 @@ def compare_engines(loaded, engines: list[str], out_dir=None, timeout_s: float |
 
     started = time.perf_counter()
     log = log or (lambda text: print(text, file=sys.stderr, flush=True))
-    out_dir = Path(out_dir) if out_dir is not None else default_out_dir(loaded.name)
-    held = [name for name in engines if (out_dir / name / RUN_FILE).exists()]
-    if held and not force:
-        raise OrchestratorError(f"{out_dir} already holds runs of {', '.join(held)}; choose another --out, or pass "
-                                "--force to overwrite them")
 
-    make_out_dir(out_dir)
-    comparison = Comparison(loaded.model, loaded.preset, out_dir)
-    for k, engine in enumerate(engines, 1):
-        reason = why_not(engine, loaded)
-        if reason:
-            log(f"compare: {engine} skipped: {reason}")
-            comparison.runs.append(EngineRun(engine, SKIPPED, reason))
-            continue
-        log(f"compare: {k}/{len(engines)} running {loaded.name} on {engine} into {out_dir / engine}")
-        try:
-            summary = run_case(loaded, engine=engine, out_dir=out_dir / engine, timeout_s=timeout_s,
-                               progress=progress, force=force)
-            run = EngineRun(engine, summary.status, summary.message, summary)
-        except OrchestratorError as exc:  # a failed engine keeps its row; the others still run
-            summary = exc.summary
-            run = EngineRun(engine, summary.status if summary is not None else SKIPPED,
-                            str(exc).split("\n")[0], summary)
-        log(f"compare: {engine} {run.status}" + (f" in {run.summary.wall_time_s:.3g} s" if run.summary else "")
-            + (f": {run.message}" if run.message and run.status != "ok" else ""))
-        comparison.runs.append(run)
+    def prepare():
+        folder = Path(out_dir) if out_dir is not None else None
+        held = [name for name in engines if folder is not None and (folder / name / RUN_FILE).exists()]
+        if held and not force:
+            raise OrchestratorError(f"{folder} already holds runs of {', '.join(held)}; choose another --out, or "
+                                    "pass --force to overwrite them")
+
+    def jobs(folder: Path):
+        return [(_run_engine, (loaded, engine, k, len(engines), folder, timeout_s, progress, force, log))
+                for k, engine in enumerate(engines, 1)]
+
+    folder, runs = Workflow(f"compare-{loaded.name}", jobs, prepare, parallel=False).run(out_dir)
+    comparison = Comparison(loaded.model, loaded.preset, folder, runs=runs)
     comparison.plot = plot_forces(comparison)
     comparison.wall_time_s = time.perf_counter() - started
     return comparison
+
+
+def _run_engine(loaded, engine: str, k: int, total: int, folder: Path, timeout_s, progress: bool, force: bool,
+                log) -> EngineRun:
+    """One engine's run of the comparison into folder/<engine> (skipped, with the reason, when it cannot run)."""
+    reason = why_not(engine, loaded)
+    if reason:
+        log(f"compare: {engine} skipped: {reason}")
+        return EngineRun(engine, SKIPPED, reason)
+    log(f"compare: {k}/{total} running {loaded.name} on {engine} into {folder / engine}")
+    try:
+        summary = run_case(loaded, engine=engine, out_dir=folder / engine, timeout_s=timeout_s,
+                           progress=progress, force=force)
+        run = EngineRun(engine, summary.status, summary.message, summary)
+    except OrchestratorError as exc:  # a failed engine keeps its row; the others still run
+        summary = exc.summary
+        run = EngineRun(engine, summary.status if summary is not None else SKIPPED,
+                        str(exc).split("\n")[0], summary)
+    log(f"compare: {engine} {run.status}" + (f" in {run.summary.wall_time_s:.3g} s" if run.summary else "")
+        + (f": {run.message}" if run.message and run.status != "ok" else ""))
+    return run
 
 
 def plot_forces(comparison: Comparison) -> Path | None:
