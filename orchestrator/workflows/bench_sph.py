@@ -38,7 +38,7 @@ from orchestrator.kinds import build_scene
 from orchestrator.run import run_case
 from orchestrator.runh5 import read_run
 from orchestrator.workflows import bench_lammps
-from orchestrator.workflows.base import workflow_dir
+from orchestrator.workflows.base import Workflow
 from orchestrator.workflows.bench_lammps import report_lines
 from orchestrator.workflows.bench_lammps import summary as lammps_summary
 from orchestrator.workflows.bench_scenes import GRAVITY, BenchRow, dam_break_3d_case, mean_neighbours  # noqa: F401
@@ -198,34 +198,44 @@ def run_bench(out_dir: Path | None = None, steps_2d: int = 2000, steps_3d: int =
     the block and the 3D dam break when True (None = when importable; False = neither, nor our block).
     """
 
-    out_dir = workflow_dir(out_dir, "bench-sph")
-    get_engine("sph").check_available()  # EngineNotFound, with what to do, before anything runs
     if with_pysph is None:
         with_pysph = pysph_available()
-    jobs = []  # (key, make a row)
-    for name, make, steps in (("2d", dam_break_2d_case, steps_2d), ("3d", dam_break_3d_case, steps_3d)):
-        for n, wait in _runs(threads):
-            case = make(steps, n, thread_wait=wait if n > 1 else "passive")
-            path = out_dir / f"dam_break_{name}_{n}t{'' if n == 1 else '_' + wait}"
-            jobs.append(lambda case=case, path=path: run_ours(case, path))
-    if with_pysph:
-        jobs.append(lambda: run_pysph(steps_2d, out_dir / "pysph_dam_break_2d"))
-    if with_lammps is not False:
+    configs: list = []  # one timed run each: a function of nothing that returns its BenchRow
 
-        use = bench_lammps.lammps_available() if with_lammps is None else with_lammps
-        jobs += bench_lammps.jobs(out_dir, steps_3d, _runs(threads), use)
-    best: list[BenchRow | None] = [None] * len(jobs)
-    for _ in range(max(1, repeats)):
-        for k, job in enumerate(jobs):
-            row = job()
-            if on_done is not None:
-                on_done(row)
-            if best[k] is None or _faster(row, best[k]):
-                row.repeats = (best[k].repeats if best[k] else 0) + 1
-                best[k] = row
-            else:
-                best[k].repeats += 1
+    def jobs(folder: Path):
+        get_engine("sph").check_available()  # EngineNotFound, with what to do, before anything runs (after a bad --out)
+        for name, make, steps in (("2d", dam_break_2d_case, steps_2d), ("3d", dam_break_3d_case, steps_3d)):
+            for n, wait in _runs(threads):
+                case = make(steps, n, thread_wait=wait if n > 1 else "passive")
+                path = folder / f"dam_break_{name}_{n}t{'' if n == 1 else '_' + wait}"
+                configs.append(lambda case=case, path=path: run_ours(case, path))
+        if with_pysph:
+            configs.append(lambda: run_pysph(steps_2d, folder / "pysph_dam_break_2d"))
+        if with_lammps is not False:
+            use = bench_lammps.lammps_available() if with_lammps is None else with_lammps
+            configs.extend(bench_lammps.jobs(folder, steps_3d, _runs(threads), use))
+        # the rounds one after the other: every configuration once per round
+        return [(_timed, (config,)) for _ in range(max(1, repeats)) for config in configs]
+
+    def done(row, _done, _total):
+        if on_done is not None:
+            on_done(row)
+
+    _, rows = Workflow("bench-sph", jobs, parallel=False).run(out_dir, on_done=done)
+    best: list[BenchRow | None] = [None] * len(configs)
+    for k, row in enumerate(rows):
+        k %= len(configs)
+        if best[k] is None or _faster(row, best[k]):
+            row.repeats = (best[k].repeats if best[k] else 0) + 1
+            best[k] = row
+        else:
+            best[k].repeats += 1
     return best
+
+
+def _timed(config) -> BenchRow:
+    """One timed run (config() -> its BenchRow)."""
+    return config()
 
 
 def _faster(row: BenchRow, than: BenchRow) -> bool:
