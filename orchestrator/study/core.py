@@ -14,8 +14,7 @@ import csv
 import json
 import os
 import shutil
-import signal
-from concurrent.futures import Executor, ProcessPoolExecutor, as_completed
+from concurrent.futures import Executor
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -24,13 +23,14 @@ from orchestrator import signals
 from orchestrator.case import load_case
 from orchestrator.engines import engine_names, get_engine
 from orchestrator.errors import CaseError, OrchestratorError
-from orchestrator.humanize import check_out_dir, make_out_dir
+from orchestrator.humanize import check_out_dir
 from orchestrator.identity import run_identity
 from orchestrator.kinds import bind, build_scene, engines_for_kind
 from orchestrator.measure import remeasure
 from orchestrator.run import run_case
 from orchestrator.runh5 import read_run
 from orchestrator.study.spec import Sweep, load_study_spec
+from orchestrator.workflows.base import Workflow
 
 INDEX_NAME = "index.csv"
 
@@ -119,43 +119,41 @@ class Study:
         """Run what is not finished yet (everything with force); returns one row per run and writes index.csv."""
 
         check_out_dir(self.out_dir)
-        planned = self.plan()
-        make_out_dir(self.out_dir)
-        (self.out_dir / STUDY_INFO).write_text(json.dumps(
-            {"name": self.name, "description": self.description, "case": str(self.case), "preset": self.preset,
-             "engines": list(self.engines)}, indent=1))
+        planned = self.plan()  # validates every run before the folder is made
         rows: dict[str, dict] = {}
-        todo = []
-        for run in planned:
-            done = None if force else finished_row(run)
-            if done is not None:
-                rows[run.run_id] = {**done, "reused": True}
-            else:
-                todo.append(run)
+        todo: list[PlannedRun] = []
+        bar = None
+
+        def jobs(folder: Path):
+            nonlocal bar
+            (folder / STUDY_INFO).write_text(json.dumps(
+                {"name": self.name, "description": self.description, "case": str(self.case),
+                 "preset": self.preset, "engines": list(self.engines)}, indent=1))
+            for run in planned:
+                done = None if force else finished_row(run)
+                if done is not None:
+                    rows[run.run_id] = {**done, "reused": True}
+                else:
+                    todo.append(run)
+            bar = _bar(len(planned), len(rows), progress, self.name)
+            return [(execute_run, (str(self.case), self.preset, r.point, r.engine, str(r.run_dir), self.timeout_s,
+                                   r.run_id)) for r in todo]
+
+        def on_done(row, _done, _total):
+            rows[row["run_id"]] = {**row, "reused": False}
+            self._write_index(planned, rows)
+            if bar is not None:
+                failed = sum(1 for item in rows.values() if item["status"] != "ok")
+                bar.set_postfix_str(f"failed {failed}", refresh=False)
+                bar.update(1)
+
         own_pool = executor is None
-        if own_pool:
-            threads = max((r.threads for r in todo), default=1)
-            workers = max_workers or max(1, (os.cpu_count() or 1) // threads)
-            executor = ProcessPoolExecutor(max_workers=min(workers, max(1, len(todo))),
-                                           initializer=signals.install_in_worker)
-        bar = _bar(len(planned), len(rows), progress, self.name)
+        threads = max((r.threads for r in planned), default=1)
+        workers = max_workers or max(1, (os.cpu_count() or 1) // threads)
         try:
-            futures = {
-                executor.submit(execute_run, str(self.case), self.preset, r.point, r.engine, str(r.run_dir),
-                                self.timeout_s, r.run_id): r
-                for r in todo
-            }
-            for future in as_completed(futures):
-                run = futures[future]
-                rows[run.run_id] = {**future.result(), "reused": False}
-                self._write_index(planned, rows)
-                if bar is not None:
-                    failed = sum(1 for row in rows.values() if row["status"] != "ok")
-                    bar.set_postfix_str(f"failed {failed}", refresh=False)
-                    bar.update(1)
+            Workflow(self.name, jobs).run(self.out_dir, workers, on_done, executor,
+                                                   signals.install_in_worker if own_pool else None)
         except KeyboardInterrupt as exc:
-            if own_pool:
-                _stop_workers(executor, getattr(exc, "signum", signal.SIGINT))
             finished = (f"{self.out_dir / INDEX_NAME} lists the {len(rows)} runs finished or reused before it"
                         if rows else "no run of the study had finished")
             exc.kept = (f"{finished}; the stopped runs keep their run.h5 (status terminated) and run again when the "
@@ -164,8 +162,6 @@ class Study:
         finally:
             if bar is not None:
                 bar.close()
-            if own_pool:
-                executor.shutdown(cancel_futures=True)
         self._write_index(planned, rows)
         return [rows[r.run_id] for r in planned if r.run_id in rows]
 
@@ -184,15 +180,6 @@ def _build_scene(loaded):
         return build_scene(loaded.model)
     except ValueError as exc:
         raise OrchestratorError(f"cannot build the scene of {loaded.name}: {exc}") from None
-
-
-def _stop_workers(executor: ProcessPoolExecutor, signum: int) -> None:
-    """Pass the signal on to the pool's workers: each stops its engine and writes its run.h5 (status terminated)."""
-    for process in list(getattr(executor, "_processes", {}).values()):  # no public API lists a pool's processes
-        try:
-            os.kill(process.pid, signum)
-        except (ProcessLookupError, TypeError):
-            continue
 
 
 def _check_engines_run(engines, cases, case_path: Path) -> None:

@@ -14,7 +14,8 @@ from __future__ import annotations
 
 import math
 import os
-from concurrent.futures import ProcessPoolExecutor, as_completed
+import signal
+from concurrent.futures import Executor, ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
@@ -56,16 +57,19 @@ class Workflow:
     prepare: Callable[[], None] = lambda: None
     parallel: bool = True
 
-    def run(self, out_dir=None, workers: int | None = None, on_done=None) -> tuple[Path, list]:
+    def run(self, out_dir=None, workers: int | None = None, on_done=None, executor: Executor | None = None,
+            initializer=None) -> tuple[Path, list]:
         """Prepare, make the folder, run every job; returns (folder, results in the order of the jobs).
 
-        workers: parallel runs (default: the number of cores); on_done(result, done, total) as each ends.
+        workers: parallel runs (default: the number of cores); on_done(result, done, total) as each ends;
+        executor: run on it (e.g. a Dask cluster's) instead of an own process pool; initializer: of the own pool's
+        workers (signals.install_in_worker: a signal stops the running task's engine and keeps its run.h5).
         """
         self.prepare()
         folder = workflow_dir(out_dir, self.name)
         jobs = self.jobs(folder)
         if self.parallel:
-            return folder, run_in_pool(_call, jobs, workers, on_done)
+            return folder, run_in_pool(_call, jobs, workers, on_done, executor, initializer)
         results = []
         for done, (function, args) in enumerate(jobs, 1):
             results.append(function(*args))
@@ -84,19 +88,42 @@ def workflow_dir(out_dir, name: str, root: Path = Path("runs")) -> Path:
     return make_out_dir(Path(out_dir) if out_dir is not None else stamped_dir(name, root))
 
 
-def run_in_pool(function, jobs: list[tuple], workers: int | None = None, on_done=None) -> list:
-    """function(*job) for every job on a process pool of `workers` (default: the number of cores);
-    on_done(result, done, total) as each ends; the results in the order of jobs."""
+def run_in_pool(function, jobs: list[tuple], workers: int | None = None, on_done=None,
+                executor: Executor | None = None, initializer=None) -> list:
+    """function(*job) for every job on a process pool of `workers` (default: the number of cores) or on the
+    given executor; on_done(result, done, total) as each ends; the results in the order of jobs.
+
+    A signal (KeyboardInterrupt, signals.Interrupted) while the own pool runs is passed on to its workers (with
+    initializer=signals.install_in_worker each stops its engine and writes its run.h5) and raised again."""
     if workers is not None and workers < 1:
         raise OrchestratorError(f"--workers {workers}: allowed: 1 or more")
-    workers = workers or max(1, min(len(jobs), os.cpu_count() or 1))
-    # processes, not threads: each run writes and reads its run.h5, and HDF5 is safest one file per process
-    with ProcessPoolExecutor(max_workers=workers) as pool:
-        futures = [pool.submit(function, *job) for job in jobs]
+    own = executor is None
+    if own:
+        workers = workers or max(1, min(len(jobs), os.cpu_count() or 1))
+        # processes, not threads: each run writes and reads its run.h5, and HDF5 is safest one file per process
+        executor = ProcessPoolExecutor(max_workers=max(1, min(workers, len(jobs))), initializer=initializer)
+    try:
+        futures = [executor.submit(function, *job) for job in jobs]
         if on_done is not None:
             for done, future in enumerate(as_completed(futures), 1):
                 on_done(future.result(), done, len(futures))
         return [future.result() for future in futures]
+    except KeyboardInterrupt as exc:
+        if own:
+            stop_workers(executor, getattr(exc, "signum", signal.SIGINT))
+        raise
+    finally:
+        if own:
+            executor.shutdown(cancel_futures=True)
+
+
+def stop_workers(executor: ProcessPoolExecutor, signum: int) -> None:
+    """Pass the signal on to the pool's workers: each stops its engine and writes its run.h5 (status terminated)."""
+    for process in list(getattr(executor, "_processes", {}).values()):  # no public API lists a pool's processes
+        try:
+            os.kill(process.pid, signum)
+        except (ProcessLookupError, TypeError):
+            continue
 
 
 def rows_of(runs: list[CheckedRun]) -> list[dict]:
