@@ -99,13 +99,13 @@ _in_task = 0
 def _worker_handler(signum, frame) -> None:
     if _in_task:
         _handler(signum, frame)
-    else:  # an idle pool worker: leave quietly
-        raise SystemExit(128 + signum)
+    # an idle pool worker: nothing to stop; the parent's pool shutdown ends it
 
 
 def install_in_worker() -> None:
     """Initializer of a process pool's workers: a signal stops the task running in `task()` like a run in the
-    main process (engine stopped, run.h5 written), and ends an idle worker quietly (no traceback)."""
+    main process (engine stopped, run.h5 written); an idle worker ignores it and ends when the pool shuts down
+    (raising there, inside the pool's queue, could leave the queue's lock held and the pool hanging)."""
     global _pending
     _pending = None
     for sig in HANDLED:
