@@ -83,7 +83,7 @@ class NeighbourList {
     int nb = std::max(1, layers / 2);
     if (periodic_last_ && nb < 3) nb = 1;
     blocks_ = nb;
-    if (static_cast<int>(lists_.size()) < nb) lists_.resize(nb);
+    if (static_cast<int>(lists_.size()) < nb) lists_.resize(nb), others_.resize(nb);
     if (static_cast<int>(begin_.size()) < nb + 1) begin_.resize(nb + 1);
     for (int k = 0; k < nb; ++k) begin_[k] = cells.cell_begin(static_cast<std::ptrdiff_t>(2 * k) * layer_cells);
     begin_[0] = 0;
@@ -112,25 +112,33 @@ class NeighbourList {
         if (first == last) continue;
         const int nr = cells.runs_of_cell(cell, runs);
         for (int q = 0; q < nr; ++q) codes[q] = code_of(runs[q].shift);
+        std::vector<std::uint32_t>& others = others_[k];
         for (int a = first; a < last; ++a) {
           Row& row = rows_[a];
           const bool a_wall = kind[a] == Kind::boundary;
           row.begin = static_cast<int>(list.size());
-          for (int pass = 0; pass < 2; ++pass) {  // fluid neighbours, then the others
-            for (int q = 0; q < nr; ++q) {
-              const Vec<D> xs = x[a] - runs[q].shift;
-              const int end = cells.item_end(runs[q]);
-              for (int b = cells.item_begin(runs[q]); b < end; ++b) {
-                if ((kind[b] == Kind::fluid) != (pass == 0)) continue;
-                if ((xs - x[b]).squaredNorm() >= range2) continue;
-                if (b == a && codes[q] == centre_code) continue;
-                if (skip_walls && a_wall && kind[b] == Kind::boundary) continue;
-                if (!owns(a, b, codes[q], k)) continue;
-                list.push_back(static_cast<std::uint32_t>(b) << shift_bits | static_cast<std::uint32_t>(codes[q]));
+          others.clear();
+          // One sweep over the candidates: fluid neighbours go to the list,
+          // the others to a side buffer appended after them (the row's
+          // [mid, end)). Two sweeps (fluid, then the others) cost the 2D dam
+          // break a fifth of its run time.
+          for (int q = 0; q < nr; ++q) {
+            const Vec<D> xs = x[a] - runs[q].shift;
+            const std::uint32_t code = static_cast<std::uint32_t>(codes[q]);
+            const int end = cells.item_end(runs[q]);
+            for (int b = cells.item_begin(runs[q]); b < end; ++b) {
+              if ((xs - x[b]).squaredNorm() >= range2) continue;
+              if (!owns(a, b, codes[q], k)) continue;  // also drops a itself at the centre image
+              const std::uint32_t entry = static_cast<std::uint32_t>(b) << shift_bits | code;
+              if (kind[b] == Kind::fluid) {
+                list.push_back(entry);
+              } else if (!(skip_walls && a_wall && kind[b] == Kind::boundary)) {
+                others.push_back(entry);
               }
             }
-            if (pass == 0) row.mid = static_cast<int>(list.size());
           }
+          row.mid = static_cast<int>(list.size());
+          list.insert(list.end(), others.begin(), others.end());
           row.end = static_cast<int>(list.size());
         }
       }
@@ -200,6 +208,7 @@ class NeighbourList {
   std::vector<Row> rows_;
   std::vector<int> block_of_, begin_;
   std::vector<std::vector<std::uint32_t>> lists_;
+  std::vector<std::vector<std::uint32_t>> others_;  // per block: a row's non-fluid neighbours while it is built
   std::array<std::vector<int>, 3> colours_;
   int blocks_ = 0;
   bool periodic_last_ = false;
