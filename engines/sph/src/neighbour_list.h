@@ -33,6 +33,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "box_policy.h"
 #include "cell_list.h"
 #include "physics_terms.h"
 #include "vec.h"
@@ -47,19 +48,16 @@ class NeighbourList {
   // k_d box lengths along axis d, k_d in -2..2).
   static constexpr int shift_bits = 7;
   static constexpr std::uint32_t shift_mask = (1u << shift_bits) - 1;
-  static constexpr int centre_code = D == 2 ? 2 + 2 * 5 : 2 + 2 * 5 + 2 * 25;  // no shift
+  static constexpr int centre_code = PeriodicImages<D>::centre_code;  // no shift
 
   // A particle's entries: [begin, mid) fluid neighbours, [mid, end) the others, in its block's list.
   struct Row {
     int begin, mid, end;
   };
 
-  void configure(const PeriodicBox<D>& box) {
-    box_ = box;
-    for (int code = 0; code < (D == 2 ? 25 : 125); ++code) {
-      int c = code;
-      for (int d = 0; d < D; ++d, c /= 5) shifts_[code][d] = box.periodic[d] ? (c % 5 - 2) * (box.hi[d] - box.lo[d]) : 0.0;
-    }
+  void configure(const PeriodicImages<D>& images) {
+    images_ = images;
+    box_ = images.box();
   }
 
   // Room for n particles (rows, block ids) without allocating later.
@@ -179,7 +177,7 @@ class NeighbourList {
   int block_end(int k) const { return begin_[k + 1]; }
   const Row& row(int a) const { return rows_[a]; }
   const std::uint32_t* entries(int k) const { return lists_[k].data(); }
-  const Vec<D>* shifts() const { return shifts_.data(); }
+  const Vec<D>* shifts() const { return images_.shifts(); }
   std::size_t pair_count() const {
     std::size_t s = 0;
     for (int k = 0; k < blocks_; ++k) s += lists_[k].size();
@@ -187,14 +185,7 @@ class NeighbourList {
   }
 
  private:
-  int code_of(const Vec<D>& shift) const {
-    int code = 0, scale = 1;
-    for (int d = 0; d < D; ++d, scale *= 5) {
-      const int k = box_.periodic[d] ? static_cast<int>(std::lround(shift[d] / (box_.hi[d] - box_.lo[d]))) : 0;
-      code += (k + 2) * scale;
-    }
-    return code;
-  }
+  int code_of(const Vec<D>& shift) const { return images_.code_of(shift); }
   // Whether a (of block ka) owns its pair with b seen at shift `code`.
   bool owns(int a, int b, int code, int ka) const {
     const int kb = block_of_[b];
@@ -203,8 +194,8 @@ class NeighbourList {
     return periodic_last_ && ka == blocks_ - 1 && kb == 0;
   }
 
+  PeriodicImages<D> images_;
   PeriodicBox<D> box_;
-  std::array<Vec<D>, D == 2 ? 25 : 125> shifts_{};
   std::vector<Row> rows_;
   std::vector<int> block_of_, begin_;
   std::vector<std::vector<std::uint32_t>> lists_;

@@ -15,10 +15,10 @@
 
 namespace sph {
 
-template <int D, unsigned Terms>
+template <int D, class Sim>
 class Recorder {
  public:
-  Recorder(const Deck& deck, Simulation<D, Terms>& sim, OpenBoundaries<D>& open, OutputFile& out)
+  Recorder(const Deck& deck, Sim& sim, OpenBoundaries<D>& open, OutputFile& out)
       : sim_(sim), open_(open), out_(out) {
     out.attr("engine", std::string("sph"));
     out.attr("engine_version", std::string(SPH_VERSION));
@@ -40,7 +40,7 @@ class Recorder {
     }
     for (std::size_t k = 0; k < open.count(); ++k)
       out.series((open.is_inlet(k) ? "inflow_" : "outflow_") + open.name(k), 0, area_flux);
-    if constexpr (Simulation<D, Terms>::has(term::wall_penalty))
+    if (deck.terms & term::wall_penalty)
       for (const auto& m : sim.walls().meshes()) out.series("wall_force_" + m.name, D, D == 3 ? "N" : "N/m");
     out.series("kinetic_energy", 0, D == 3 ? "J" : "J/m");
     out.series("max_density_deviation", 0, "1");
@@ -72,7 +72,7 @@ class Recorder {
     for (auto& plane : planes_) values_[k++] = plane.flow_rate(elapsed);
     for (std::size_t b = 0; b < open_.count(); ++b) values_[k++] = open_.flow_rate(b, elapsed);
     const std::size_t wall_base = k;
-    if constexpr (Simulation<D, Terms>::has(term::wall_penalty)) {
+    if (!sim_.walls().meshes().empty()) {
       const std::size_t nm = sim_.walls().meshes().size();
       std::fill(values_.begin() + k, values_.begin() + k + D * nm, 0.0);
       for (std::size_t i = 0; i < P.size(); ++i)
@@ -119,13 +119,13 @@ class Recorder {
       kind_[r] = static_cast<std::int8_t>(P.kind[i]);
       for (int d = 0; d < D; ++d) x_[r * D + d] = x[i][d], v_[r * D + d] = v[i][d];
       rho_[r] = rho[i];
-      p_[r] = recompute_pressure ? sim_.eos().pressure(rho[i]) : P.p[i];
+      p_[r] = recompute_pressure ? sim_.eos(P.material[i]).pressure(rho[i]) : P.p[i];
     }
     out_.frame(t, step, n, D, ids_.data(), kind_.data(), x_.data(), v_.data(), rho_.data(), p_.data());
     last_frame_ = t;
   }
 
-  Simulation<D, Terms>& sim_;
+  Sim& sim_;
   OpenBoundaries<D>& open_;
   OutputFile& out_;
   std::vector<Vec<D>> probes_;
