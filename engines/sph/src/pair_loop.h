@@ -118,6 +118,46 @@ class PairLoop {
     double drho_a[chunk], drho_b[chunk], radial_a[chunk], radial_b[chunk], visc_a[chunk], visc_b[chunk];
   };
 
+  // Owner a's values for pass B.
+  struct Owner {
+    double m, rho, vol, p_rho2, inv_rho, c, inv_h, grad_factor;
+  };
+  // Pass B over pairs [0, n) of a chunk: kernel factor, eq. 7 for both sides,
+  // eq. 9 (+ eqs. 11-12) along r_ab, eq. 10's factors.
+  template <bool AMoves, bool BMoves>
+  static inline __attribute__((always_inline)) void coefficients(Chunk& k, int n, const Owner& o, const Model& model) {
+    for (int j = 0; j < n; ++j) {
+      const double u = 1.0 - 0.5 * (std::sqrt(k.r2[j]) * o.inv_h);
+      const double t = 0.5 * (u + std::abs(u));      // exactly max(u, 0), without a branch
+      const double F = o.grad_factor * (t * t * t);  // grad_a W_ab = F r_ab (eq. 8)
+      const double Fvr = F * k.vr[j];                // v_ab . grad_a W_ab (= v_ba . grad_b W_ba)
+      // Eq. 7 for fluid (drho_a = rho_a sum m_b/rho_b v_ab . grad W), the summation rate otherwise.
+      k.drho_a[j] = (AMoves ? o.rho * k.vol[j] : k.m[j]) * Fvr;
+      k.drho_b[j] = (BMoves ? k.rho[j] * o.vol : o.m) * Fvr;
+      if constexpr (AMoves || BMoves) {
+        double radial = -(o.p_rho2 + k.p_rho2[j]) * F;  // eq. 9, along r_ab
+        if constexpr (has(term::artificial_viscosity))  // eqs. 11-12
+          radial -= model.artificial.pi(k.r2[j], k.vr[j], o.rho, k.rho[j], o.c, k.c[j]) * F;
+        k.radial_a[j] = k.m[j] * radial, k.radial_b[j] = o.m * radial;
+        if constexpr (has(term::morris_viscosity)) {
+          // Eq. 10: 2 mu_ab (r_ab . grad W)/(r_ab^2 + 0.01 h^2) m/(rho_a rho_b).
+          double s;
+          if constexpr (has(term::several_materials)) s = model.morris.factor(k.mu[j], F, k.r2[j]);
+          else s = model.morris.factor(F, k.r2[j]);
+          k.visc_a[j] = s * k.vol[j] * o.inv_rho, k.visc_b[j] = s * o.vol / k.rho[j];
+        }
+      }
+    }
+  }
+  template <bool AMoves, bool BMoves>
+  __attribute__((target("avx2"), noinline)) static void coefficients_avx2(Chunk& k, int n, const Owner& o, const Model& m) {
+    coefficients<AMoves, BMoves>(k, n, o, m);
+  }
+  template <bool AMoves, bool BMoves>
+  __attribute__((noinline)) static void coefficients_default(Chunk& k, int n, const Owner& o, const Model& m) {
+    coefficients<AMoves, BMoves>(k, n, o, m);
+  }
+
   template <bool AMoves, bool BMoves>
   inline __attribute__((always_inline)) void scalar_chunk(int a, const std::uint32_t* e, const std::uint32_t* stop,
                                                           Vec<D>& acc_a, double& drho_a) const {
@@ -143,33 +183,13 @@ class PairLoop {
       if constexpr (has(term::several_materials)) k.mu[n] = mu_row[P_.material[b]];
       n += r2 < support2;
     }
-    // B. per-pair coefficients.
-    const double inv_h = kernel_.inv_h, grad_factor = kernel_.grad_factor;
-    const Model model = model_;
-    const double m_a = P_.mass[a], rho_a = P_.rho[a], vol_a = P_.vol[a], p_rho2_a = P_.p_rho2[a];
-    const double inv_rho_a = 1.0 / rho_a, c_a = has(term::artificial_viscosity) ? P_.c[a] : 0.0;
-    for (int j = 0; j < n; ++j) {
-      const double u = 1.0 - 0.5 * (std::sqrt(k.r2[j]) * inv_h);
-      const double t = 0.5 * (u + std::abs(u));    // exactly max(u, 0), without a branch
-      const double F = grad_factor * (t * t * t);  // grad_a W_ab = F r_ab (eq. 8)
-      const double Fvr = F * k.vr[j];              // v_ab . grad_a W_ab (= v_ba . grad_b W_ba)
-      // Eq. 7 for fluid (drho_a = rho_a sum m_b/rho_b v_ab . grad W), the summation rate otherwise.
-      k.drho_a[j] = (AMoves ? rho_a * k.vol[j] : k.m[j]) * Fvr;
-      k.drho_b[j] = (BMoves ? k.rho[j] * vol_a : m_a) * Fvr;
-      if constexpr (AMoves || BMoves) {
-        double radial = -(p_rho2_a + k.p_rho2[j]) * F;  // eq. 9, along r_ab
-        if constexpr (has(term::artificial_viscosity))  // eqs. 11-12
-          radial -= model.artificial.pi(k.r2[j], k.vr[j], rho_a, k.rho[j], c_a, k.c[j]) * F;
-        k.radial_a[j] = k.m[j] * radial, k.radial_b[j] = m_a * radial;
-        if constexpr (has(term::morris_viscosity)) {
-          // Eq. 10: 2 mu_ab (r_ab . grad W)/(r_ab^2 + 0.01 h^2) m/(rho_a rho_b).
-          double s;
-          if constexpr (has(term::several_materials)) s = model.morris.factor(k.mu[j], F, k.r2[j]);
-          else s = model.morris.factor(F, k.r2[j]);
-          k.visc_a[j] = s * k.vol[j] * inv_rho_a, k.visc_b[j] = s * vol_a / k.rho[j];
-        }
-      }
-    }
+    // B. per-pair coefficients (AVX2 where the CPU has it: no FMA, so every
+    // lane rounds as the scalar code does and results do not depend on the CPU).
+    const Owner o{P_.mass[a], P_.rho[a], P_.vol[a], P_.p_rho2[a], 1.0 / P_.rho[a],
+                  has(term::artificial_viscosity) ? P_.c[a] : 0.0, kernel_.inv_h, kernel_.grad_factor};
+    static const bool avx2 = __builtin_cpu_supports("avx2");
+    if (avx2) coefficients_avx2<AMoves, BMoves>(k, n, o, model_);
+    else coefficients_default<AMoves, BMoves>(k, n, o, model_);
     // C. sums into a, scatter to b, in list order.
     Vec<D>* const acc = P_.acc.data();
     double* const drho = P_.drho.data();
