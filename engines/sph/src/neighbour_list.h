@@ -77,7 +77,7 @@ class NeighbourList {
     const int layers = dims[D - 1];
     int layer_cells = 1;
     for (int d = 0; d + 1 < D; ++d) layer_cells *= dims[d];
-    periodic_last_ = box_.periodic[D - 1];
+    periodic_last_ = cells.periodic_internal(D - 1);
     int nb = std::max(1, layers / 2);
     if (periodic_last_ && nb < 3) nb = 1;
     blocks_ = nb;
