@@ -111,6 +111,7 @@ class NeighbourList {
         const int nr = cells.runs_of_cell(cell, runs);
         for (int q = 0; q < nr; ++q) codes[q] = code_of(runs[q].shift);
         std::vector<std::uint32_t>& others = others_[k];
+        if (others.capacity() < 4096) others.reserve(4096);  // a row's non-fluid neighbours: no growth later
         for (int a = first; a < last; ++a) {
           Row& row = rows_[a];
           const bool a_wall = kind[a] == Kind::boundary;
@@ -140,8 +141,6 @@ class NeighbourList {
           row.end = static_cast<int>(list.size());
         }
       }
-      // Headroom, so the lists of later builds rarely allocate.
-      if (list.capacity() < list.size() + list.size() / 4) list.reserve(list.size() + list.size() / 2);
     };
     if (omp_get_max_threads() > 1 && nb > 1) {
 #pragma omp parallel
@@ -155,6 +154,13 @@ class NeighbourList {
       for (int k = 0; k < nb; ++k) build_block(k);
       for (int k = 0; k < nb; ++k) list_block(k);
     }
+    // Headroom, so later builds rarely allocate: every block's list has room
+    // for 1.25 x the largest block's pairs (particles move between blocks, so
+    // a block's count changes from build to build).
+    std::size_t biggest = 0;
+    for (int k = 0; k < nb; ++k) biggest = std::max(biggest, lists_[k].size());
+    for (int k = 0; k < nb; ++k)
+      if (lists_[k].capacity() < biggest + biggest / 4) lists_[k].reserve(biggest + biggest / 2);
   }
 
   // body(k) for every block, colour after colour; the blocks of a colour on
