@@ -28,6 +28,8 @@ enum class Integrates : std::uint8_t { all, advecting };
 // One integrated field: value, rate d value/dt, start-of-step copy, second buffers of value and rate.
 template <class T>
 struct Field {
+  explicit Field(const char* name) : output(name) {}
+  const char* output;  // frame dataset name
   std::vector<T> value, rate, start, next_value, next_rate;
   template <class F>
   void each_array(F&& f) {
@@ -39,9 +41,9 @@ template <int D>
 struct Particles {
   // -- integrated (value, rate, start-of-step copy); names are the frame datasets
   std::vector<Vec<D>> x, x0, next_x;  // position m (rate: v, integrator.h), its start copy and second buffer
-  Field<Vec<D>> vel;                  // velocity m/s, rate dv/dt m/s^2
-  Field<double> dens;                 // density kg/m^3, rate drho/dt kg/m^3/s
-  Field<Mat<D>> stress;               // deviatoric stress tau Pa, rate Pa/s (only when has_stress)
+  Field<Vec<D>> vel{"velocities"};   // velocity m/s, rate dv/dt m/s^2
+  Field<double> dens{"densities"};    // density kg/m^3, rate drho/dt kg/m^3/s
+  Field<Mat<D>> stress{"stress"};     // deviatoric stress tau Pa, rate Pa/s (only when has_stress), frames (n, D*D) row-major
   bool has_stress = false;            // a material of the run carries a deviatoric stress
   // -- carried (reordered, compacted, never integrated)
   std::vector<double> mass;             // kg

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "deck.h"
@@ -54,6 +55,7 @@ class Recorder {
     rows_.push_back(&values_[j++]);
     ids_.reserve(n), kind_.reserve(n), x_.reserve(n * D), v_.reserve(n * D), rho_.reserve(n), p_.reserve(n);
     order_.reserve(n);
+    if (sim.particles().has_stress) field_.reserve(n * D * D);
   }
 
   bool has_flow_planes() const { return !planes_.empty(); }
@@ -106,7 +108,8 @@ class Recorder {
 
  private:
   void write(double t, long step, const std::vector<Vec<D>>& x, const std::vector<Vec<D>>& v,
-             const std::vector<double>& rho, bool recompute_pressure) {
+             const std::vector<double>& rho, bool start_state) {
+    const bool recompute_pressure = start_state;
     const auto& P = sim_.particles();
     const std::size_t n = P.size();
     order_.resize(n);
@@ -122,6 +125,21 @@ class Recorder {
       p_[r] = recompute_pressure ? sim_.eos(P.material[i]).pressure(rho[i]) : P.p[i];
     }
     out_.frame(t, step, n, D, ids_.data(), kind_.data(), x_.data(), v_.data(), rho_.data(), p_.data());
+    // The integrated fields beyond velocity and density (each declared once in Particles), as its own dataset.
+    auto& Q = sim_.particles();
+    Q.for_integrated([&](auto& f, Integrates) {
+      using T = typename std::decay_t<decltype(f.value)>::value_type;
+      if constexpr (!std::is_arithmetic_v<T>) {
+        if constexpr (T::SizeAtCompileTime != D) {  // velocities are written above
+          const auto& values = start_state ? f.start : f.value;
+          constexpr int cols = T::SizeAtCompileTime;
+          field_.resize(n * cols);
+          for (std::size_t r = 0; r < n; ++r)
+            for (int c = 0; c < cols; ++c) field_[r * cols + c] = values[order_[r]](c / D, c % D);
+          out_.frame_field(f.output, n, cols, field_.data());
+        }
+      }
+    });
     last_frame_ = t;
   }
 
@@ -135,7 +153,7 @@ class Recorder {
   double last_series_ = -1.0, last_frame_ = -1.0;
   std::vector<std::int64_t> ids_;
   std::vector<std::int8_t> kind_;
-  std::vector<double> x_, v_, rho_, p_;
+  std::vector<double> x_, v_, rho_, p_, field_;
   std::vector<std::size_t> order_;
 };
 
