@@ -77,24 +77,41 @@ class CellList {
   bool lay_out(const Vec<D>& lo, const Vec<D>& hi, std::size_t n) {
     sorted_ = false;
     double cells = 1.0;
-    for (int d = 0; d < D; ++d) {
+    std::array<int, D> dims{};
+    Vec<D> lo_p, width_p, length_p;
+    for (int d = 0; d < D; ++d) {  // per physical axis
       if (box_.periodic[d]) {
         const double L = box_.hi[d] - box_.lo[d];
-        dims_[d] = std::max(1, static_cast<int>(std::floor(L / min_cell_)));
-        lo_[d] = box_.lo[d];
-        width_[d] = L / dims_[d];
-        length_[d] = L;
+        dims[d] = std::max(1, static_cast<int>(std::floor(L / min_cell_)));
+        lo_p[d] = box_.lo[d];
+        width_p[d] = L / dims[d];
+        length_p[d] = L;
       } else {
         const double span = n ? hi[d] - lo[d] : 0.0;
         if (!std::isfinite(span)) return false;
         const double count = std::floor(span / min_cell_) + 1.0;
         if (count > static_cast<double>(max_cells_)) return false;
-        dims_[d] = static_cast<int>(count);
-        lo_[d] = n ? lo[d] : 0.0;
-        width_[d] = min_cell_;
-        length_[d] = 0.0;
+        dims[d] = static_cast<int>(count);
+        lo_p[d] = n ? lo[d] : 0.0;
+        width_p[d] = min_cell_;
+        length_p[d] = 0.0;
       }
-      cells *= dims_[d];
+      cells *= dims[d];
+    }
+    // Internal axis order: the physical axis with the most cells (the first
+    // of equals) goes last, the slowest in memory, so it gives the most
+    // blocks of the neighbour list (better balance on the threads); the
+    // others keep their order.
+    int longest = D - 1;
+    for (int d = D - 2; d >= 0; --d)
+      if (dims[d] > dims[longest]) longest = d;
+    for (int k = 0, d = 0; d < D; ++d)
+      if (d != longest) perm_[k++] = d;
+    perm_[D - 1] = longest;
+    for (int k = 0; k < D; ++k) {
+      const int d = perm_[k];
+      dims_[k] = dims[d], lo_[k] = lo_p[d], width_[k] = width_p[d], length_[k] = length_p[d];
+      periodic_[k] = box_.periodic[d];
     }
     if (cells > static_cast<double>(max_cells_)) return false;
     start_.assign(static_cast<std::size_t>(cells) + 1, 0);
@@ -204,7 +221,10 @@ class CellList {
       for (int k = item_begin(r[q]); k < item_end(r[q]); ++k) f(items_[k], static_cast<const Vec<D>&>(r[q].shift));
   }
 
+  // Cells per internal axis (axis 0 fastest in memory; internal axis k is physical axis axis(k)).
   const std::array<int, D>& dims() const { return dims_; }
+  int axis(int k) const { return perm_[k]; }
+  bool periodic_internal(int k) const { return periodic_[k]; }
 
  private:
   // Cells c0 - reach .. c0 + reach along axis 0 (others fixed in cc) are
@@ -219,10 +239,10 @@ class CellList {
       cc[0] = from;
       r.cell_begin = linear(cc);
       r.cell_end = r.cell_begin + (to - from) + 1;
-      r.shift = shift;
-      r.shift[0] = s;
+      for (int k = 1; k < D; ++k) r.shift[perm_[k]] = shift[k];  // internal axes to physical
+      r.shift[perm_[0]] = s;
     };
-    if (!box_.periodic[0]) {
+    if (!periodic_[0]) {
       run(std::max(first, 0), std::min(last, n0 - 1), 0.0);
     } else if (2 * reach_ + 1 <= n0) {
       run(std::max(first, 0), std::min(last, n0 - 1), 0.0);
@@ -245,7 +265,7 @@ class CellList {
       shift = 0.0;
       return true;
     }
-    if (!box_.periodic[d]) return false;
+    if (!periodic_[d]) return false;
     const int wraps = c < 0 ? -((-c + n - 1) / n) : c / n;  // floor(c / n)
     out = c - wraps * n;
     shift = wraps * length_[d];
@@ -255,9 +275,9 @@ class CellList {
   std::array<int, D> coords_unclamped(const Vec<D>& x) const {
     std::array<int, D> c{};
     for (int d = 0; d < D; ++d) {
-      const double t = std::floor((x[d] - lo_[d]) / width_[d]);
+      const double t = std::floor((x[perm_[d]] - lo_[d]) / width_[d]);
       c[d] = static_cast<int>(std::clamp(t, -1.0 - reach_, static_cast<double>(dims_[d] + reach_)));
-      if (box_.periodic[d]) c[d] = std::clamp(c[d], 0, dims_[d] - 1);
+      if (periodic_[d]) c[d] = std::clamp(c[d], 0, dims_[d] - 1);
     }
     return c;
   }
@@ -276,8 +296,15 @@ class CellList {
   int reach_ = 1;
   std::size_t max_cells_ = 0;
   PeriodicBox<D> box_;
-  std::array<int, D> dims_{};
-  Vec<D> lo_ = Vec<D>::Zero(), width_ = Vec<D>::Ones(), length_ = Vec<D>::Zero();
+  std::array<int, D> dims_{};  // per internal axis
+  std::array<int, D> perm_ = identity();
+  std::array<bool, D> periodic_{};
+  static std::array<int, D> identity() {
+    std::array<int, D> p{};
+    for (int d = 0; d < D; ++d) p[d] = d;
+    return p;
+  }
+  Vec<D> lo_ = Vec<D>::Zero(), width_ = Vec<D>::Ones(), length_ = Vec<D>::Zero();  // per internal axis
   std::vector<int> start_, cell_of_, items_, fill_;
   std::vector<int> marked_;  // marked_[c]: marked particles in cells before c
   bool sorted_ = false;

@@ -9,74 +9,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include "deck_json.h"
 #include "physics_terms.h"
 
 namespace sph {
 namespace {
 
-using nlohmann::json;
-
-std::string join(const std::vector<std::string>& items) {
-  std::string out;
-  for (const auto& s : items) out += (out.empty() ? "" : ", ") + s;
-  return out;
-}
-
-std::string where(const std::string& path, const std::string& key) { return path.empty() ? key : path + "." + key; }
-
-[[noreturn]] void fail(const std::string& msg) { throw InputError(msg); }
-
-void check_keys(const json& j, const std::string& path, const std::vector<std::string>& allowed) {
-  if (!j.is_object()) fail("'" + (path.empty() ? std::string("deck") : path) + "' must be a JSON object");
-  for (const auto& item : j.items())
-    if (std::find(allowed.begin(), allowed.end(), item.key()) == allowed.end())
-      fail("unknown key '" + where(path, item.key()) + "'; allowed keys: " + join(allowed));
-}
-
-const json& need(const json& j, const std::string& path, const std::string& key) {
-  if (!j.contains(key)) fail("missing key '" + where(path, key) + "'");
-  return j.at(key);
-}
-
-double number(const json& v, const std::string& name) {
-  if (!v.is_number()) fail("'" + name + "' must be a number, got " + v.dump());
-  const double x = v.get<double>();
-  if (!std::isfinite(x)) fail("'" + name + "' must be finite");
-  return x;
-}
-
-double positive(const json& j, const std::string& path, const std::string& key) {
-  const double x = number(need(j, path, key), where(path, key));
-  if (!(x > 0)) fail("'" + where(path, key) + "' must be > 0, got " + std::to_string(x));
-  return x;
-}
-
-double non_negative(const json& j, const std::string& path, const std::string& key, double fallback) {
-  if (!j.contains(key)) return fallback;
-  const double x = number(j.at(key), where(path, key));
-  if (x < 0) fail("'" + where(path, key) + "' must be >= 0, got " + std::to_string(x));
-  return x;
-}
-
-std::string text(const json& v, const std::string& name) {
-  if (!v.is_string() || v.get<std::string>().empty()) fail("'" + name + "' must be a non-empty string");
-  return v.get<std::string>();
-}
-
-std::vector<double> vector_of(const json& v, const std::string& name, std::size_t size) {
-  if (!v.is_array() || v.size() != size)
-    fail("'" + name + "' must be a list of " + std::to_string(size) + " numbers, got " + v.dump());
-  std::vector<double> out;
-  for (std::size_t i = 0; i < size; ++i) out.push_back(number(v[i], name + "[" + std::to_string(i) + "]"));
-  return out;
-}
-
-std::string unique_name(const json& j, const std::string& path, std::set<std::string>& seen) {
-  const std::string name = text(need(j, path, "name"), where(path, "name"));
-  if (name.find_first_of("/ \t") != std::string::npos) fail("'" + where(path, "name") + "' must not contain '/' or spaces");
-  if (!seen.insert(name).second) fail("duplicate name '" + name + "' in '" + path + "'");
-  return name;
-}
+using namespace deck_json;
 
 unsigned parse_physics(const json& v) {
   std::vector<std::string> names;
@@ -254,7 +193,8 @@ std::string Deck::terms_string() const {
 Deck parse_deck(const json& j, const std::string& deck_dir) {
   check_keys(j, "", {"dimension", "particles_file", "physics", "rho0", "c0", "gamma", "background_pressure", "v_max",
                      "viscosity", "alpha", "beta", "h", "dx", "body_force", "meshes", "wall", "periodic", "inlets",
-                     "outlets", "dt", "time_step", "t_end", "max_steps", "stability", "output", "threads"});
+                     "outlets", "dt", "time_step", "t_end", "max_steps", "stability", "output", "threads",
+                     "materials"});
   Deck d;
   d.deck_dir = deck_dir;
   const auto& dim = need(j, "", "dimension");
@@ -266,22 +206,31 @@ Deck parse_deck(const json& j, const std::string& deck_dir) {
     fail("particles_file '" + d.particles_file + "' does not exist");
   d.terms = parse_physics(need(j, "", "physics"));
 
-  d.rho0 = positive(j, "", "rho0");
-  d.c0 = positive(j, "", "c0");
-  if (j.contains("gamma")) {
-    d.gamma = number(j["gamma"], "gamma");
-    if (!(d.gamma >= 1)) fail("'gamma' must be >= 1, got " + std::to_string(d.gamma));
-  }
-  if (j.contains("background_pressure")) d.background_pressure = number(j["background_pressure"], "background_pressure");
   d.v_max = positive(j, "", "v_max");
-  if (d.c0 < 10.0 * d.v_max)
-    fail("c0 = " + std::to_string(d.c0) + " m/s is too small for v_max = " + std::to_string(d.v_max) +
-         " m/s; weakly compressible SPH needs c0 >= 10 v_max (density error < 1 %)");
+  if (j.contains("materials")) {
+    // Several materials: the fluid keys live in each material, not at the top level.
+    for (const char* key : {"rho0", "c0", "gamma", "background_pressure", "viscosity"})
+      if (j.contains(key)) fail("key '" + std::string(key) + "' is given with 'materials'; give it in each material");
+    parse_materials(j["materials"], d);
+  } else {
+    d.rho0 = positive(j, "", "rho0");
+    d.c0 = positive(j, "", "c0");
+    if (j.contains("gamma")) {
+      d.gamma = number(j["gamma"], "gamma");
+      if (!(d.gamma >= 1)) fail("'gamma' must be >= 1, got " + std::to_string(d.gamma));
+    }
+    if (j.contains("background_pressure")) d.background_pressure = number(j["background_pressure"], "background_pressure");
+    if (d.c0 < 10.0 * d.v_max)
+      fail("c0 = " + std::to_string(d.c0) + " m/s is too small for v_max = " + std::to_string(d.v_max) +
+           " m/s; weakly compressible SPH needs c0 >= 10 v_max (density error < 1 %)");
+  }
   d.h = positive(j, "", "h");
   d.dx = positive(j, "", "dx");
 
-  require_with_term(j, d, term::morris_viscosity, "viscosity", "morris_viscosity");
-  if (j.contains("viscosity")) d.viscosity = positive(j, "", "viscosity");
+  if (!j.contains("materials")) {
+    require_with_term(j, d, term::morris_viscosity, "viscosity", "morris_viscosity");
+    if (j.contains("viscosity")) d.viscosity = positive(j, "", "viscosity");
+  }
   require_with_term(j, d, term::artificial_viscosity, "alpha", "artificial_viscosity");
   if (j.contains("alpha")) d.alpha = non_negative(j, "", "alpha", 0.0);
   if (j.contains("beta") && !(d.terms & term::artificial_viscosity))

@@ -4,6 +4,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json_fwd.hpp>
@@ -53,11 +54,41 @@ struct OutletSpec {
   int layers = 3;
 };
 
+// One material of the deck's `materials` list. Every material is weakly
+// compressible with a Tait EOS (rho0, c0, gamma, background_pressure, eq. 6);
+// `model` names its constitutive model (material_models.h), which reads its
+// own keys (Newtonian: `viscosity`, the kinematic viscosity of the Morris term).
+struct MaterialSpec {
+  std::string name, model = "newtonian";
+  double rho0 = 0, c0 = 0, gamma = 7, background_pressure = 0;  // kg/m^3, m/s, -, Pa
+  double viscosity = 0;                                         // kinematic, m^2/s (Newtonian)
+};
+
+// A material's keys as the model's parser sees them (deck.cpp): values checked, errors name the key.
+class MaterialKeys {
+ public:
+  MaterialKeys(const nlohmann::json& j, std::string path, unsigned terms) : j_(j), path_(std::move(path)), terms_(terms) {}
+  bool has(const std::string& key) const;
+  double positive(const std::string& key) const;  // required, > 0
+  // Required exactly when the physics term `bit` (named `term`) is on; 0 otherwise.
+  double positive_with_term(const std::string& key, unsigned bit, const std::string& term) const;
+  const std::string& path() const { return path_; }
+
+ private:
+  const nlohmann::json& j_;
+  std::string path_;
+  unsigned terms_;
+};
+
 struct Deck {
   std::string deck_dir;  // files are resolved relative to it
   int dimension = 3;
   std::string particles_file;
   unsigned terms = 0;  // bit set of term:: flags
+  // materials: empty means one Newtonian material from the top-level keys below
+  // (every deck written before materials existed); otherwise the top-level
+  // rho0, c0, gamma, background_pressure hold those of materials[0] (inlets use them).
+  std::vector<MaterialSpec> materials;
   // fluid
   double rho0 = 0, c0 = 0, gamma = 7, background_pressure = 0;  // kg/m^3, m/s, -, Pa
   double v_max = 0;                                             // expected max speed, m/s
@@ -91,10 +122,14 @@ struct Deck {
 
   std::string resolve(const std::string& path) const;
   std::string terms_string() const;
+  // The run's materials: `materials`, or the one Newtonian material of the top-level keys.
+  std::vector<MaterialSpec> material_list() const;
 };
 
 // Parse and validate a deck; throws InputError.
 Deck parse_deck(const nlohmann::json& j, const std::string& deck_dir);
 Deck load_deck(const std::string& path);
+// The `materials` list into d.materials (deck_materials.cpp; d.terms and d.v_max must be parsed).
+void parse_materials(const nlohmann::json& j, Deck& d);
 
 }  // namespace sph

@@ -64,6 +64,8 @@ ParticleInput read_particles(const std::string& path, int dimension) {
   p.masses = read<double>(f, path, "masses", H5T_NATIVE_DOUBLE, n, 0);
   p.densities = read<double>(f, path, "densities", H5T_NATIVE_DOUBLE, n, 0);
   p.kind = read<std::int8_t>(f, path, "kind", H5T_NATIVE_INT8, n, 0);
+  // Optional: each particle's index into the deck's materials (0 for all when absent).
+  if (H5Lexists(f, "material", H5P_DEFAULT) > 0) p.material = read<std::int32_t>(f, path, "material", H5T_NATIVE_INT32, n, 0);
   p.n = n;
   all_finite(p.positions, path, "positions");
   all_finite(p.velocities, path, "velocities");

@@ -7,12 +7,14 @@
 namespace sph {
 
 // Rows of the particle file: positions (n,D) m, velocities (n,D) m/s,
-// masses (n) kg, densities (n) kg/m^3, kind (n) 0 fluid / 1 boundary.
+// masses (n) kg, densities (n) kg/m^3, kind (n) 0 fluid / 1 boundary,
+// optionally material (n) integer index into the deck's `materials` (default 0).
 struct ParticleInput {
   std::size_t n = 0;
   int dimension = 0;
   std::vector<double> positions, velocities, masses, densities;  // row-major
   std::vector<std::int8_t> kind;
+  std::vector<std::int32_t> material;  // optional dataset `material` (n): index into the deck's materials
 };
 
 // A mesh group: vertices (nv,D) m, faces (nf,D) vertex indices (triangles in 3D, segments in 2D).

@@ -86,7 +86,13 @@ void OutputFile::frame(double time, long step, std::size_t n, int cols, const st
   dataset(g, "velocities", H5T_NATIVE_DOUBLE, n, cols, velocities);
   dataset(g, "densities", H5T_NATIVE_DOUBLE, n, 0, densities);
   dataset(g, "pressures", H5T_NATIVE_DOUBLE, n, 0, pressures);
+  last_frame_ = std::move(g);
   ++frames_;
+  flush();
+}
+
+void OutputFile::frame_field(const std::string& name, std::size_t n, int cols, const double* data) {
+  dataset(last_frame_, name, H5T_NATIVE_DOUBLE, n, cols, data);
   flush();
 }
 

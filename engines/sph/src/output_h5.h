@@ -25,6 +25,8 @@ class OutputFile {
   // One frame; arrays are row-major with `cols` columns, n rows.
   void frame(double time, long step, std::size_t n, int cols, const std::int64_t* ids, const std::int8_t* kind,
              const double* positions, const double* velocities, const double* densities, const double* pressures);
+  // One more dataset (n rows, `cols` columns; 0: a vector) in the frame just written.
+  void frame_field(const std::string& name, std::size_t n, int cols, const double* data);
   int frames_written() const { return frames_; }
 
   // Declare a series of `cols` columns (0: scalar) before the first record; returns its index.
@@ -35,7 +37,7 @@ class OutputFile {
 
  private:
   void append(H5Handle& ds, int cols, const double* row);
-  H5Handle file_, frames_group_, series_group_;
+  H5Handle file_, frames_group_, series_group_, last_frame_;
   struct Series {
     H5Handle ds;
     int cols;

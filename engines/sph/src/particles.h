@@ -1,7 +1,19 @@
-// Particle state as a structure of arrays, with the integrator's start-of-step copies.
+// Particle state as a structure of arrays, each field declared once.
+//
+// Integrated fields (velocity, density, deviatoric stress) are listed once in
+// `for_integrated`, each with its rate (the rate of the last evaluation: the
+// previous half step), its start-of-step copy, its second buffers and which
+// particles integrate it; carried fields (mass, kind, id, material) once in
+// `for_carried`. resize, reserve, reorder, compact, the predictor, the
+// corrector (integrator.h) and the frames (recorder.h) loop over these lists,
+// so a new state variable is one line here. Position is integrated by its own
+// rule (x' = x + dt (v + v')/2, integrator.h) and listed apart.
 #pragma once
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "parallel.h"
@@ -10,71 +22,122 @@
 
 namespace sph {
 
+// Which particles integrate a field: all of them, or those that change position (not fixed boundary).
+enum class Integrates : std::uint8_t { all, advecting };
+
+// One integrated field: value, rate d value/dt, start-of-step copy, second buffers of value and rate.
+template <class T>
+struct Field {
+  explicit Field(const char* name) : output(name) {}
+  const char* output;  // frame dataset name
+  std::vector<T> value, rate, start, next_value, next_rate;
+  template <class F>
+  void each_array(F&& f) {
+    f(value), f(rate), f(start), f(next_value), f(next_rate);
+  }
+};
+
 template <int D>
 struct Particles {
-  std::vector<Vec<D>> x, v;       // position m, velocity m/s
-  std::vector<double> rho, mass;  // kg/m^3, kg
+  // -- integrated (value, rate, start-of-step copy); names are the frame datasets
+  std::vector<Vec<D>> x, x0, next_x;  // position m (rate: v, integrator.h), its start copy and second buffer
+  Field<Vec<D>> vel{"velocities"};   // velocity m/s, rate dv/dt m/s^2
+  Field<double> dens{"densities"};    // density kg/m^3, rate drho/dt kg/m^3/s
+  Field<Mat<D>> stress{"stress"};     // deviatoric stress tau Pa, rate Pa/s (only when has_stress), frames (n, D*D) row-major
+  bool has_stress = false;            // a material of the run carries a deviatoric stress
+  // -- carried (reordered, compacted, never integrated)
+  std::vector<double> mass;             // kg
   std::vector<Kind> kind;
-  std::vector<std::int64_t> id;   // input row, or a new number for inflow (stable across reordering)
-  // Rates of the last evaluation (the previous half step), used by the next predictor:
-  std::vector<Vec<D>> acc;         // dv/dt, m/s^2
-  std::vector<double> drho;        // drho/dt, kg/m^3/s
-  // Derived each evaluation:
-  std::vector<double> p, c;         // pressure Pa, sound speed m/s
-  std::vector<double> vol, p_rho2;  // m/rho m^D, p/rho^2 (saves divisions in the pair loop)
-  std::vector<Vec<D>> v_noslip;    // velocity seen by the viscous term: v for fluid, mirrored for boundary
-  // Start-of-step state of the predictor-corrector:
-  std::vector<Vec<D>> x0, v0;
-  std::vector<double> rho0;
-  // Second buffers of the persistent state: a reorder that reads the arrays
-  // and writes these in the same pass (on several threads), then swap_next().
-  struct Next {
-    std::vector<Vec<D>> x, v, acc;
-    std::vector<double> rho, mass, drho;
-    std::vector<Kind> kind;
-    std::vector<std::int64_t> id;
-  } next;
+  std::vector<std::int64_t> id;         // input row, or a new number for inflow (stable across reordering)
+  std::vector<std::uint8_t> material;   // index into the run's materials
+  std::vector<double> next_mass;
+  std::vector<Kind> next_kind;
+  std::vector<std::int64_t> next_id;
+  std::vector<std::uint8_t> next_material;
+  // -- derived each evaluation
+  std::vector<double> p, c;          // pressure Pa, sound speed m/s
+  std::vector<double> vol, p_rho2;   // m/rho m^D, p/rho^2 (saves divisions in the pair loop)
+  std::vector<Vec<D>> v_noslip;      // velocity seen by the viscous term: v for fluid, mirrored for boundary
+  std::vector<Mat<D>> grad_v;        // velocity gradient (has_stress): row i, column j is d v_i / d x_j
+  std::vector<Mat<D>> shape;         // kernel-correction sum, then its inverse (has_stress)
+  std::vector<Mat<D>> sigma_rho2;    // (-p I + tau) / rho^2 (has_stress)
 
-  std::size_t size() const { return x.size(); }
+  // Short names of the integrated values and rates used all over the solver.
+  std::vector<Vec<D>>& v = vel.value;
+  std::vector<Vec<D>>& acc = vel.rate;
+  std::vector<Vec<D>>& v0 = vel.start;
+  std::vector<double>& rho = dens.value;
+  std::vector<double>& drho = dens.rate;
+  std::vector<double>& rho0 = dens.start;
+  std::vector<Mat<D>>& tau = stress.value;
+  std::vector<Mat<D>>& dtau = stress.rate;
 
-  void resize(std::size_t n) {
-    for (auto* a : {&x, &v, &acc, &v_noslip, &x0, &v0}) a->resize(n, Vec<D>::Zero());
-    for (auto* a : {&rho, &mass, &p, &c, &drho, &vol, &p_rho2, &rho0}) a->resize(n, 0.0);
-    kind.resize(n, Kind::fluid);
-    id.resize(n, 0);
+  Particles() = default;
+  Particles(const Particles& o) { *this = o; }
+  Particles(Particles&& o) noexcept { *this = std::move(o); }
+  Particles& operator=(const Particles& o) { return assign(o); }
+  Particles& operator=(Particles&& o) noexcept { return assign(std::move(o)); }
+
+  // f(field, integrates) for every integrated field but position (one line per field).
+  template <class F>
+  void for_integrated(F&& f) {
+    f(vel, Integrates::advecting);  // acc is zero for all but fluid
+    f(dens, Integrates::all);
+    if (has_stress) f(stress, Integrates::advecting);
+  }
+  // f(array, second buffer) for every carried field.
+  template <class F>
+  void for_carried(F&& f) {
+    f(mass, next_mass), f(kind, next_kind), f(id, next_id), f(material, next_material);
   }
 
+  std::size_t size() const { return x.size(); }
   bool moves(std::size_t a) const { return kind[a] == Kind::fluid; }       // integrates the forces
   bool advects(std::size_t a) const { return kind[a] != Kind::boundary; }  // changes position
+  bool integrates(Integrates who, std::size_t a) const { return who == Integrates::all || advects(a); }
+
+  void resize(std::size_t n) {
+    for (auto* a : {&x, &x0, &v_noslip}) a->resize(n, Vec<D>::Zero());
+    for (auto* a : {&p, &c, &vol, &p_rho2}) a->resize(n, 0.0);
+    for_integrated([n](auto& f, Integrates) {
+      const auto z = zero<typename std::decay_t<decltype(f.value)>::value_type>();
+      f.value.resize(n, z), f.rate.resize(n, z), f.start.resize(n, z);
+    });
+    for_carried([n](auto& a, auto&) { a.resize(n); });
+    if (has_stress)
+      for (auto* a : {&grad_v, &shape, &sigma_rho2}) a->resize(n, Mat<D>::Zero());
+  }
 
   // Capacity for n particles in every array, so later growth up to n does not allocate.
   void reserve(std::size_t n) {
-    for (auto* a : {&x, &v, &acc, &v_noslip, &x0, &v0, &scratch_vec_, &next.x, &next.v, &next.acc}) a->reserve(n);
-    for (auto* a : {&rho, &mass, &p, &c, &drho, &vol, &p_rho2, &rho0, &scratch_dbl_, &next.rho, &next.mass, &next.drho})
-      a->reserve(n);
-    kind.reserve(n), scratch_kind_.reserve(n), next.kind.reserve(n);
-    id.reserve(n), scratch_id_.reserve(n), next.id.reserve(n);
+    for (auto* a : {&x, &x0, &next_x, &v_noslip, &scratch_vec_}) a->reserve(n);
+    for (auto* a : {&p, &c, &vol, &p_rho2}) a->reserve(n);
+    for_integrated([n](auto& f, Integrates) { f.each_array([n](auto& a) { a.reserve(n); }); });
+    for_carried([n](auto& a, auto& next) { a.reserve(n), next.reserve(n); });
+    if (has_stress)
+      for (auto* a : {&grad_v, &shape, &sigma_rho2}) a->reserve(n);
+    reserved_ = n;
   }
 
   // Size the second buffers for the current particle count (no allocation within the reserved capacity).
   void size_next() {
     const std::size_t n = size();
-    for (auto* a : {&next.x, &next.v, &next.acc}) a->resize(n);
-    for (auto* a : {&next.rho, &next.mass, &next.drho}) a->resize(n);
-    next.kind.resize(n);
-    next.id.resize(n);
+    next_x.resize(n);
+    for_integrated([n](auto& f, Integrates) { f.next_value.resize(n), f.next_rate.resize(n); });
+    for_carried([n](auto&, auto& next) { next.resize(n); });
   }
   // The second buffers become the persistent state (after a pass filled them).
   void swap_next() {
-    x.swap(next.x), v.swap(next.v), acc.swap(next.acc);
-    rho.swap(next.rho), mass.swap(next.mass), drho.swap(next.drho);
-    kind.swap(next.kind), id.swap(next.id);
+    x.swap(next_x);
+    for_integrated([](auto& f, Integrates) { f.value.swap(f.next_value), f.rate.swap(f.next_rate); });
+    for_carried([](auto& a, auto& next) { a.swap(next); });
   }
 
-  void append(const Vec<D>& pos, const Vec<D>& vel, double density, double m, Kind k, std::int64_t ident) {
+  void append(const Vec<D>& pos, const Vec<D>& velocity, double density, double m, Kind k, std::int64_t ident,
+              std::uint8_t mat = 0) {
     const std::size_t i = size();
     resize(i + 1);
-    x[i] = pos, v[i] = vel, rho[i] = density, mass[i] = m, kind[i] = k, id[i] = ident;
+    x[i] = pos, v[i] = velocity, rho[i] = density, mass[i] = m, kind[i] = k, id[i] = ident, material[i] = mat;
   }
 
   // Keep the particles for which keep(i) holds, in order (persistent state and last rates).
@@ -83,29 +146,28 @@ struct Particles {
     std::size_t k = 0;
     for (std::size_t i = 0; i < size(); ++i) {
       if (!keep(i)) continue;
-      x[k] = x[i], v[k] = v[i], rho[k] = rho[i], mass[k] = mass[i], kind[k] = kind[i], id[k] = id[i];
-      acc[k] = acc[i], drho[k] = drho[i];
+      x[k] = x[i];
+      for_integrated([i, k](auto& f, Integrates) { f.value[k] = f.value[i], f.rate[k] = f.rate[i]; });
+      for_carried([i, k](auto& a, auto&) { a[k] = a[i]; });
       ++k;
     }
     resize(k);
   }
 
   // Reorder the persistent state, the last rates and the start-of-step state by
-  // `order` (new index k takes old index order[k]).
-  // Scratch buffers keep their capacity, so this does not allocate once warmed up.
+  // `order` (new index k takes old index order[k]); no allocation once warmed up
+  // (the second buffers serve as scratch).
   void reorder(const std::vector<int>& order) {
     const std::size_t n = size();
+    size_next();
     permute(x, order, n, scratch_vec_);
-    permute(v, order, n, scratch_vec_);
-    permute(rho, order, n, scratch_dbl_);
-    permute(mass, order, n, scratch_dbl_);
-    permute(kind, order, n, scratch_kind_);
-    permute(id, order, n, scratch_id_);
-    permute(acc, order, n, scratch_vec_);
-    permute(drho, order, n, scratch_dbl_);
     permute(x0, order, n, scratch_vec_);
-    permute(v0, order, n, scratch_vec_);
-    permute(rho0, order, n, scratch_dbl_);
+    for_integrated([&](auto& f, Integrates) {
+      permute(f.value, order, n, f.next_value);
+      permute(f.rate, order, n, f.next_value);
+      permute(f.start, order, n, f.next_value);
+    });
+    for_carried([&](auto& a, auto& next) { permute(a, order, n, next); });
   }
 
  private:
@@ -115,10 +177,28 @@ struct Particles {
     parallel_for(static_cast<std::ptrdiff_t>(n), parallel_min_light, [&](std::ptrdiff_t k) { scratch[k] = a[order[k]]; });
     a.swap(scratch);
   }
+  template <class T>
+  static T zero() {
+    if constexpr (std::is_arithmetic_v<T>) return T(0);
+    else return T::Zero();
+  }
+  // Copy or move every array (the short names above are references into the fields, so the
+  // implicit copy and move would alias the source); a copy keeps the reserved capacity.
+  template <class P>
+  Particles& assign(P&& o) {
+#define SPH_TAKE(m) m = std::forward<P>(o).m
+    const std::size_t cap = std::max(o.reserved_, o.x.capacity());
+    SPH_TAKE(x), SPH_TAKE(x0), SPH_TAKE(next_x), SPH_TAKE(vel), SPH_TAKE(dens), SPH_TAKE(stress);
+    SPH_TAKE(has_stress), SPH_TAKE(mass), SPH_TAKE(kind), SPH_TAKE(id), SPH_TAKE(material);
+    SPH_TAKE(next_mass), SPH_TAKE(next_kind), SPH_TAKE(next_id), SPH_TAKE(next_material);
+    SPH_TAKE(p), SPH_TAKE(c), SPH_TAKE(vol), SPH_TAKE(p_rho2), SPH_TAKE(v_noslip);
+    SPH_TAKE(grad_v), SPH_TAKE(shape), SPH_TAKE(sigma_rho2), SPH_TAKE(scratch_vec_);
+#undef SPH_TAKE
+    reserve(cap);
+    return *this;
+  }
   std::vector<Vec<D>> scratch_vec_;
-  std::vector<double> scratch_dbl_;
-  std::vector<Kind> scratch_kind_;
-  std::vector<std::int64_t> scratch_id_;
+  std::size_t reserved_ = 0;
 };
 
 }  // namespace sph

@@ -22,6 +22,11 @@ constexpr unsigned body_force = 1u << 2;            // f in eq. 4
 constexpr unsigned wall_penalty = 1u << 3;          // eq. 14
 constexpr unsigned count = 4;
 constexpr unsigned all = (1u << count) - 1;
+// Terms of the pair loop (compile time); body force and walls are runtime switches outside it.
+constexpr unsigned pair_terms = morris_viscosity | artificial_viscosity;
+// Not a deck term: set by the dispatcher for runs with several materials and
+// Morris viscosity (the pair loop then looks up mu_ab, material.h).
+constexpr unsigned several_materials = 1u << 8;
 
 struct Named {
   const char* name;
@@ -108,6 +113,9 @@ struct MorrisViscosity {
   // The part shared by both particles of a pair: 2 mu (r_ab . grad_a W_ab) / (r_ab^2 + 0.01 h^2),
   // so dv_a/dt += factor m_b/(rho_a rho_b) (v_a - v_b) (eq. 10).
   double factor(double F, double r2) const { return 2.0 * mu * (F * r2) / (r2 + eta2); }
+  // The same with the pair viscosity mu_ab of two materials (material.h).
+  static double factor(double mu_ab, double F, double r2, double eta2) { return 2.0 * mu_ab * (F * r2) / (r2 + eta2); }
+  double factor(double mu_ab, double F, double r2) const { return factor(mu_ab, F, r2, eta2); }
 };
 
 // Eqs. 11-12: Pi_ab = (-alpha c_ab mu_ab + beta mu_ab^2) / rho_ab for v_ab . r_ab < 0 (else 0),

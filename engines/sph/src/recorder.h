@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "deck.h"
@@ -15,10 +16,10 @@
 
 namespace sph {
 
-template <int D, unsigned Terms>
+template <int D, class Sim>
 class Recorder {
  public:
-  Recorder(const Deck& deck, Simulation<D, Terms>& sim, OpenBoundaries<D>& open, OutputFile& out)
+  Recorder(const Deck& deck, Sim& sim, OpenBoundaries<D>& open, OutputFile& out)
       : sim_(sim), open_(open), out_(out) {
     out.attr("engine", std::string("sph"));
     out.attr("engine_version", std::string(SPH_VERSION));
@@ -40,7 +41,7 @@ class Recorder {
     }
     for (std::size_t k = 0; k < open.count(); ++k)
       out.series((open.is_inlet(k) ? "inflow_" : "outflow_") + open.name(k), 0, area_flux);
-    if constexpr (Simulation<D, Terms>::has(term::wall_penalty))
+    if (deck.terms & term::wall_penalty)
       for (const auto& m : sim.walls().meshes()) out.series("wall_force_" + m.name, D, D == 3 ? "N" : "N/m");
     out.series("kinetic_energy", 0, D == 3 ? "J" : "J/m");
     out.series("max_density_deviation", 0, "1");
@@ -54,6 +55,7 @@ class Recorder {
     rows_.push_back(&values_[j++]);
     ids_.reserve(n), kind_.reserve(n), x_.reserve(n * D), v_.reserve(n * D), rho_.reserve(n), p_.reserve(n);
     order_.reserve(n);
+    if (sim.particles().has_stress) field_.reserve(n * D * D);
   }
 
   bool has_flow_planes() const { return !planes_.empty(); }
@@ -72,7 +74,7 @@ class Recorder {
     for (auto& plane : planes_) values_[k++] = plane.flow_rate(elapsed);
     for (std::size_t b = 0; b < open_.count(); ++b) values_[k++] = open_.flow_rate(b, elapsed);
     const std::size_t wall_base = k;
-    if constexpr (Simulation<D, Terms>::has(term::wall_penalty)) {
+    if (!sim_.walls().meshes().empty()) {
       const std::size_t nm = sim_.walls().meshes().size();
       std::fill(values_.begin() + k, values_.begin() + k + D * nm, 0.0);
       for (std::size_t i = 0; i < P.size(); ++i)
@@ -106,7 +108,8 @@ class Recorder {
 
  private:
   void write(double t, long step, const std::vector<Vec<D>>& x, const std::vector<Vec<D>>& v,
-             const std::vector<double>& rho, bool recompute_pressure) {
+             const std::vector<double>& rho, bool start_state) {
+    const bool recompute_pressure = start_state;
     const auto& P = sim_.particles();
     const std::size_t n = P.size();
     order_.resize(n);
@@ -119,13 +122,28 @@ class Recorder {
       kind_[r] = static_cast<std::int8_t>(P.kind[i]);
       for (int d = 0; d < D; ++d) x_[r * D + d] = x[i][d], v_[r * D + d] = v[i][d];
       rho_[r] = rho[i];
-      p_[r] = recompute_pressure ? sim_.eos().pressure(rho[i]) : P.p[i];
+      p_[r] = recompute_pressure ? sim_.eos(P.material[i]).pressure(rho[i]) : P.p[i];
     }
     out_.frame(t, step, n, D, ids_.data(), kind_.data(), x_.data(), v_.data(), rho_.data(), p_.data());
+    // The integrated fields beyond velocity and density (each declared once in Particles), as its own dataset.
+    auto& Q = sim_.particles();
+    Q.for_integrated([&](auto& f, Integrates) {
+      using T = typename std::decay_t<decltype(f.value)>::value_type;
+      if constexpr (!std::is_arithmetic_v<T>) {
+        if constexpr (T::SizeAtCompileTime != D) {  // velocities are written above
+          const auto& values = start_state ? f.start : f.value;
+          constexpr int cols = T::SizeAtCompileTime;
+          field_.resize(n * cols);
+          for (std::size_t r = 0; r < n; ++r)
+            for (int c = 0; c < cols; ++c) field_[r * cols + c] = values[order_[r]](c / D, c % D);
+          out_.frame_field(f.output, n, cols, field_.data());
+        }
+      }
+    });
     last_frame_ = t;
   }
 
-  Simulation<D, Terms>& sim_;
+  Sim& sim_;
   OpenBoundaries<D>& open_;
   OutputFile& out_;
   std::vector<Vec<D>> probes_;
@@ -135,7 +153,7 @@ class Recorder {
   double last_series_ = -1.0, last_frame_ = -1.0;
   std::vector<std::int64_t> ids_;
   std::vector<std::int8_t> kind_;
-  std::vector<double> x_, v_, rho_, p_;
+  std::vector<double> x_, v_, rho_, p_, field_;
   std::vector<std::size_t> order_;
 };
 

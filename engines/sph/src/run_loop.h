@@ -7,8 +7,10 @@
 #include <csignal>
 #include <cstdio>
 #include <string>
+#include <tuple>
 #include <vector>
 
+#include "configurations.h"
 #include "open_boundaries.h"
 #include "output_h5.h"
 #include "recorder.h"
@@ -22,15 +24,16 @@ enum ExitCode { exit_ok = 0, exit_failed = 1, exit_bad_input = 2, exit_unstable 
 inline volatile std::sig_atomic_t stop_requested = 0;
 inline void request_stop(int) { stop_requested = 1; }
 
-template <int D, unsigned Terms>
+template <int D, unsigned Terms, class Models>
 int run_simulation(const Deck& deck, Particles<D> particles, WallPenalty<D> walls, OpenBoundaries<D> open) {
   using Clock = std::chrono::steady_clock;
   const auto started = Clock::now();
   std::int64_t next_id = 0;
   for (auto id : particles.id) next_id = std::max(next_id, id + 1);
-  Simulation<D, Terms> sim(deck, std::move(particles), std::move(walls));
+  using Sim = Simulation<D, Terms, Models>;
+  Sim sim(deck, std::move(particles), std::move(walls));
   OutputFile out(deck.output_file);
-  Recorder<D, Terms> rec(deck, sim, open, out);
+  Recorder<D, Sim> rec(deck, sim, open, out);
   std::signal(SIGTERM, request_stop);
   std::signal(SIGINT, request_stop);
 
@@ -149,13 +152,41 @@ int run_simulation(const Deck& deck, Particles<D> particles, WallPenalty<D> wall
   return code;
 }
 
-template <int D, unsigned T = 0>
-int dispatch_terms(unsigned terms, const Deck& deck, Particles<D> P, WallPenalty<D> walls, OpenBoundaries<D> open) {
-  if constexpr (T > term::all) {
-    return exit_failed;
+// The pair terms and the material models of a deck, as the closed list of
+// configurations (configurations.h) names them.
+struct Wanted {
+  unsigned terms;                   // pair terms (| several_materials)
+  std::vector<std::string> models;  // distinct model names of the deck's materials
+};
+inline Wanted wanted_by(const Deck& deck) {
+  Wanted w{deck.terms & term::pair_terms, {}};
+  const auto materials = deck.material_list();
+  for (const auto& m : materials)
+    if (std::find(w.models.begin(), w.models.end(), m.model) == w.models.end()) w.models.push_back(m.model);
+  if (materials.size() > 1 && (w.terms & term::morris_viscosity)) w.terms |= term::several_materials;
+  return w;
+}
+template <class Models>
+bool same_models(const std::vector<std::string>& names) {
+  if (static_cast<int>(names.size()) != Models::size) return false;
+  for (const auto& n : names)
+    if (Models::index(n) < 0) return false;
+  return true;
+}
+
+// Run the configuration of the closed list that matches the deck exactly.
+template <int D, std::size_t I = 0>
+int dispatch(const Wanted& w, const Deck& deck, Particles<D> P, WallPenalty<D> walls, OpenBoundaries<D> open) {
+  if constexpr (I == std::tuple_size_v<Configurations>) {
+    std::string models;
+    for (const auto& m : w.models) models += (models.empty() ? "" : ", ") + m;
+    throw InputError("no compiled configuration runs materials of model(s) " + models + " with physics '" +
+                     deck.terms_string() + "'; add one to src/configurations.h");
   } else {
-    if (terms == T) return run_simulation<D, T>(deck, std::move(P), std::move(walls), std::move(open));
-    return dispatch_terms<D, T + 1>(terms, deck, std::move(P), std::move(walls), std::move(open));
+    using C = std::tuple_element_t<I, Configurations>;
+    if (C::terms == w.terms && same_models<typename C::models>(w.models))
+      return run_simulation<D, C::terms, typename C::models>(deck, std::move(P), std::move(walls), std::move(open));
+    return dispatch<D, I + 1>(w, deck, std::move(P), std::move(walls), std::move(open));
   }
 }
 
@@ -170,7 +201,7 @@ int run_dimension(const Deck& deck) {
   open.fill(P, static_cast<std::int64_t>(in.n));
   open.classify_initial(P);
   WallPenalty<D> walls = make_walls<D>(deck);
-  return dispatch_terms<D>(deck.terms, deck, std::move(P), std::move(walls), std::move(open));
+  return dispatch<D>(wanted_by(deck), deck, std::move(P), std::move(walls), std::move(open));
 }
 
 }  // namespace sph

@@ -18,8 +18,12 @@ Particles<D> make_particles(const Deck& deck, const ParticleInput& in, std::size
   Particles<D> P;
   P.reserve(in.n + extra);
   P.resize(in.n);
-  double mass_sum = 0.0;
-  std::size_t fluid = 0;
+  const std::vector<MaterialSpec> materials = deck.material_list();
+  const std::size_t nm = materials.size();
+  std::vector<double> mass_sum(nm, 0.0);
+  std::vector<std::size_t> fluid(nm, 0);
+  if (!in.material.empty() && deck.materials.empty())
+    throw InputError("the particle file gives 'material' but the deck has no 'materials' list");
   for (std::size_t i = 0; i < in.n; ++i) {
     for (int d = 0; d < D; ++d) {
       P.x[i][d] = in.positions[i * D + d];
@@ -29,13 +33,18 @@ Particles<D> make_particles(const Deck& deck, const ParticleInput& in, std::size
     P.rho[i] = in.densities[i];
     P.kind[i] = static_cast<Kind>(in.kind[i]);
     P.id[i] = static_cast<std::int64_t>(i);
+    const std::int32_t mat = in.material.empty() ? 0 : in.material[i];
+    if (mat < 0 || static_cast<std::size_t>(mat) >= nm)
+      throw InputError("material[" + std::to_string(i) + "] = " + std::to_string(mat) + " in the particle file is not an index into 'materials' (0.." +
+                       std::to_string(nm - 1) + ")");
+    P.material[i] = static_cast<std::uint8_t>(mat);
     if (P.kind[i] == Kind::fluid) {
       const double speed = P.v[i].norm();
       if (speed > deck.v_max)
         throw InputError("particle " + std::to_string(i) + " starts at " + std::to_string(speed) +
                          " m/s, above v_max = " + std::to_string(deck.v_max) + " m/s; raise v_max (and c0)");
-      mass_sum += P.mass[i];
-      ++fluid;
+      mass_sum[mat] += P.mass[i];
+      ++fluid[mat];
     }
   }
   for (std::size_t k = 0; k < deck.periodic_axes.size(); ++k) {
@@ -45,9 +54,10 @@ Particles<D> make_particles(const Deck& deck, const ParticleInput& in, std::size
         throw InputError("particle " + std::to_string(i) + " lies outside the periodic box along axis " +
                          std::to_string(a) + " (periodic.lo .. periodic.hi)");
   }
-  if (fluid) {
-    const double expected = deck.rho0 * std::pow(deck.dx, D);
-    const double mean = mass_sum / fluid;
+  for (std::size_t k = 0; k < nm; ++k) {
+    if (!fluid[k]) continue;
+    const double expected = materials[k].rho0 * std::pow(deck.dx, D);
+    const double mean = mass_sum[k] / fluid[k];
     if (std::abs(mean / expected - 1.0) > 0.2)
       std::fprintf(stderr, "warning: mean fluid particle mass %.4g kg differs from rho0 dx^%d = %.4g kg by more "
                    "than 20 %%\n", mean, D, expected);

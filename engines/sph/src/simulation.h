@@ -1,66 +1,49 @@
-// The weakly compressible SPH solver for one dimension and one compile-time set of terms.
+// The weakly compressible SPH solver for one dimension and one compiled
+// configuration (configurations.h: pair terms and material models).
 //
-// Rates are summed over a Verlet half list (neighbour_list.h): each pair is
-// evaluated once and acts on both particles (Newton's third law); the blocks
-// of the list run colour after colour, so every particle receives its
-// contributions in an order that does not depend on the OpenMP schedule. Time
-// integration is Monaghan's predictor-corrector leapfrog with one rate
-// evaluation per step, at the half step (a PEC scheme). a^(n-1/2), Drho^(n-1/2)
-// are the rates of the previous step's evaluation (of the initial state before
-// the first step):
-//   predictor  x* = x + dt/2 v,  v* = v + dt/2 a^(n-1/2),  rho* = rho + dt/2 Drho^(n-1/2)
-//   evaluate   a* = a(x*, v*, rho*),  Drho* = Drho(x*, v*, rho*)   (kept as the next step's a^(n-1/2))
-//   corrector  v' = v + dt a*,  rho' = rho + dt Drho*,  x' = x + dt (v + dt/2 a*) = x + dt (v + v')/2
-// Fixed boundary particles keep position and velocity and evolve their density;
-// inlet and outlet buffer particles do the same but move at their velocity.
+// One step runs the stages of stages.h (predict, gather, close_rates, bodies,
+// correct, post_correct).
+//
+// The pair loop runs over a Verlet half list (neighbour_list.h) block colour
+// after block colour, so every particle receives its contributions in an
+// order that does not depend on the OpenMP schedule (bitwise identical
+// results on any thread count). Images across the box come from the image
+// policy (box_policy.h). Fixed boundary particles keep position and velocity
+// and evolve their density; inlet and outlet buffer particles do the same but
+// move at their velocity.
 #pragma once
 #include <algorithm>
-#include <cassert>
 #include <cmath>
 #include <limits>
 #include <string>
 #include <type_traits>
 #include <vector>
 
+#include "boundary_particles.h"
+#include "box_policy.h"
 #include "cell_list.h"
 #include "deck.h"
-#include "eos.h"
+#include "integrator.h"
 #include "kernel.h"
+#include "material.h"
+#include "material_models.h"
 #include "neighbour_list.h"
+#include "pair_loop.h"
 #include "particles.h"
 #include "physics_terms.h"
+#include "stages.h"
+#include "step_maxima.h"
 #include "wall_penalty.h"
 
 namespace sph {
 
-// Pass as `crossed` when no flow plane needs the particle displacements.
-struct NoCrossings {
-  template <class... Args>
-  void operator()(Args&&...) const {}
-};
-
-struct StabilityReport {
-  bool ok = true;
-  std::string message;
-};
-
-// Wall time per stage of the steps so far (s), and neighbour-list builds.
-struct StageTimes {
-  double predict = 0.0;     // predictor and displacement check
-  double neighbours = 0.0;  // binning, reordering by cell, Verlet list build
-  double eos = 0.0;         // EOS (eq. 6), zeroing the sums, no-slip velocities
-  double pairs = 0.0;       // the pair loop (eqs. 7, 9-12)
-  double particle = 0.0;    // per-particle terms after the pair loop (body force, walls)
-  double correct = 0.0;     // corrector and step maxima
-  long builds = 0;          // Verlet list builds
-  long evaluations = 0;     // rate evaluations
-};
-
-template <int D, unsigned Terms>
+template <int D, unsigned Terms, class Models = ModelList<Newtonian>>
 class Simulation {
  public:
   using Model = FluidModel<D, Terms>;
+  using Images = PeriodicImages<D>;
   static constexpr bool has(unsigned t) { return Model::has(t); }
+  static constexpr bool tensor = Models::any_stress;  // momentum in the tensor form (eq. T1)
 
   // Cells of half the list range (5^D stencil) test fewer far pairs than cells
   // of the full range (3^D), and two layers of them make a block of the list.
@@ -71,22 +54,26 @@ class Simulation {
   static constexpr double skin_fraction = 0.1;
 
   Simulation(const Deck& deck, Particles<D> particles, WallPenalty<D> walls = {})
-      : deck_(deck), P_(std::move(particles)), kernel_(deck.h), eos_{deck.rho0, deck.c0, deck.gamma,
-                                                                       deck.background_pressure},
-        walls_(std::move(walls)) {
+      : deck_(deck), P_(std::move(particles)), kernel_(deck.h), walls_(std::move(walls)),
+        pairs_(P_, list_, kernel_, model_, materials_, shepard_) {
+    for (const MaterialSpec& m : deck.material_list())
+      materials_.add({{m.rho0, m.c0, m.gamma, m.background_pressure}, m.viscosity, m.rho0 * m.viscosity,
+                      std::max(0, Models::index(m.model))});
     const double eta2 = 0.01 * deck.h * deck.h;
-    model_.morris.mu = deck.rho0 * deck.viscosity;
+    model_.morris.mu = materials_[0].mu;
     model_.morris.eta2 = eta2;
     model_.artificial = {deck.alpha, deck.beta, deck.h, eta2};
+    body_force_on_ = deck.terms & term::body_force;
+    walls_on_ = deck.terms & term::wall_penalty;
     if (!deck.body_force.empty())
       for (int d = 0; d < D; ++d) model_.body.g[d] = deck.body_force[d];
+    PeriodicBox<D> box;
     for (std::size_t i = 0; i < deck.periodic_axes.size(); ++i) {
       const int a = deck.periodic_axes[i];
-      box_.periodic[a] = true;
-      box_.lo[a] = deck.periodic_lo[i];
-      box_.hi[a] = deck.periodic_hi[i];
+      box.periodic[a] = true, box.lo[a] = deck.periodic_lo[i], box.hi[a] = deck.periodic_hi[i];
     }
-    for (auto& x : P_.x) box_.wrap(x);
+    images_ = Images(box);
+    for (auto& x : P_.x) images_.wrap(x);
     walls_together_ = true;
     const Vec<D>* wall_velocity = nullptr;
     for (std::size_t i = 0; i < P_.size(); ++i)
@@ -94,35 +81,40 @@ class Simulation {
         if (!wall_velocity) wall_velocity = &P_.v[i];
         walls_together_ = walls_together_ && P_.v[i] == *wall_velocity;
       }
-    const std::size_t n = P_.size();
+    const std::size_t n = P_.size(), capacity = P_.x.capacity();
+    P_.has_stress = tensor;
     P_.resize(n);
-    cells_.reserve(P_.x.capacity());
-    x_pred_.reserve(P_.x.capacity());
-    x_build_.reserve(P_.x.capacity());
-    shepard_.reserve(P_.x.capacity());
-    list_.reserve(P_.x.capacity());
-    list_.configure(box_);
+    P_.reserve(capacity);
+    for (auto* a : {&x_pred_, &x_build_}) a->reserve(capacity);
+    shepard_.reserve(capacity);
+    list_.reserve(capacity);
+    list_.configure(images_);
     skin_ = skin_fraction * kernel_.support_radius();
-    cells_.configure(kernel_.support_radius() + skin_, cell_reach, box_, std::max<std::size_t>(64 * n, 1u << 22));
+    cells_.configure(kernel_.support_radius() + skin_, cell_reach, box, std::max<std::size_t>(64 * n, 1u << 22));
     sort_particles();
     equation_of_state();
   }
+  Simulation(const Simulation&) = delete;  // the pair loop holds references to the members
+  Simulation& operator=(const Simulation&) = delete;
 
   Particles<D>& particles() { return P_; }
   const Particles<D>& particles() const { return P_; }
   const CellList<D>& cells() const { return cells_; }
   const WendlandC2<D>& kernel() const { return kernel_; }
-  const TaitEos& eos() const { return eos_; }
-  const PeriodicBox<D>& box() const { return box_; }
+  const MaterialTable& materials() const { return materials_; }
+  const TaitEos& eos(std::size_t material = 0) const { return materials_.eos(material); }
+  const PeriodicBox<D>& box() const { return images_.box(); }
   const WallPenalty<D>& walls() const { return walls_; }
   const NeighbourList<D>& neighbour_list() const { return list_; }
   const StageTimes& stage_times() const { return times_; }
+  // Kernel-corrected velocity gradient (eq. T2; default on): exact for a linear velocity field.
+  void set_gradient_correction(bool on) { correct_gradient_ = on; }
 
   // Wrap the positions into the periodic box, bin and reorder the particles by
   // cell (memory locality) and build the Verlet list; false if they blew apart.
   bool sort_particles() {
     const double t0 = omp_get_wtime();
-    for (auto& x : P_.x) box_.wrap(x);
+    for (auto& x : P_.x) images_.wrap(x);
     if (!cells_.build(P_.x, P_.size())) return false;
     P_.reorder(cells_.items());
     cells_.mark_sorted();
@@ -132,22 +124,25 @@ class Simulation {
   }
 
   // Pressure (and sound speed) of every particle from its density, eq. 6.
-  // A fixed boundary particle never pulls: its pressure is that of
-  // max(rho, rho0), so a wall under a free surface does not suck fluid in.
   void equation_of_state() {
     parallel_for(P_.size(), parallel_min_light, [this](std::ptrdiff_t i) { equation_of_state_at(i); });
   }
+  // Eq. 6 with the particle's material. A fixed boundary particle never pulls:
+  // its pressure is that of max(rho, rho0), so a wall under a free surface does not suck fluid in.
   void equation_of_state_at(std::ptrdiff_t i) {
-    const double rho = P_.kind[i] == Kind::boundary ? std::max(P_.rho[i], deck_.rho0) : P_.rho[i];
-    P_.p[i] = eos_.pressure(rho);
-    if constexpr (has(term::artificial_viscosity)) P_.c[i] = eos_.sound_speed(rho);
+    const TaitEos& eos = materials_.eos(P_.material[i]);
+    const double rho = P_.kind[i] == Kind::boundary ? std::max(P_.rho[i], eos.rho0) : P_.rho[i];
+    P_.p[i] = eos.pressure(rho);
+    if constexpr (has(term::artificial_viscosity)) P_.c[i] = eos.sound_speed(rho);
     P_.vol[i] = P_.mass[i] / P_.rho[i];
     P_.p_rho2[i] = P_.p[i] / (P_.rho[i] * P_.rho[i]);
+    if constexpr (tensor)  // sigma / rho^2 = (-p I + tau) / rho^2 for eq. T1
+      P_.sigma_rho2[i] = (P_.tau[i] - P_.p[i] * Mat<D>::Identity()) / (P_.rho[i] * P_.rho[i]);
   }
 
-  // acc and drho of every particle at the current x, v, rho (the Verlet list must hold them).
-  // One parallel region: EOS and zeroed sums; no-slip velocities (Morris);
-  // the pair loop, colour after colour; the per-particle terms.
+  // Rates of every particle at the current x, v, rho (the Verlet list must
+  // hold them): the gather and close_rates stages in one parallel region,
+  // then the per-body reduction.
   void compute_rates() {
     rates_ready_ = true;
     maxima_.valid = false;  // acc changes
@@ -159,14 +154,13 @@ class Simulation {
       stamp(par, t[0]);
       for_particles(par, n, [this](std::ptrdiff_t i) { start_rates_at(i); });
       if constexpr (has(term::morris_viscosity)) {
-        list_.for_blocks_coloured(par, [this](int k) { no_slip_sums_of_block(k); });
+        list_.for_blocks_coloured(par, [this](int k) { pairs_.no_slip_sums_of_block(k); });
         for_particles(par, n, [this](std::ptrdiff_t i) { no_slip_velocity_at(i); });
       }
       stamp(par, t[1]);
-      list_.for_blocks_coloured(par, [this](int k) { rates_of_block(k); });
+      list_.for_blocks_coloured(par, [this](int k) { pairs_.rates_of_block(k); });
       stamp(par, t[2]);
-      for_particles(par, n, [this](std::ptrdiff_t i) { finish_rates_at(i); });
-      stamp(par, t[3]);
+      for_particles(par, n, [this](std::ptrdiff_t i) { close_rates_at(i); });
     };
     if (go_parallel(n, parallel_min_heavy) && list_.blocks() > 1) {
 #pragma omp parallel
@@ -174,20 +168,19 @@ class Simulation {
     } else {
       body(false);
     }
+    bodies_.reduce(P_);
+    t[3] = omp_get_wtime();
     times_.eos += t[1] - t[0];
     times_.pairs += t[2] - t[1];
-    times_.particle += omp_get_wtime() - t[2];
+    times_.particle += t[3] - t[2];
   }
 
  private:
   // The time now into `at` (by the master thread, after the barrier of the previous loop when parallel).
   static void stamp(bool par, double& at) {
-    if (!par) {
-      at = omp_get_wtime();
-      return;
-    }
+    if (!par) at = omp_get_wtime();
 #pragma omp master
-    at = omp_get_wtime();
+    if (par) at = omp_get_wtime();
   }
   // body(i) for i < n: a worksharing loop of the enclosing region when par, else a plain loop.
   template <class Body>
@@ -200,7 +193,7 @@ class Simulation {
     }
   }
 
-  // EOS of particle i and its sums set to zero (and, with Morris, its Shepard sums).
+  // Gather, per particle: EOS and its sums set to zero (and, with Morris, its Shepard sums).
   void start_rates_at(std::ptrdiff_t i) {
     equation_of_state_at(i);
     P_.acc[i].setZero();
@@ -209,197 +202,70 @@ class Simulation {
       P_.v_noslip[i].setZero();  // the Shepard sum of the fluid velocities around a boundary particle
       shepard_[i] = 0.0;
     }
+    if constexpr (tensor) P_.grad_v[i].setZero(), P_.shape[i].setZero();
   }
-  // Body force and wall penalty of a fluid particle; an outlet particle keeps
-  // the density it left with (a zero-gradient outlet).
-  void finish_rates_at(std::ptrdiff_t a) {
+  // close_rates of particle a: body force and wall penalty of a fluid
+  // particle; the velocity gradient G M^-1 (eq. T2) and the constitutive rate
+  // d tau/dt of its material; an outlet particle keeps the density it left
+  // with (a zero-gradient outlet).
+  void close_rates_at(std::ptrdiff_t a) {
     if (P_.moves(a)) {
-      if constexpr (has(term::body_force)) model_.body.add(P_.acc[a]);
-      if constexpr (has(term::wall_penalty)) {
+      if (body_force_on_) model_.body.add(P_.acc[a]);
+      if (walls_on_) {
         Vec<D> xa = P_.x[a];
-        box_.wrap(xa);  // between list builds positions may lie up to skin/2 outside the box
+        images_.wrap(xa);  // between list builds positions may lie up to skin/2 outside the box
         P_.acc[a] += walls_.force(xa) / P_.mass[a];
+      }
+      if constexpr (tensor) {
+        Mat<D>& L = P_.grad_v[a];
+        const Mat<D>& M = P_.shape[a];
+        const double scale = M.cwiseAbs().maxCoeff();
+        if (correct_gradient_ && std::abs(M.determinant()) > 1e-6 * std::pow(scale, D)) L = L * M.inverse();
+        const Material& mat = materials_[P_.material[a]];
+        Models::visit(mat.model, [&](auto model) { model.stress_rate(mat, L, P_.tau[a], P_.dtau[a]); });
       }
     } else if (P_.kind[a] == Kind::outlet) {
       P_.drho[a] = 0.0;
     }
   }
 
-  // The pairs owned by the particles of block k (neighbour_list.h): fluid or
-  // not, owner and neighbour, each combination its own branch-free loop.
-  void rates_of_block(int k) {
-    const std::uint32_t* const e = list_.entries(k);
-    for (int a = list_.block_begin(k); a < list_.block_end(k); ++a) {
-      const auto& row = list_.row(a);
-      if (P_.moves(a)) {
-        pair_row<true, true>(a, e + row.begin, e + row.mid);
-        pair_row<true, false>(a, e + row.mid, e + row.end);
-      } else {
-        pair_row<false, true>(a, e + row.begin, e + row.mid);
-        pair_row<false, false>(a, e + row.mid, e + row.end);
-      }
-    }
-  }
-
-  // The pair terms of owner a with the neighbours of entries [e, end), added
-  // to both particles (eqs. 7, 9-12). AMoves, BMoves: whether a and the
-  // neighbours are fluid. A fluid particle takes continuity (eq. 7), the
-  // pressure gradient (eq. 9) and the viscosities; any other takes the rate of
-  // the summation density sum_b m_b v_ab . grad_a W_ab. Pairs of the skin,
-  // beyond the support 2h, add exact zeros (the kernel factor is clamped to 0).
-  template <bool AMoves, bool BMoves>
-  inline __attribute__((always_inline)) void pair_row(int a, const std::uint32_t* e, const std::uint32_t* end) {
-    using List = NeighbourList<D>;
-    if (e == end) return;
-    Vec<D>* const acc = P_.acc.data();
-    double* const drho = P_.drho.data();
-    const Vec<D>* const x = P_.x.data();
-    const Vec<D>* const v = P_.v.data();
-    const Vec<D>* const v_noslip = P_.v_noslip.data();
-    const double* const mass = P_.mass.data();
-    const double* const rho = P_.rho.data();
-    const double* const c = P_.c.data();
-    const double* const vol = P_.vol.data();
-    const double* const p_rho2 = P_.p_rho2.data();
-    const Vec<D>* const shifts = list_.shifts();
-    const double inv_h = kernel_.inv_h, grad_factor = kernel_.grad_factor;
-    const Model model = model_;
-    const Vec<D> xa = x[a], va = v[a];
-    const double m_a = mass[a], rho_a = rho[a], vol_a = vol[a], p_rho2_a = p_rho2[a];
-    const double inv_rho_a = 1.0 / rho_a, c_a = has(term::artificial_viscosity) ? c[a] : 0.0;
-    Vec<D> vns_a = Vec<D>::Zero();
-    if constexpr (has(term::morris_viscosity)) vns_a = v_noslip[a];
-    Vec<D> acc_a = Vec<D>::Zero();
-    double drho_a = 0.0;
-    for (; e != end; ++e) {
-      const int b = static_cast<int>(*e >> List::shift_bits);
-      const Vec<D> r = xa - x[b] - shifts[*e & List::shift_mask];  // r_ab to the listed image of b
-      const double r2 = r.squaredNorm();
-      const double u = 1.0 - 0.5 * (std::sqrt(r2) * inv_h);
-      const double t = 0.5 * (u + std::abs(u));  // exactly max(u, 0), without a branch (a third of the list is skin)
-      const double F = grad_factor * (t * t * t);  // grad_a W_ab = F r_ab (eq. 8), 0 beyond 2h
-      const Vec<D> v_ab = va - v[b];
-      const double Fvr = F * v_ab.dot(r);  // v_ab . grad_a W_ab (= v_ba . grad_b W_ba)
-      const double m_b = mass[b], rho_b = rho[b];
-      // Eq. 7 for fluid (drho_a = rho_a sum m_b/rho_b v_ab . grad W), the summation rate otherwise.
-      if constexpr (AMoves) drho_a += rho_a * vol[b] * Fvr;
-      else drho_a += m_b * Fvr;
-      if constexpr (BMoves) drho[b] += rho_b * vol_a * Fvr;
-      else drho[b] += m_a * Fvr;
-      if constexpr (AMoves || BMoves) {
-        // Eq. 9 and eqs. 11-12: symmetric in a and b, along r_ab.
-        double radial = -(p_rho2_a + p_rho2[b]) * F;
-        if constexpr (has(term::artificial_viscosity))
-          radial -= model.artificial.pi(r2, v_ab.dot(r), rho_a, rho_b, c_a, c[b]) * F;
-        if constexpr (AMoves) acc_a.noalias() += (m_b * radial) * r;
-        if constexpr (BMoves) acc[b].noalias() -= (m_a * radial) * r;
-        if constexpr (has(term::morris_viscosity)) {
-          // Eq. 10: 2 mu (r_ab . grad W)/(r_ab^2 + 0.01 h^2) m/(rho_a rho_b) times the
-          // velocity difference, each side against the other's no-slip velocity.
-          const double s = model.morris.factor(F, r2);
-          if constexpr (AMoves) acc_a.noalias() += (s * vol[b] * inv_rho_a) * (va - v_noslip[b]);
-          if constexpr (BMoves) acc[b].noalias() += (s * vol_a / rho_b) * (v[b] - vns_a);
-        }
-      }
-    }
-    acc[a] += acc_a;
-    drho[a] += drho_a;
-  }
-
-  // Shepard sums of the fluid velocity around the fixed boundary particles
-  // (for their no-slip velocity), over the fluid-boundary pairs of block k.
-  void no_slip_sums_of_block(int k) {
-    using List = NeighbourList<D>;
-    const std::uint32_t* const e = list_.entries(k);
-    const Vec<D>* const shifts = list_.shifts();
-    const Vec<D>* const x = P_.x.data();
-    for (int a = list_.block_begin(k); a < list_.block_end(k); ++a) {
-      const auto& row = list_.row(a);
-      const bool a_fluid = P_.moves(a), a_wall = P_.kind[a] == Kind::boundary;
-      if (!a_fluid && !a_wall) continue;
-      // a fluid: its non-fluid neighbours; a boundary particle: its fluid neighbours.
-      const int from = a_fluid ? row.mid : row.begin, to = a_fluid ? row.end : row.mid;
-      for (int j = from; j < to; ++j) {
-        const int b = static_cast<int>(e[j] >> List::shift_bits);
-        if (a_fluid && P_.kind[b] != Kind::boundary) continue;
-        const Vec<D> r = x[a] - x[b] - shifts[e[j] & List::shift_mask];
-        const double w = kernel_.value_clamped(std::sqrt(r.squaredNorm()));
-        const int wall = a_fluid ? b : a, fluid = a_fluid ? a : b;
-        P_.v_noslip[wall] += w * P_.v[fluid];
-        shepard_[wall] += w;
-      }
-    }
-  }
-
  public:
-  // No-slip at fixed boundary particles for the viscous term: a boundary
-  // particle b takes 2 v_b - v~_b, with v~_b the Shepard average of the fluid
-  // velocity around it, so the fluid sees the velocity mirrored through the
-  // wall (as Adami et al. 2012). Its own v_b (the wall's velocity) is unchanged.
-  // (v_noslip holds the Shepard sum of no_slip_sums_of_block before.)
-  void no_slip_velocity_at(std::ptrdiff_t b) {
-    if (P_.kind[b] != Kind::boundary) {
-      P_.v_noslip[b] = P_.v[b];
-      return;
-    }
-    const double weight = shepard_[b];
-    P_.v_noslip[b] = weight > 0.0 ? Vec<D>(2.0 * P_.v[b] - P_.v_noslip[b] / weight) : P_.v[b];
-  }
-
-  // A particle of mass m appears (sign +1) or disappears (-1) at x: change the
-  // density of the fixed boundary particles around it by its kernel share
-  // m W, as a summation density would, so continuity does not keep a memory
-  // of particles that an inlet created or an outlet removed. Boundary
-  // particles never move, so the cells of the last binning still hold them.
+  // No-slip velocity of a fixed boundary particle (boundary_particles.h).
+  void no_slip_velocity_at(std::ptrdiff_t b) { no_slip_velocity(P_, shepard_, b); }
+  // A particle of mass m appears (sign +1) or disappears (-1) at x (boundary_particles.h).
   void boundary_density_event(const Vec<D>& x, double m, double sign) {
     Vec<D> xj = x;
-    box_.wrap(xj);
-    const double support2 = kernel_.support_radius() * kernel_.support_radius();
-    cells_.for_each_neighbour(xj, [&](int b, const Vec<D>& shift) {
-      if (static_cast<std::size_t>(b) >= P_.size() || P_.kind[b] != Kind::boundary) return;
-      const double r2 = (P_.x[b] + shift - xj).squaredNorm();
-      if (r2 < support2) P_.rho[b] += sign * m * kernel_.value(std::sqrt(r2));
-    });
+    images_.wrap(xj);
+    book_boundary_density(P_, cells_, kernel_, xj, m, sign);
   }
 
   // Time step of eq. 13 extended by the viscous and force criteria, from the
-  // rates just computed: min(cfl h/(c0 + v_max), viscous h^2/nu, force sqrt(h/a_max)).
+  // rates just computed: min(cfl h/(c0 + v_max), viscous h^2/nu, force sqrt(h/a_max))
+  // (largest c0 and nu over the materials).
   double adaptive_dt() {
     const StepMaxima& m = maxima();
     const double h = deck_.h;
-    double dt = deck_.cfl * h / (deck_.c0 + std::sqrt(m.v2));
-    if constexpr (has(term::morris_viscosity)) dt = std::min(dt, deck_.viscous_factor * h * h / deck_.viscosity);
+    double dt = deck_.cfl * h / (materials_.c0_max() + std::sqrt(m.v2));
+    if constexpr (has(term::morris_viscosity)) dt = std::min(dt, deck_.viscous_factor * h * h / materials_.nu_max());
     if (m.a2 > 0.0) dt = std::min(dt, deck_.force_factor * std::sqrt(h / std::sqrt(m.a2)));
     return dt;
   }
 
-  // Forget the maxima the corrector took (call after adding, removing or changing particles).
-  // (Indices change too: the Verlet list is rebuilt before the next evaluation.)
-  void forget_maxima() {
-    maxima_.valid = false;
-    list_stale_ = true;
-  }
-
+  // Forget the maxima the corrector took (call after adding, removing or
+  // changing particles: indices change, the list is rebuilt before the next evaluation).
+  void forget_maxima() { maxima_.valid = false, list_stale_ = true; }
   // Rates of the initial state, before the first step (later steps reuse the
   // rates of the previous step's half-step evaluation); cells must be binned.
   void ensure_rates() {
     if (!rates_ready_) compute_rates();
   }
 
-  // Predictor: half step with the rates of the last evaluation. When no
-  // particle has moved more than skin/2 since the Verlet list was built, in
-  // place (one pass, no binning). Otherwise binning of the predicted positions
-  // and reordering by cell, in three passes over the particles, each on the
-  // threads:
-  //   1. predicted positions (by old index), wrapped, and their bounding box;
-  //   2. their cells (then the counting sort, serial);
-  //   3. for each new index k, from old index o: the start-of-step state
-  //      x0, v0, rho0 (x0 shifted by the same wrap as the predicted x), the
-  //      persistent state and the predicted v, rho;
-  // then the list is rebuilt. Between builds positions are not wrapped (the
-  // list holds the images), so they may lie up to skin/2 outside the box.
-  // False if the predicted particles spread over too many cells (blow-up);
-  // then x0, v0, rho0 hold the start-of-step state, for the last good frame.
+  // Predictor (integrator.h): in place when no particle has moved skin/2
+  // since the list was built; otherwise, after a pass of predicted positions
+  // (wrapped, with their bounding box), binned and reordered by cell in the
+  // same pass (predict_rebinned) and the list rebuilt. Between builds positions
+  // are not wrapped (the list holds the images): up to skin/2 outside the box.
+  // False if the particles spread over too many cells (blow-up).
   bool predict(double dt) {
     const double t_start = omp_get_wtime();
     const double half = 0.5 * dt;
@@ -413,7 +279,7 @@ class Simulation {
       if (P_.advects(i)) {  // fixed boundary particles stay
         x += half * P_.v[i];
         if (check) moved2 = std::max(moved2, (x - x_build_[i]).squaredNorm());
-        box_.wrap(x);
+        images_.wrap(x);
       }
       x_pred_[i] = x;
       for (int d = 0; d < D; ++d) lo[d] = std::min(lo[d], x[d]), hi[d] = std::max(hi[d], x[d]);
@@ -425,66 +291,36 @@ class Simulation {
       for (std::ptrdiff_t i = 0; i < n; ++i) position(i, lo, hi, moved2);
     }
     if (check && moved2 <= 0.25 * skin_ * skin_) {
-      parallel_for(n, parallel_min_light, [this, half](std::ptrdiff_t i) {
-        P_.x0[i] = P_.x[i], P_.v0[i] = P_.v[i], P_.rho0[i] = P_.rho[i];
-        P_.rho[i] += half * P_.drho[i];
-        if (P_.advects(i)) {
-          P_.x[i] += half * P_.v[i];   // unwrapped: the list's images stay right
-          P_.v[i] += half * P_.acc[i];  // acc is zero for all but fluid
-        }
-      });
+      parallel_for(n, parallel_min_light, [this, half](std::ptrdiff_t i) { predict_in_place(P_, i, half); });
       times_.predict += omp_get_wtime() - t_start;
       return true;
     }
     const double t_bin = omp_get_wtime();
     times_.predict += t_bin - t_start;
-    if (!cells_.lay_out(Eigen::Map<const Vec<D>>(lo), Eigen::Map<const Vec<D>>(hi), n)) {
-      P_.x0 = P_.x, P_.v0 = P_.v, P_.rho0 = P_.rho;
-      return false;
-    }
-    parallel_for(n, parallel_min_light, [this](std::ptrdiff_t i) { cells_.assign(i, x_pred_[i]); });
-    cells_.sort_assigned();
-    std::vector<int>& order = cells_.items_for_reorder();
-    P_.size_next();
-    auto& N = P_.next;
-    parallel_for(n, parallel_min_light, [&, half](std::ptrdiff_t k) {
-      const int o = order[k];
-      order[k] = static_cast<int>(k);
-      const Vec<D> unwrapped = P_.advects(o) ? Vec<D>(P_.x[o] + half * P_.v[o]) : P_.x[o];
-      P_.x0[k] = P_.x[o] + (x_pred_[o] - unwrapped), P_.v0[k] = P_.v[o], P_.rho0[k] = P_.rho[o];
-      N.mass[k] = P_.mass[o], N.kind[k] = P_.kind[o], N.id[k] = P_.id[o];
-      N.acc[k] = P_.acc[o], N.drho[k] = P_.drho[o];
-      N.x[k] = x_pred_[o];
-      N.rho[k] = P_.rho[o] + half * P_.drho[o];
-      N.v[k] = P_.advects(o) ? Vec<D>(P_.v[o] + half * P_.acc[o]) : P_.v[o];  // acc is zero for all but fluid
-    });
-    P_.swap_next();
-    cells_.mark_sorted_in_place();
+    if (!predict_rebinned(P_, cells_, x_pred_, lo, hi, half)) return false;
     build_list();
     times_.neighbours += omp_get_wtime() - t_bin;
     return true;
   }
 
-  // Corrector with the mid-step rates; in the same pass, the maxima that the
-  // stability check and the next adaptive step read. Displacements are handed
-  // to `crossed` (x_old, dx, volume) before wrapping, for flow-rate planes.
-  // Positions are not wrapped here (see predict); x_old is handed wrapped.
+  // Corrector with the mid-step rates (integrator.h), then post_correct; in
+  // the same pass, the maxima that the stability check and the next adaptive
+  // step read. Displacements are handed to `crossed` (x_old, dx, volume)
+  // before wrapping, for flow-rate planes. Positions are not wrapped here
+  // (see predict); x_old is handed wrapped.
   template <class Crossed>
   void correct(double dt, Crossed&& crossed) {
     const double t_start = omp_get_wtime();
     const std::ptrdiff_t n = P_.size();
-    maxima_ = sweep_maxima([this, dt](std::ptrdiff_t i) {
-      P_.rho[i] = P_.rho0[i] + dt * P_.drho[i];
-      if (!P_.advects(i)) return;
-      const Vec<D> dx = dt * (P_.v0[i] + 0.5 * dt * P_.acc[i]);
-      P_.v[i] = P_.v0[i] + dt * P_.acc[i];
-      P_.x[i] = P_.x0[i] + dx;
+    maxima_ = sweep_maxima(P_, materials_, [this, dt](std::ptrdiff_t i) {
+      correct_at(P_, i, dt);
+      if constexpr (tensor) post_correct_at(i);
     });
     if constexpr (!std::is_same_v<std::decay_t<Crossed>, NoCrossings>)
       for (std::ptrdiff_t i = 0; i < n; ++i)
         if (P_.moves(i)) {
           Vec<D> x_old = P_.x0[i];
-          box_.wrap(x_old);
+          images_.wrap(x_old);
           crossed(x_old, Vec<D>(dt * (P_.v0[i] + 0.5 * dt * P_.acc[i])), P_.mass[i] / P_.rho[i]);
         }
     times_.correct += omp_get_wtime() - t_start;
@@ -501,89 +337,31 @@ class Simulation {
     return true;
   }
 
-  // NaN anywhere, or a fluid particle whose density deviates from rho0 by more
-  // than the threshold or that is faster than c0. (Boundary and buffer
+  // NaN anywhere, or a fluid particle whose density deviates from its rho0 by
+  // more than the threshold or that is faster than c0. (Boundary and buffer
   // densities are devices of the wall and open-boundary models.)
-  StabilityReport check_stability() {
-    const StepMaxima& m = maxima();
-    if (!m.finite) return {false, "a particle's position, velocity or density is not finite"};
-    if (m.worst_rho > deck_.max_density_deviation)
-      return {false, "density deviates from rho0 by " + std::to_string(100.0 * m.worst_rho) + " % (limit " +
-                         std::to_string(100.0 * deck_.max_density_deviation) + " %)"};
-    if (m.v2 > deck_.c0 * deck_.c0)
-      return {false, "a particle moves at " + std::to_string(std::sqrt(m.v2)) + " m/s, faster than c0 = " +
-                         std::to_string(deck_.c0) + " m/s"};
-    return {};
-  }
+  StabilityReport check_stability() { return stability_report(maxima(), deck_.max_density_deviation, materials_.c0_max()); }
 
-  // max |rho/rho0 - 1| over the fluid particles.
+  // max |rho/rho0 - 1| over the fluid particles (rho0 of each particle's material).
   double max_density_deviation() const {
     double worst = 0.0;
     for (std::size_t i = 0; i < P_.size(); ++i)
-      if (P_.moves(i)) worst = std::max(worst, std::abs(P_.rho[i] / deck_.rho0 - 1.0));
+      if (P_.moves(i)) worst = std::max(worst, std::abs(P_.rho[i] / materials_.eos(P_.material[i]).rho0 - 1.0));
     return worst;
   }
 
  private:
-
-  // Over the particles after a corrector: largest |rho/rho0 - 1| and |v|^2 of
-  // the fluid, largest |dv/dt|^2 of the fluid (last evaluation), and whether
-  // every position, velocity and density is finite.
-  struct StepMaxima {
-    double worst_rho = 0.0, v2 = 0.0, a2 = 0.0;
-    bool finite = true;
-    bool valid = false;
-  };
-  void take_maxima(std::ptrdiff_t i, double& worst_rho, double& v2, double& a2, bool& finite) const {
-    // One test for all: a sum is finite only when every term is (inf - inf is NaN).
-    finite = finite && std::isfinite(P_.rho[i] + P_.x[i].sum() + P_.v[i].sum());
-    if (!P_.moves(i)) return;
-    worst_rho = std::max(worst_rho, std::abs(P_.rho[i] / deck_.rho0 - 1.0));
-    v2 = std::max(v2, P_.v[i].squaredNorm());
-    a2 = std::max(a2, P_.acc[i].squaredNorm());
-  }
-  // update(i) for every particle, then its part of the maxima (one pass, on the threads).
-  template <class Update>
-  StepMaxima sweep_maxima(Update&& update) {
-    const std::ptrdiff_t n = P_.size();
-    double worst_rho = 0.0, v2 = 0.0, a2 = 0.0;
-    bool finite = true;
-    auto body = [&](std::ptrdiff_t i, double& w, double& v, double& a, bool& f) {
-      update(i);
-      take_maxima(i, w, v, a, f);
-    };
-    if (go_parallel(n, parallel_min_light)) {
-#pragma omp parallel for reduction(max : worst_rho, v2, a2) reduction(&& : finite) schedule(static)
-      for (std::ptrdiff_t i = 0; i < n; ++i) body(i, worst_rho, v2, a2, finite);
-    } else {
-      for (std::ptrdiff_t i = 0; i < n; ++i) body(i, worst_rho, v2, a2, finite);
-    }
-    return {worst_rho, v2, a2, finite, true};
+  // post_correct of particle i: its material's return mapping and failure (models with stress).
+  void post_correct_at(std::ptrdiff_t i) {
+    if (!P_.advects(i)) return;
+    const Material& mat = materials_[P_.material[i]];
+    Models::visit(mat.model, [&](auto model) { model.post_correct(mat, P_.tau[i]); });
   }
   // The maxima of the current state: the corrector's, or taken now.
   const StepMaxima& maxima() {
-    if (!maxima_.valid) maxima_ = sweep_maxima([](std::ptrdiff_t) {});
+    if (!maxima_.valid) maxima_ = sweep_maxima(P_, materials_, [](std::ptrdiff_t) {});
     return maxima_;
   }
-
-  Deck deck_;
-  Particles<D> P_;
-  WendlandC2<D> kernel_;
-  TaitEos eos_;
-  Model model_;
-  PeriodicBox<D> box_;
-  CellList<D> cells_;
-  WallPenalty<D> walls_;
-  bool walls_together_ = false;  // every fixed boundary particle has the same velocity
-  bool rates_ready_ = false;  // acc, drho hold the rates of the last evaluation
-  StepMaxima maxima_;         // of the current state when valid
-  std::vector<Vec<D>> x_pred_;  // predicted positions by index before the reorder (scratch of predict)
-  std::vector<Vec<D>> x_build_;  // positions at the last Verlet list build
-  std::vector<double> shepard_;  // Shepard weight sums of the boundary particles (Morris)
-  NeighbourList<D> list_;
-  double skin_ = 0.0;
-  bool list_stale_ = true;  // the list must be rebuilt before the next evaluation
-  StageTimes times_;
 
   // The Verlet list of the current (binned, sorted) positions.
   void build_list() {
@@ -593,6 +371,29 @@ class Simulation {
     list_stale_ = false;
     ++times_.builds;
   }
+
+  Deck deck_;
+  Particles<D> P_;
+  WendlandC2<D> kernel_;
+  MaterialTable materials_;
+  Model model_;
+  Images images_;
+  CellList<D> cells_;
+  WallPenalty<D> walls_;
+  NeighbourList<D> list_;
+  std::vector<double> shepard_;  // Shepard weight sums of the boundary particles (Morris)
+  PairLoop<D, Terms, Models> pairs_;
+  NoBodies bodies_;
+  bool body_force_on_ = false, walls_on_ = false;
+  bool walls_together_ = false;  // every fixed boundary particle has the same velocity
+  bool correct_gradient_ = true;
+  bool rates_ready_ = false;  // acc, drho hold the rates of the last evaluation
+  StepMaxima maxima_;         // of the current state when valid
+  std::vector<Vec<D>> x_pred_;   // predicted positions by index before the reorder (scratch of predict)
+  std::vector<Vec<D>> x_build_;  // positions at the last Verlet list build
+  double skin_ = 0.0;
+  bool list_stale_ = true;  // the list must be rebuilt before the next evaluation
+  StageTimes times_;
 };
 
 }  // namespace sph

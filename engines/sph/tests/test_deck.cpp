@@ -155,3 +155,46 @@ TEST(inlets_and_outlets) {
   j["outlets"][0]["name"] = "feed";
   CHECK(mentions(rejection(j), "duplicate name 'feed'"));
 }
+
+// Materials: a deck without `materials` is one Newtonian material of the
+// top-level keys; with it, each material carries its own EOS keys and model keys.
+TEST(deck_without_materials_is_one_newtonian_material) {
+  const Deck d = parse_deck(good_deck(), deck_dir().string());
+  CHECK(d.materials.empty());
+  const auto list = d.material_list();
+  CHECK(list.size() == 1);
+  CHECK(list[0].model == "newtonian");
+  CHECK(list[0].rho0 == 1000.0 && list[0].c0 == 20.0 && list[0].gamma == 7.0 && list[0].viscosity == 1e-6);
+}
+
+TEST(materials_list_is_parsed_and_checked) {
+  json j = good_deck();
+  for (const char* key : {"rho0", "c0", "viscosity"}) j.erase(key);
+  j["materials"] = json::parse(R"([
+    {"name": "water", "model": "newtonian", "rho0": 1000, "c0": 20, "viscosity": 1e-6},
+    {"name": "oil", "model": "newtonian", "rho0": 800, "c0": 25, "gamma": 1, "background_pressure": 10, "viscosity": 1e-4}])");
+  const Deck d = parse_deck(j, deck_dir().string());
+  CHECK(d.materials.size() == 2);
+  CHECK(d.materials[1].name == "oil" && d.materials[1].rho0 == 800.0 && d.materials[1].gamma == 1.0);
+  CHECK(d.materials[1].background_pressure == 10.0 && d.materials[1].viscosity == 1e-4);
+  CHECK(d.rho0 == 1000.0 && d.c0 == 20.0);  // the top-level values mirror materials[0]
+
+  json top = j;
+  top["rho0"] = 1000;
+  CHECK(mentions(rejection(top), "'rho0' is given with 'materials'"));
+  json model = j;
+  model["materials"][1]["model"] = "bingham";
+  CHECK(mentions(rejection(model), "not a material model; known: newtonian"));
+  json missing = j;
+  missing["materials"][0].erase("viscosity");
+  CHECK(mentions(rejection(missing), "materials[0].viscosity"));
+  json unknown = j;
+  unknown["materials"][0]["shear_modulus"] = 1.0;
+  CHECK(mentions(rejection(unknown), "unknown key 'materials[0].shear_modulus'"));
+  json slow = j;
+  slow["materials"][1]["c0"] = 5.0;
+  CHECK(mentions(rejection(slow), "c0 >= 10 v_max"));
+  json twice = j;
+  twice["materials"][1]["name"] = "water";
+  CHECK(mentions(rejection(twice), "duplicate name 'water'"));
+}

@@ -39,10 +39,12 @@ struct ParticleRows {
   int dim = 2;
   std::vector<double> x, v, m, rho;
   std::vector<std::int8_t> kind;
-  void add(std::vector<double> pos, std::vector<double> vel, double mass, double density, int k) {
+  std::vector<std::int32_t> material;  // written only when some row gives one
+  void add(std::vector<double> pos, std::vector<double> vel, double mass, double density, int k, int mat = -1) {
     x.insert(x.end(), pos.begin(), pos.end());
     v.insert(v.end(), vel.begin(), vel.end());
     m.push_back(mass), rho.push_back(density), kind.push_back(static_cast<std::int8_t>(k));
+    if (mat >= 0) material.resize(size() - 1, 0), material.push_back(mat);
   }
   std::size_t size() const { return m.size(); }
   void write(const std::filesystem::path& path) const {
@@ -52,6 +54,11 @@ struct ParticleRows {
     put(f, "masses", H5T_NATIVE_DOUBLE, m, size(), 0);
     put(f, "densities", H5T_NATIVE_DOUBLE, rho, size(), 0);
     put(f, "kind", H5T_NATIVE_INT8, kind, size(), 0);
+    if (!material.empty()) {
+      std::vector<std::int32_t> all = material;
+      all.resize(size(), 0);
+      put(f, "material", H5T_NATIVE_INT32, all, size(), 0);
+    }
     H5Fclose(f);
   }
 };

@@ -1,0 +1,41 @@
+// The closed list of compiled configurations: which material models a run
+// combines and which pair terms its pair loop carries. A deck runs the
+// configuration whose model set and pair terms match it exactly; anything
+// else is rejected with the list (run_loop.h). Each line is one instantiation
+// of the solver per dimension, so the list grows by the meaningful
+// combinations only, not by the power set of term bits (before: all 16
+// subsets of four term bits).
+//
+// Per-particle options (body force, wall penalty) are runtime switches
+// outside the pair loop (they cost nothing measurable there). `several_materials`
+// is set by the dispatcher when a run has more than one material and Morris
+// viscosity: only then does the pair loop look up the pair viscosity mu_ab
+// (material.h); with one material it keeps the constant mu.
+#pragma once
+#include <tuple>
+
+#include "material_models.h"
+#include "physics_terms.h"
+
+namespace sph {
+
+template <class Models, unsigned Terms>
+struct Configuration {
+  using models = Models;
+  static constexpr unsigned terms = Terms;
+};
+
+namespace config {
+using N = ModelList<Newtonian>;
+constexpr unsigned morris = term::morris_viscosity, av = term::artificial_viscosity, several = term::several_materials;
+}  // namespace config
+
+using Configurations = std::tuple<                           //
+    Configuration<config::N, 0>,                              // inviscid Newtonian fluid
+    Configuration<config::N, config::av>,                     // dam breaks, the LAMMPS-like block
+    Configuration<config::N, config::morris>,                 // channel flows
+    Configuration<config::N, config::morris | config::av>,    //
+    Configuration<config::N, config::morris | config::several>,               // layered Newtonian fluids
+    Configuration<config::N, config::morris | config::av | config::several>>;  //
+
+}  // namespace sph

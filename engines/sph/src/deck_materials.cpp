@@ -1,0 +1,73 @@
+// The deck's `materials` list (deck.h: MaterialSpec) and the keys a material model reads.
+#include <set>
+#include <string>
+#include <vector>
+
+#include "deck.h"
+#include "deck_json.h"
+#include "material_models.h"
+
+namespace sph {
+
+using namespace deck_json;
+
+// The `materials` list: each {name, model, rho0, c0, gamma (7), background_pressure (0), <model keys>}.
+void parse_materials(const json& j, Deck& d) {
+  if (!j.is_array() || j.empty() || j.size() > 255) fail("'materials' must be a list of 1 to 255 materials");
+  std::vector<std::string> models;
+  MaterialModels::visit_all([&](auto model) { models.push_back(decltype(model)::name); });
+  std::set<std::string> seen;
+  for (std::size_t i = 0; i < j.size(); ++i) {
+    const std::string path = "materials[" + std::to_string(i) + "]";
+    const json& e = j[i];
+    if (!e.is_object()) fail("'" + path + "' must be a JSON object");
+    MaterialSpec m;
+    m.name = unique_name(e, path, seen);
+    m.model = text(need(e, path, "model"), where(path, "model"));
+    const int index = MaterialModels::index(m.model);
+    if (index < 0) fail("'" + where(path, "model") + "' = '" + m.model + "' is not a material model; known: " + join(models));
+    std::vector<std::string> allowed = {"name", "model", "rho0", "c0", "gamma", "background_pressure"};
+    MaterialModels::visit(index, [&](auto model) {
+      for (const auto& k : decltype(model)::keys()) allowed.push_back(k);
+    });
+    check_keys(e, path, allowed);
+    m.rho0 = positive(e, path, "rho0");
+    m.c0 = positive(e, path, "c0");
+    if (e.contains("gamma")) {
+      m.gamma = number(e["gamma"], where(path, "gamma"));
+      if (!(m.gamma >= 1)) fail("'" + where(path, "gamma") + "' must be >= 1, got " + std::to_string(m.gamma));
+    }
+    if (e.contains("background_pressure")) m.background_pressure = number(e["background_pressure"], where(path, "background_pressure"));
+    if (m.c0 < 10.0 * d.v_max)
+      fail("'" + where(path, "c0") + "' = " + std::to_string(m.c0) + " m/s is too small for v_max = " +
+           std::to_string(d.v_max) + " m/s; weakly compressible SPH needs c0 >= 10 v_max (density error < 1 %)");
+    const MaterialKeys keys(e, path, d.terms);
+    MaterialModels::visit(index, [&](auto model) { decltype(model)::parse(keys, m); });
+    d.materials.push_back(m);
+  }
+  const MaterialSpec& first = d.materials.front();
+  d.rho0 = first.rho0, d.c0 = first.c0, d.gamma = first.gamma, d.background_pressure = first.background_pressure;
+  d.viscosity = first.viscosity;
+}
+
+
+bool MaterialKeys::has(const std::string& key) const { return j_.contains(key); }
+double MaterialKeys::positive(const std::string& key) const { return deck_json::positive(j_, path_, key); }
+double MaterialKeys::positive_with_term(const std::string& key, unsigned bit, const std::string& term) const {
+  const bool on = terms_ & bit;
+  if (on && !j_.contains(key)) fail("physics term '" + term + "' is on but key '" + where(path_, key) + "' is missing");
+  if (!on && j_.contains(key))
+    fail("key '" + where(path_, key) + "' is given but physics term '" + term + "' is not in 'physics'");
+  return on ? positive(key) : 0.0;
+}
+
+std::vector<MaterialSpec> Deck::material_list() const {
+  if (!materials.empty()) return materials;
+  MaterialSpec m;
+  m.name = "fluid", m.model = "newtonian";
+  m.rho0 = rho0, m.c0 = c0, m.gamma = gamma, m.background_pressure = background_pressure, m.viscosity = viscosity;
+  return {m};
+}
+
+
+}  // namespace sph

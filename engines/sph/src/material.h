@@ -1,0 +1,60 @@
+// The run's materials at run time: per material its EOS and viscosity, and
+// the pair viscosities of every two materials.
+//
+// Interface rule between materials (multi-phase Morris; Hu & Adams 2006,
+// eq. 11; Morris, Fox & Zhu 1997, eq. 10 generalised): a pair term uses each
+// particle's own parameters where the term is written per particle (p_a/rho_a^2
+// and p_b/rho_b^2 in eq. 9, each particle's rho and c in eqs. 7 and 11-12);
+// the viscous term of eq. 10, (mu_a + mu_b), takes for two different
+// materials 2 mu_ab with the harmonic mean mu_ab = 2 mu_a mu_b / (mu_a + mu_b),
+// which keeps the shear stress continuous across the interface (the
+// harmonic mean is the series resistance of the two layers of fluid between
+// the particles). Two particles of one material use their mu exactly, so a
+// one-material run is bitwise what it was before materials existed.
+#pragma once
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+#include "eos.h"
+
+namespace sph {
+
+struct Material {
+  TaitEos eos;      // rho0, c0, gamma, p_B (eq. 6)
+  double nu = 0.0;  // kinematic viscosity m^2/s (Newtonian with Morris)
+  double mu = 0.0;  // dynamic viscosity rho0 nu, Pa s
+  int model = 0;    // index of its model in the configuration's model list
+};
+
+class MaterialTable {
+ public:
+  void add(const Material& m) { list_.push_back(m), update(); }
+  int size() const { return static_cast<int>(list_.size()); }
+  const Material& operator[](std::size_t k) const { return list_[k]; }
+  const TaitEos& eos(std::size_t k) const { return list_[k].eos; }
+  // mu_ab of eq. 10 for materials ka, kb (mu_a when equal, else the harmonic mean).
+  double pair_mu(std::uint8_t ka, std::uint8_t kb) const { return pair_mu_[ka * list_.size() + kb]; }
+  const double* pair_mu_table() const { return pair_mu_.data(); }
+  double c0_max() const { return c0_max_; }
+  double nu_max() const { return nu_max_; }
+
+ private:
+  void update() {
+    const std::size_t n = list_.size();
+    pair_mu_.assign(n * n, 0.0);
+    c0_max_ = nu_max_ = 0.0;
+    for (std::size_t a = 0; a < n; ++a) {
+      c0_max_ = std::max(c0_max_, list_[a].eos.c0), nu_max_ = std::max(nu_max_, list_[a].nu);
+      for (std::size_t b = 0; b < n; ++b) {
+        const double ma = list_[a].mu, mb = list_[b].mu;
+        pair_mu_[a * n + b] = a == b ? ma : (ma + mb > 0.0 ? 2.0 * ma * mb / (ma + mb) : 0.0);
+      }
+    }
+  }
+  std::vector<Material> list_;
+  std::vector<double> pair_mu_;
+  double c0_max_ = 0.0, nu_max_ = 0.0;
+};
+
+}  // namespace sph

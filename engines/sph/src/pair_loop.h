@@ -1,0 +1,310 @@
+// The gather stage's pair loop over the Verlet half list (neighbour_list.h):
+// each pair is evaluated once and acts on both particles (Newton's third law).
+//
+// Scalar path (every material without deviatoric stress, e.g. Newtonian):
+//   eq. 7   drho_a/dt += rho_a (m_b/rho_b) v_ab . grad_a W_ab
+//   eq. 9   dv_a/dt   -= m_b (p_a/rho_a^2 + p_b/rho_b^2) grad_a W_ab
+// Tensor path (a material of the run carries tau; sigma = -p I + tau):
+//   eq. T1  dv_a/dt   += m_b (sigma_a/rho_a^2 + sigma_b/rho_b^2) . grad_a W_ab
+//   eq. T2  G_a       += V_b (v_b - v_a) (x) grad_a W_ab,  M_a += V_b (x_b - x_a) (x) grad_a W_ab
+//           (velocity gradient L_a = G_a, or G_a M_a^-1 kernel-corrected: exact for linear v; close_rates)
+// Both:  eqs. 11-12 artificial viscosity and eq. 10 Morris viscosity (mu_ab of material.h).
+// grad_a W_ab = F r_ab with F of eq. 8; grad_b W_ba = -F r_ab. Pairs of the
+// skin, beyond 2h, add exact zeros (the kernel factor is clamped to 0).
+#pragma once
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "kernel.h"
+#include "material.h"
+#include "neighbour_list.h"
+#include "particles.h"
+#include "physics_terms.h"
+
+namespace sph {
+
+template <int D, unsigned Terms, class Models>
+class PairLoop {
+ public:
+  using Model = FluidModel<D, Terms>;
+  static constexpr bool has(unsigned t) { return (Terms & t) != 0; }
+  static constexpr bool tensor = Models::any_stress;
+
+  PairLoop(Particles<D>& P, const NeighbourList<D>& list, const WendlandC2<D>& kernel, const Model& model,
+           const MaterialTable& materials, std::vector<double>& shepard)
+      : P_(P), list_(list), kernel_(kernel), model_(model), materials_(materials), shepard_(shepard) {}
+
+  // The pairs owned by the particles of block k: fluid or not, owner and
+  // neighbour, each combination its own branch-free loop.
+  void rates_of_block(int k) const {
+    const std::uint32_t* const e = list_.entries(k);
+    for (int a = list_.block_begin(k); a < list_.block_end(k); ++a) {
+      const auto& row = list_.row(a);
+      if (P_.moves(a)) {
+        pair_row<true, true>(a, e + row.begin, e + row.mid);
+        pair_row<true, false>(a, e + row.mid, e + row.end);
+      } else {
+        pair_row<false, true>(a, e + row.begin, e + row.mid);
+        pair_row<false, false>(a, e + row.mid, e + row.end);
+      }
+    }
+  }
+
+  // Shepard sums of the fluid velocity around the fixed boundary particles
+  // (for their no-slip velocity), over the fluid-boundary pairs of block k.
+  void no_slip_sums_of_block(int k) const {
+    using List = NeighbourList<D>;
+    const std::uint32_t* const e = list_.entries(k);
+    const Vec<D>* const shifts = list_.shifts();
+    const Vec<D>* const x = P_.x.data();
+    for (int a = list_.block_begin(k); a < list_.block_end(k); ++a) {
+      const auto& row = list_.row(a);
+      const bool a_fluid = P_.moves(a), a_wall = P_.kind[a] == Kind::boundary;
+      if (!a_fluid && !a_wall) continue;
+      // a fluid: its non-fluid neighbours; a boundary particle: its fluid neighbours.
+      const int from = a_fluid ? row.mid : row.begin, to = a_fluid ? row.end : row.mid;
+      for (int j = from; j < to; ++j) {
+        const int b = static_cast<int>(e[j] >> List::shift_bits);
+        if (a_fluid && P_.kind[b] != Kind::boundary) continue;
+        const Vec<D> r = x[a] - x[b] - shifts[e[j] & List::shift_mask];
+        const double w = kernel_.value_clamped(std::sqrt(r.squaredNorm()));
+        const int wall = a_fluid ? b : a, fluid = a_fluid ? a : b;
+        P_.v_noslip[wall] += w * P_.v[fluid];
+        shepard_[wall] += w;
+      }
+    }
+  }
+
+ private:
+  // The pair terms of owner a with the neighbours of entries [e, end), added
+  // to both particles. AMoves, BMoves: whether a and the neighbours are
+  // fluid. A fluid particle takes continuity (eq. 7), momentum (eq. 9 or T1)
+  // and the viscosities; any other takes the rate of the summation density
+  // sum_b m_b v_ab . grad_a W_ab.
+  // The row [e, end) in chunks of up to 128 entries. Tensor path: the pair
+  // terms in one loop (pair_terms). Scalar path, in three passes per chunk:
+  //   A. gather: r_ab, r^2, v_ab, v_ab . r_ab and b's values into local
+  //      arrays, keeping only the pairs within the support 2h (the list also
+  //      holds the skin, up to 1.1 2h: a fifth of the pairs in 2D, a quarter
+  //      in 3D, whose terms are exact zeros); branch-free;
+  //   B. the per-pair coefficients of eqs. 7, 9-12 (kernel, sqrt, divisions)
+  //      over those arrays: no gathers, no sums, so the compiler vectorises it;
+  //   C. the sums into a and the scatter to b, pair after pair in list order.
+  // Every accumulator receives the same contributions in the same order as
+  // a single fused loop would give it (bitwise the same results).
+  template <bool AMoves, bool BMoves>
+  inline __attribute__((always_inline)) void pair_row(int a, const std::uint32_t* e, const std::uint32_t* end) const {
+    if constexpr (tensor) {
+      pair_terms<AMoves, BMoves>(a, e, end);
+    } else {
+      Vec<D> acc_a = Vec<D>::Zero();
+      double drho_a = 0.0;
+      for (const std::uint32_t* stop = e; e != end; e = stop) {
+        stop = end - e > chunk ? e + chunk : end;
+        scalar_chunk<AMoves, BMoves>(a, e, stop, acc_a, drho_a);
+      }
+      P_.acc[a] += acc_a;
+      P_.drho[a] += drho_a;
+    }
+  }
+
+  static constexpr int chunk = 128;
+  // Pass B's inputs and outputs for one chunk (on the stack of the calling thread).
+  struct Chunk {
+    int b[chunk];
+    double r[D][chunk], v_ab[D][chunk], r2[chunk], vr[chunk];
+    double m[chunk], rho[chunk], vol[chunk], p_rho2[chunk], c[chunk], mu[chunk];
+    double drho_a[chunk], drho_b[chunk], radial_a[chunk], radial_b[chunk], visc_a[chunk], visc_b[chunk];
+  };
+
+  // Owner a's values for pass B.
+  struct Owner {
+    double m, rho, vol, p_rho2, inv_rho, c, inv_h, grad_factor;
+  };
+  // Pass B over pairs [0, n) of a chunk: kernel factor, eq. 7 for both sides,
+  // eq. 9 (+ eqs. 11-12) along r_ab, eq. 10's factors.
+  template <bool AMoves, bool BMoves>
+  static inline __attribute__((always_inline)) void coefficients(Chunk& k, int n, const Owner& o, const Model& model) {
+    for (int j = 0; j < n; ++j) {
+      const double u = 1.0 - 0.5 * (std::sqrt(k.r2[j]) * o.inv_h);
+      const double t = 0.5 * (u + std::abs(u));      // exactly max(u, 0), without a branch
+      const double F = o.grad_factor * (t * t * t);  // grad_a W_ab = F r_ab (eq. 8)
+      const double Fvr = F * k.vr[j];                // v_ab . grad_a W_ab (= v_ba . grad_b W_ba)
+      // Eq. 7 for fluid (drho_a = rho_a sum m_b/rho_b v_ab . grad W), the summation rate otherwise.
+      k.drho_a[j] = (AMoves ? o.rho * k.vol[j] : k.m[j]) * Fvr;
+      k.drho_b[j] = (BMoves ? k.rho[j] * o.vol : o.m) * Fvr;
+      if constexpr (AMoves || BMoves) {
+        double radial = -(o.p_rho2 + k.p_rho2[j]) * F;  // eq. 9, along r_ab
+        if constexpr (has(term::artificial_viscosity))  // eqs. 11-12
+          radial -= model.artificial.pi(k.r2[j], k.vr[j], o.rho, k.rho[j], o.c, k.c[j]) * F;
+        k.radial_a[j] = k.m[j] * radial, k.radial_b[j] = o.m * radial;
+        if constexpr (has(term::morris_viscosity)) {
+          // Eq. 10: 2 mu_ab (r_ab . grad W)/(r_ab^2 + 0.01 h^2) m/(rho_a rho_b).
+          double s;
+          if constexpr (has(term::several_materials)) s = model.morris.factor(k.mu[j], F, k.r2[j]);
+          else s = model.morris.factor(F, k.r2[j]);
+          k.visc_a[j] = s * k.vol[j] * o.inv_rho, k.visc_b[j] = s * o.vol / k.rho[j];
+        }
+      }
+    }
+  }
+  template <bool AMoves, bool BMoves>
+  __attribute__((target("avx2"), noinline)) static void coefficients_avx2(Chunk& k, int n, const Owner& o, const Model& m) {
+    coefficients<AMoves, BMoves>(k, n, o, m);
+  }
+  template <bool AMoves, bool BMoves>
+  __attribute__((noinline)) static void coefficients_default(Chunk& k, int n, const Owner& o, const Model& m) {
+    coefficients<AMoves, BMoves>(k, n, o, m);
+  }
+
+  template <bool AMoves, bool BMoves>
+  inline __attribute__((always_inline)) void scalar_chunk(int a, const std::uint32_t* e, const std::uint32_t* stop,
+                                                          Vec<D>& acc_a, double& drho_a) const {
+    using List = NeighbourList<D>;
+    Chunk k;
+    const Vec<D>* const x = P_.x.data();
+    const Vec<D>* const v = P_.v.data();
+    const Vec<D>* const shifts = list_.shifts();
+    const Vec<D> xa = x[a], va = v[a];
+    const double support2 = 4.0 * kernel_.h * kernel_.h;
+    const double* const mu_row = materials_.pair_mu_table() + P_.material[a] * materials_.size();
+    // A. gather and keep the pairs within 2h.
+    int n = 0;
+    for (; e != stop; ++e) {
+      const int b = static_cast<int>(*e >> List::shift_bits);
+      const Vec<D> r = xa - x[b] - shifts[*e & List::shift_mask];  // r_ab to the listed image of b
+      const Vec<D> v_ab = va - v[b];
+      const double r2 = r.squaredNorm();
+      k.b[n] = b, k.r2[n] = r2, k.vr[n] = v_ab.dot(r);
+      for (int d = 0; d < D; ++d) k.r[d][n] = r[d], k.v_ab[d][n] = v_ab[d];
+      k.m[n] = P_.mass[b], k.rho[n] = P_.rho[b], k.vol[n] = P_.vol[b], k.p_rho2[n] = P_.p_rho2[b];
+      if constexpr (has(term::artificial_viscosity)) k.c[n] = P_.c[b];
+      if constexpr (has(term::several_materials)) k.mu[n] = mu_row[P_.material[b]];
+      n += r2 < support2;
+    }
+    // B. per-pair coefficients (AVX2 where the CPU has it: no FMA, so every
+    // lane rounds as the scalar code does and results do not depend on the CPU).
+    const Owner o{P_.mass[a], P_.rho[a], P_.vol[a], P_.p_rho2[a], 1.0 / P_.rho[a],
+                  has(term::artificial_viscosity) ? P_.c[a] : 0.0, kernel_.inv_h, kernel_.grad_factor};
+    static const bool avx2 = __builtin_cpu_supports("avx2");
+    if (avx2) coefficients_avx2<AMoves, BMoves>(k, n, o, model_);
+    else coefficients_default<AMoves, BMoves>(k, n, o, model_);
+    // C. sums into a, scatter to b, in list order.
+    Vec<D>* const acc = P_.acc.data();
+    double* const drho = P_.drho.data();
+    const Vec<D>* const v_noslip = P_.v_noslip.data();
+    Vec<D> vns_a = Vec<D>::Zero();
+    if constexpr (has(term::morris_viscosity)) vns_a = v_noslip[a];
+    for (int j = 0; j < n; ++j) {
+      const int b = k.b[j];
+      drho_a += k.drho_a[j];
+      drho[b] += k.drho_b[j];
+      if constexpr (AMoves || BMoves) {
+        Vec<D> r;
+        for (int d = 0; d < D; ++d) r[d] = k.r[d][j];
+        if constexpr (AMoves) acc_a.noalias() += k.radial_a[j] * r;
+        if constexpr (BMoves) acc[b].noalias() -= k.radial_b[j] * r;
+        if constexpr (has(term::morris_viscosity)) {
+          if constexpr (AMoves) acc_a.noalias() += k.visc_a[j] * (va - v_noslip[b]);
+          if constexpr (BMoves) acc[b].noalias() += k.visc_b[j] * (v[b] - vns_a);
+        }
+      }
+    }
+  }
+
+  template <bool AMoves, bool BMoves>
+  inline __attribute__((always_inline)) void pair_terms(int a, const std::uint32_t* e, const std::uint32_t* end) const {
+    using List = NeighbourList<D>;
+    if (e == end) return;
+    Vec<D>* const acc = P_.acc.data();
+    double* const drho = P_.drho.data();
+    const Vec<D>* const x = P_.x.data();
+    const Vec<D>* const v = P_.v.data();
+    const Vec<D>* const v_noslip = P_.v_noslip.data();
+    const double* const mass = P_.mass.data();
+    const double* const rho = P_.rho.data();
+    const double* const c = P_.c.data();
+    const double* const vol = P_.vol.data();
+    const double* const p_rho2 = P_.p_rho2.data();
+    const std::uint8_t* const mat = P_.material.data();
+    const Mat<D>* const sigma_rho2 = P_.sigma_rho2.data();
+    Mat<D>* const grad_v = P_.grad_v.data();
+    Mat<D>* const shape = P_.shape.data();
+    const Vec<D>* const shifts = list_.shifts();
+    const double inv_h = kernel_.inv_h, grad_factor = kernel_.grad_factor;
+    const Model model = model_;
+    const Vec<D> xa = x[a], va = v[a];
+    const double m_a = mass[a], rho_a = rho[a], vol_a = vol[a], p_rho2_a = p_rho2[a];
+    const double inv_rho_a = 1.0 / rho_a, c_a = has(term::artificial_viscosity) ? c[a] : 0.0;
+    const double* const mu_row = materials_.pair_mu_table() + mat[a] * materials_.size();
+    Vec<D> vns_a = Vec<D>::Zero();
+    if constexpr (has(term::morris_viscosity)) vns_a = v_noslip[a];
+    Mat<D> S_a = Mat<D>::Zero(), G_a = Mat<D>::Zero(), M_a = Mat<D>::Zero();
+    if constexpr (tensor) S_a = sigma_rho2[a];
+    Vec<D> acc_a = Vec<D>::Zero();
+    double drho_a = 0.0;
+    for (; e != end; ++e) {
+      const int b = static_cast<int>(*e >> List::shift_bits);
+      const Vec<D> r = xa - x[b] - shifts[*e & List::shift_mask];  // r_ab to the listed image of b
+      const double r2 = r.squaredNorm();
+      const double u = 1.0 - 0.5 * (std::sqrt(r2) * inv_h);
+      const double t = 0.5 * (u + std::abs(u));  // exactly max(u, 0), without a branch (a third of the list is skin)
+      const double F = grad_factor * (t * t * t);  // grad_a W_ab = F r_ab (eq. 8), 0 beyond 2h
+      const Vec<D> v_ab = va - v[b];
+      const double Fvr = F * v_ab.dot(r);  // v_ab . grad_a W_ab (= v_ba . grad_b W_ba)
+      const double m_b = mass[b], rho_b = rho[b];
+      // Eq. 7 for fluid (drho_a = rho_a sum m_b/rho_b v_ab . grad W), the summation rate otherwise.
+      if constexpr (AMoves) drho_a += rho_a * vol[b] * Fvr;
+      else drho_a += m_b * Fvr;
+      if constexpr (BMoves) drho[b] += rho_b * vol_a * Fvr;
+      else drho[b] += m_a * Fvr;
+      if constexpr (tensor) {
+        // Eq. T2 for both particles: -F V v_ab (x) r_ab and -F V r_ab (x) r_ab.
+        const Mat<D> vr_outer = v_ab * r.transpose(), rr_outer = r * r.transpose();
+        G_a.noalias() -= (F * vol[b]) * vr_outer, M_a.noalias() -= (F * vol[b]) * rr_outer;
+        grad_v[b].noalias() -= (F * vol_a) * vr_outer, shape[b].noalias() -= (F * vol_a) * rr_outer;
+      }
+      if constexpr (AMoves || BMoves) {
+        double radial = 0.0;
+        if constexpr (tensor) {
+          // Eq. T1: symmetric in a and b; grad_b W_ba = -F r_ab.
+          const Vec<D> f = (S_a + sigma_rho2[b]) * (F * r);
+          if constexpr (AMoves) acc_a.noalias() += m_b * f;
+          if constexpr (BMoves) acc[b].noalias() -= m_a * f;
+        } else {
+          radial = -(p_rho2_a + p_rho2[b]) * F;  // eq. 9, along r_ab
+        }
+        // Eqs. 11-12: symmetric in a and b, along r_ab.
+        if constexpr (has(term::artificial_viscosity))
+          radial -= model.artificial.pi(r2, v_ab.dot(r), rho_a, rho_b, c_a, c[b]) * F;
+        if constexpr (!tensor || has(term::artificial_viscosity)) {
+          if constexpr (AMoves) acc_a.noalias() += (m_b * radial) * r;
+          if constexpr (BMoves) acc[b].noalias() -= (m_a * radial) * r;
+        }
+        if constexpr (has(term::morris_viscosity)) {
+          // Eq. 10: 2 mu_ab (r_ab . grad W)/(r_ab^2 + 0.01 h^2) m/(rho_a rho_b) times the
+          // velocity difference, each side against the other's no-slip velocity.
+          double s;
+          if constexpr (has(term::several_materials)) s = model.morris.factor(mu_row[mat[b]], F, r2);
+          else s = model.morris.factor(F, r2);
+          if constexpr (AMoves) acc_a.noalias() += (s * vol[b] * inv_rho_a) * (va - v_noslip[b]);
+          if constexpr (BMoves) acc[b].noalias() += (s * vol_a / rho_b) * (v[b] - vns_a);
+        }
+      }
+    }
+    acc[a] += acc_a;
+    drho[a] += drho_a;
+    if constexpr (tensor) grad_v[a] += G_a, shape[a] += M_a;
+    (void)mu_row;
+  }
+
+  Particles<D>& P_;
+  const NeighbourList<D>& list_;
+  const WendlandC2<D>& kernel_;
+  const Model& model_;
+  const MaterialTable& materials_;
+  std::vector<double>& shepard_;
+};
+
+}  // namespace sph

@@ -1,0 +1,49 @@
+// Small types of the solver's stages (simulation.h): stage timers, the
+// stability report, the per-body reduction hook.
+//
+// One step (Monaghan's predictor-corrector with one rate evaluation, at the
+// half step; integrator.h) runs these stages:
+//
+//   predict ──> gather ──────────────> close_rates ─────────> bodies ──> correct ──> post_correct
+//   (eqs. P1,  EOS (eq. 6), sigma/rho^2; per particle: body    per-body   (eqs. P2,  per material:
+//    P3; list  no-slip velocities;     force, walls (eq. 14);  reduction  P4)        return mapping,
+//    rebuild   pair loop: eqs. 7, 9    velocity gradient        (rigid                failure
+//    when      or T1, 10-12, T2        G M^-1; constitutive     grains;               (models with
+//    stale)    (pair_loop.h)           rates d tau/dt           none yet)             stress)
+#pragma once
+#include <string>
+
+namespace sph {
+
+// Pass as `crossed` when no flow plane needs the particle displacements.
+struct NoCrossings {
+  template <class... Args>
+  void operator()(Args&&...) const {}
+};
+
+struct StabilityReport {
+  bool ok = true;
+  std::string message;
+};
+
+// Wall time per stage of the steps so far (s), and neighbour-list builds.
+struct StageTimes {
+  double predict = 0.0;     // predictor and displacement check
+  double neighbours = 0.0;  // binning, reordering by cell, Verlet list build
+  double eos = 0.0;         // gather: EOS (eq. 6), zeroing the sums, no-slip velocities
+  double pairs = 0.0;       // gather: the pair loop (eqs. 7, 9 or T1, 10-12, T2)
+  double particle = 0.0;    // close_rates: per-particle terms (body force, walls, constitutive rates)
+  double correct = 0.0;     // corrector, post_correct and step maxima
+  long builds = 0;          // Verlet list builds
+  long evaluations = 0;     // rate evaluations
+};
+
+// The per-body reduction between close_rates and the corrector (rigid grains
+// made of particles: sum force and torque per body in a fixed order, then
+// set the particles' rates to the body's rigid motion). None yet.
+struct NoBodies {
+  template <class P>
+  void reduce(P&) const {}
+};
+
+}  // namespace sph

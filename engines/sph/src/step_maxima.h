@@ -1,0 +1,68 @@
+// Maxima over the particles after a corrector, for the stability check and
+// the next adaptive step: largest |rho/rho0 - 1| and |v|^2 of the fluid (rho0
+// of each particle's material), largest |dv/dt|^2 of the fluid (last
+// evaluation), and whether every position, velocity and density is finite.
+#pragma once
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <string>
+
+#include "material.h"
+#include "parallel.h"
+#include "particles.h"
+#include "stages.h"
+
+namespace sph {
+
+struct StepMaxima {
+  double worst_rho = 0.0, v2 = 0.0, a2 = 0.0;
+  bool finite = true;
+  bool valid = false;
+};
+
+template <int D>
+inline void take_maxima(const Particles<D>& P, const MaterialTable& mats, std::ptrdiff_t i, double& worst_rho,
+                        double& v2, double& a2, bool& finite) {
+  // One test for all: a sum is finite only when every term is (inf - inf is NaN).
+  finite = finite && std::isfinite(P.rho[i] + P.x[i].sum() + P.v[i].sum());
+  if (!P.moves(i)) return;
+  worst_rho = std::max(worst_rho, std::abs(P.rho[i] / mats.eos(P.material[i]).rho0 - 1.0));
+  v2 = std::max(v2, P.v[i].squaredNorm());
+  a2 = std::max(a2, P.acc[i].squaredNorm());
+}
+
+// update(i) for every particle, then its part of the maxima (one pass, on the threads).
+template <int D, class Update>
+StepMaxima sweep_maxima(const Particles<D>& P, const MaterialTable& mats, Update&& update) {
+  const std::ptrdiff_t n = P.size();
+  double worst_rho = 0.0, v2 = 0.0, a2 = 0.0;
+  bool finite = true;
+  auto body = [&](std::ptrdiff_t i, double& w, double& v, double& a, bool& f) {
+    update(i);
+    take_maxima(P, mats, i, w, v, a, f);
+  };
+  if (go_parallel(n, parallel_min_light)) {
+#pragma omp parallel for reduction(max : worst_rho, v2, a2) reduction(&& : finite) schedule(static)
+    for (std::ptrdiff_t i = 0; i < n; ++i) body(i, worst_rho, v2, a2, finite);
+  } else {
+    for (std::ptrdiff_t i = 0; i < n; ++i) body(i, worst_rho, v2, a2, finite);
+  }
+  return {worst_rho, v2, a2, finite, true};
+}
+
+// NaN anywhere, or a fluid particle whose density deviates from its rho0 by
+// more than the threshold or that is faster than c0. (Boundary and buffer
+// densities are devices of the wall and open-boundary models.)
+inline StabilityReport stability_report(const StepMaxima& m, double max_deviation, double c0) {
+  if (!m.finite) return {false, "a particle's position, velocity or density is not finite"};
+  if (m.worst_rho > max_deviation)
+    return {false, "density deviates from rho0 by " + std::to_string(100.0 * m.worst_rho) + " % (limit " +
+                       std::to_string(100.0 * max_deviation) + " %)"};
+  if (m.v2 > c0 * c0)
+    return {false, "a particle moves at " + std::to_string(std::sqrt(m.v2)) + " m/s, faster than c0 = " +
+                       std::to_string(c0) + " m/s"};
+  return {};
+}
+
+}  // namespace sph
