@@ -221,7 +221,7 @@ def _run_engine(backend, scene, run_dir: Path, clock: PhaseClock, timeout_s, pro
                 raise OrchestratorError(f"cannot write the engine's input into {run_dir}: {os_problem(exc)}") from None
             command, env = backend.command(scene, run_dir)
         clock.lap("input")
-        if not resume and backend.planned_steps(scene) > PROBE_ABOVE_STEPS:
+        if not resume and backend.adapter.probes and backend.planned_steps(scene) > PROBE_ABOVE_STEPS:
             _run_probe(backend, scene, run_dir, on_timing)
         clock.skip()  # the timing probe is the engine's time
         execution = execute(command, env, run_dir, timeout_s, progress, label=label, on_timing=on_timing)

@@ -60,6 +60,11 @@ class Adapter:
                                 "checkpoint; LIGGGHTS and Yade drag-finishing runs can (output.checkpoint_interval)")
 
     @property
+    def probes(self) -> bool:
+        """True when probe_command is implemented (long runs then start with a timing probe)."""
+        return type(self).probe_command is not Adapter.probe_command
+
+    @property
     def resumable(self) -> bool:
         """True when resume_input is implemented."""
         return type(self).resume_input is not Adapter.resume_input
