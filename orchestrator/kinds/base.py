@@ -11,6 +11,7 @@ orchestrator.engines) and the scene, and keeps nothing between calls.
 
 from __future__ import annotations
 
+import abc
 import importlib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -19,10 +20,10 @@ from typing import Any, Callable
 from orchestrator.errors import OrchestratorError
 
 
-class Adapter:
+class Adapter(abc.ABC):
     """How one engine runs one kind: input files, command line, output parsing (stateless).
 
-    Subclasses set ``engine`` (the engine's registry name) and ``templates`` (the template files this adapter renders,
+    An abstract base: subclasses set ``engine`` (the engine's registry name) and ``templates`` (the template files this adapter renders,
     absolute paths; informative: the run identity hashes the rendered files) and implement write_input, command and
     read_output. The optional steps have safe defaults: no scene check, no timing probe (planned_steps 0), no resume.
     """
@@ -33,17 +34,17 @@ class Adapter:
     def check_scene(self, engine, scene) -> None:
         """Raise OrchestratorError for a scene this engine cannot run (before anything is written)."""
 
+    @abc.abstractmethod
     def write_input(self, engine, scene, workdir: Path) -> None:
         """Write every input file the engine needs into workdir."""
-        raise NotImplementedError
 
+    @abc.abstractmethod
     def command(self, engine, scene, workdir: Path) -> tuple[list[str], dict[str, str]]:
         """The command line and the extra environment that run the engine in workdir."""
-        raise NotImplementedError
 
+    @abc.abstractmethod
     def read_output(self, engine, scene, workdir: Path):
         """Parse what the engine wrote (complete or partial) into an engines.base.Result."""
-        raise NotImplementedError
 
     def planned_steps(self, engine, scene) -> int:
         """Upper bound of the run's time steps (0: unknown, no timing probe)."""
