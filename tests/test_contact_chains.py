@@ -214,6 +214,6 @@ def test_pictures_of_a_column_and_of_the_synthetic_run(tmp_path, synthetic_run):
     assert path.stat().st_size > 20_000
     run = read_run(synthetic_run)
     out = report_chains(synthetic_run, run, stored_case(run, synthetic_run), render=True)
-    assert sorted(out) == ["chain_fn", "chains", "impacts", "profiles", "rod_3d", "rod_map"]  # one snapshot: no peak view
+    assert sorted(out) == ["chain_fn", "chains", "profiles", "rod_3d", "rod_map"]  # one snapshot: no peak view
     for name, file in out.items():
         assert file.parent == synthetic_run and file.stat().st_size > 5_000, name

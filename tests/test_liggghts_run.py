@@ -22,14 +22,12 @@ from orchestrator.run import run_case
 from orchestrator.runh5 import read_run
 from orchestrator.kinds import build_scene
 from orchestrator.kinds.drag_finishing.scene import bed_weight
+from test_rod_impacts import assert_engine_impacts
 
 HERE = Path(__file__).parent
 TINY = HERE / "data" / "tiny_bowl.toml"
 
-pytestmark = [
-    pytest.mark.liggghts,
-    pytest.mark.liggghts,
-]
+pytestmark = pytest.mark.liggghts
 
 
 def _run_tiny(out: Path, *extra) -> tuple[dict, dict]:
@@ -85,6 +83,10 @@ def test_rod_reaches_submersion_depth_and_the_media_resist(tiny_run):
     assert (net["body2_role"] == 2).sum() > 0  # the rod is in the network
     rod = run["meshes"]["rod"]
     assert rod["contact_intensity"].shape == (len(rod["faces"]),) and rod["contact_intensity"].max() > 0
+
+
+def test_contact_starts_on_the_rod(tiny_run):
+    assert_engine_impacts(tiny_run[1])
 
 
 @pytest.mark.skipif(shutil.which("mpirun") is None, reason="no mpirun (apt-get install openmpi-bin)")

@@ -90,9 +90,10 @@ def test_two_spheres_damped_beyond_liggghts_limit_are_refused():
 
 
 def test_process_chunks_cut_at_timing_and_snapshots():
-    assert process_chunks(4000, [1500]) == [{"steps": 500, "timing": True, "networks": [], "checkpoint": False},
-                                            {"steps": 1000, "timing": False, "networks": [0], "checkpoint": False},
-                                            {"steps": 2500, "timing": False, "networks": [], "checkpoint": False}]
+    no = {"checkpoint": False, "impacts": False}
+    assert process_chunks(4000, [1500]) == [{"steps": 500, "timing": True, "networks": [], **no},
+                                            {"steps": 1000, "timing": False, "networks": [0], **no},
+                                            {"steps": 2500, "timing": False, "networks": [], **no}]
     chunks = process_chunks(300, [300, 100])
     assert [c["steps"] for c in chunks] == [100, 200] and chunks[0]["networks"] == [1]
     assert chunks[1]["networks"] == [0] and sum(c["steps"] for c in chunks) == 300

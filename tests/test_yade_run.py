@@ -17,14 +17,12 @@ from orchestrator.runh5 import read_run
 from orchestrator.kinds import build_scene
 from orchestrator.kinds.drag_finishing.scene import bed_weight
 from orchestrator.case import load_case
+from test_rod_impacts import assert_engine_impacts
 
 HERE = Path(__file__).parent
 TINY = HERE / "data" / "tiny_bowl.toml"
 
-pytestmark = [
-    pytest.mark.yade,
-    pytest.mark.yade,
-]
+pytestmark = pytest.mark.yade
 
 
 @pytest.fixture(scope="module")
@@ -81,6 +79,10 @@ def test_network_and_intensity(tiny_run):
     assert len(net["normal_force"]) > 20 and np.all(net["normal_force"] >= 0)
     rod = run["meshes"]["rod"]
     assert rod["contact_intensity"].shape == (len(rod["faces"]),) and rod["contact_intensity"].max() > 0
+
+
+def test_contact_starts_on_the_rod(tiny_run):
+    assert_engine_impacts(tiny_run[1])
 
 
 def test_timeout_keeps_status_and_partial_data(tmp_path):

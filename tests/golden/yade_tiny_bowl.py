@@ -89,6 +89,7 @@ O.engines = [
     NewtonIntegrator(damping=0.4, gravity=(0.0, 0.0, -9.81), label="newton"),
     PyRunner(iterPeriod=36, command="control()", label="controller"),
     PyRunner(iterPeriod=72, command="record()", label="recorder"),
+    PyRunner(iterPeriod=1, command="impacts()", dead=True, label="impacter"),
 ]
 DT_SETTLE = 2.794444601978471e-05  # s, while settling, inserting and relaxing at the settling stiffness
 DT = 2.794444601978471e-05  # s, from the stiffening on (the process)
@@ -128,6 +129,18 @@ if RESUME:
     rod_contact_count[:] = checkpoint["rod_contact_count"]
     print("RESUMED t=%.6g s step=%d from %s" % (O.time, O.iter, checkpoint["scene"]), flush=True)
 # the orchestrator dropped rows recorded after the checkpoint before a resumed run appends
+# contact starts on the rod in IMPACT_WINDOW (s of process; None: off), as the LIGGGHTS deck finds them
+# (orchestrator/kinds/drag_finishing/impacts.py): the rod is a prism of IMPACT_SEGMENTS sides (apothem
+# IMPACT_APOTHEM m, flat tip) carried about the bowl axis; g is a ball's gap to it, u = -dg/dt its normal
+# approach speed; a contact starts where g <= 0 < g + u dt
+IMPACT_WINDOW = (0.0, 0.1)
+IMPACT_SEGMENTS = 8
+IMPACT_ALPHA0 = 0.3926990816987239
+IMPACT_APOTHEM = 0.002309698831278217
+IMPACT_SECTOR = 0.7853981633974483
+impact_file = open(os.path.join(OUT, "impacts.csv"), "a" if RESUME else "w") if IMPACT_WINDOW else None
+if impact_file is not None and not RESUME:
+    impact_file.write("time,id,radius,x,y,z,vx,vy,vz,gap,speed,step\n")
 series = open(os.path.join(OUT, "series.csv"), "a" if RESUME else "w")
 if not RESUME:
     series.write("time,phase,wf_normal,wf_tangential,wf_vertical,rod_fx,rod_fy,rod_fz,"
@@ -136,6 +149,45 @@ if not RESUME:
 
 def rod_tip_z():
     return min(min(O.bodies[i].state.pos[2] + v[2] for v in O.bodies[i].shape.vertices) for i in ROD_IDS)
+
+
+def impacts():
+    """Every step in IMPACT_WINDOW: the balls that start touching the rod (see IMPACT_WINDOW above)."""
+    t_p = O.time - state["t_process"]
+    if t_p < IMPACT_WINDOW[0]:
+        return
+    if t_p >= IMPACT_WINDOW[1]:
+        impacter.dead = True
+        impact_file.flush()
+        return
+    axis, angle = O.bodies[ROD_IDS[0]].state.ori.toAxisAngle()  # the carousel's turn so far
+    th = angle if axis[2] >= 0 else -angle
+    c, s = math.cos(th), math.sin(th)
+    if O.iter >= state.get("impact_refresh", -1):  # the balls near the rod, again every 50 steps
+        p = np.array([tuple(O.bodies[i].state.pos) for i in SPHERE_IDS])
+        r = np.array([O.bodies[i].shape.radius for i in SPHERE_IDS])
+        near = np.hypot(p[:, 0] - PATH_RADIUS * c, p[:, 1] - PATH_RADIUS * s) - r < IMPACT_APOTHEM / math.cos(
+            0.5 * IMPACT_SECTOR) + 3e-3
+        state["impact_near"] = [SPHERE_IDS[k] for k in np.flatnonzero(near)]
+        state["impact_refresh"] = O.iter + 50
+        state["impact_tip"] = rod_tip_z()
+    ids = state["impact_near"]
+    if not ids:
+        return
+    p = np.array([tuple(O.bodies[i].state.pos) for i in ids])
+    v = np.array([tuple(O.bodies[i].state.vel) for i in ids])
+    r = np.array([O.bodies[i].shape.radius for i in ids])
+    dx, dy = p[:, 0] - PATH_RADIUS * c, p[:, 1] - PATH_RADIUS * s
+    phi = np.arctan2(dy * c - dx * s, dx * c + dy * s)
+    a = th + IMPACT_ALPHA0 + IMPACT_SECTOR * np.floor((phi - IMPACT_ALPHA0) / IMPACT_SECTOR + 0.5)
+    gs = dx * np.cos(a) + dy * np.sin(a) - IMPACT_APOTHEM - r
+    us = -((v[:, 0] + 2.0 * p[:, 1]) * np.cos(a) + (v[:, 1] - 2.0 * p[:, 0]) * np.sin(a))
+    ga = state["impact_tip"] - p[:, 2] - r
+    side = gs > ga
+    g, u = np.where(side, gs, ga), np.where(side, us, v[:, 2])
+    for k in np.flatnonzero((g <= 0) & (g + u * O.dt > 0)):
+        impact_file.write("%.17g,%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%d\n" % (
+            O.time, ids[k], r[k], p[k, 0], p[k, 1], p[k, 2], v[k, 0], v[k, 1], v[k, 2], g[k], u[k], O.iter))
 
 
 def summed_force(ids):
@@ -254,6 +306,8 @@ def write_status():
 
 def stop(status, message):
     state["status"], state["message"] = status, message
+    if impact_file is not None:
+        impact_file.flush()
     print("STATUS %s %s" % (status, message), flush=True)
     write_frame("final.npz")
     write_status()
@@ -327,6 +381,7 @@ def control():
         elif (stage == 0 and O.time - state["t_phase"] >= RELAX_TIME) or (stage == 2 and elapsed >= RELAX_TIME):
             state["t_process"] = O.time
             drag.dead = False
+            impacter.dead = not IMPACT_WINDOW
             next_phase(3)
     elif phase == 3:
         t_p = O.time - state["t_process"]
@@ -348,6 +403,8 @@ def write_checkpoint():
     state["checkpoint_due"] = False
     path = os.path.join(OUT, "checkpoint_%d.yade.gz" % (state["checkpoints"] % 2))
     series.flush()
+    if impact_file is not None:
+        impact_file.flush()
     O.save(path)
     tmp = os.path.join(OUT, "checkpoint.tmp")
     with open(tmp, "w") as fh:

@@ -137,6 +137,10 @@ class Output(Frozen):
     checkpoint_interval: Positive | None = Field(
         None, description="process time between checkpoints from which 'orchestrator run --resume' continues a "
         "stopped run, s (LIGGGHTS restart files; None: no checkpoints)")
+    impact_window: tuple[NonNegative, NonNegative] | None = Field(
+        None, description="[start, end] process time, s, in which every ball's first touch of the rod is recorded "
+        "with its normal impact speed (checked every step; costs engine time; the rod must be a regular prism, as the "
+        "generated one; None: off)")
 
 
 class Analysis(Frozen):
@@ -223,6 +227,12 @@ class DragFinishingCase(MaterialCase):
                     f"output.network_times contains {t} s, after the end of the process "
                     f"(process.duration = {self.process.duration} s); allowed: 0 <= t <= duration"
                 )
+        window = self.output.impact_window
+        if window is not None and not 0 <= window[0] < window[1] <= self.process.duration:
+            raise ValueError(
+                f"output.impact_window = {list(window)} s is not inside the process (process.duration = "
+                f"{self.process.duration} s); allowed: [start, end] with 0 <= start < end <= duration"
+            )
         if self.output.record_interval > self.process.duration:
             raise ValueError(
                 f"output.record_interval = {self.output.record_interval} s is longer than the process "

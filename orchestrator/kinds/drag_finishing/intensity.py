@@ -14,21 +14,10 @@ What run.h5 holds and what is measured from it (SI units, angles in deg):
   contacts seen in the snapshots, the largest normal force (N) and the
   sampled normal impulse sum(F_n) * spacing (N s; an estimate only when the
   snapshots are dense, spacing = the median time between snapshots).
-* The normal impact velocity at contact start is **not** in run.h5: the
-  snapshots hold forces, not velocities, and a contact's first step is not
-  recorded. The engines would have to write, for every ball-rod contact,
-  one event row when it starts (as /events does for impact runs): start
-  time (s), ball id, rod facet, the normal relative velocity
-  (v_ball - v_rod at the contact point) . n (m/s) at the first step of
-  contact, end time (s), peak normal force (N). (LIGGGHTS: compute
-  wall/gran/local with ``vel`` and ``delta`` every step on the rod mesh only,
-  a new contact being one absent the step before; Yade: a PyRunner every
-  step over the rod facets' interactions with ``I.iterBorn == O.iter``.)
-  What the data allow instead is ``approach_speeds``: the normal velocity,
-  relative to the rod surface, of the balls in the frames (positions and
-  velocities, stored with each snapshot) that are within a small gap of the
-  rod and moving towards it, the speed they will hit it with if nothing
-  else acts first.
+* The normal impact speed at contact start: impacts.py (/events, recorded by the engines in
+  output.impact_window). ``approach_speeds`` is a proxy from the frames (positions and velocities stored with
+  each snapshot): the normal velocity, relative to the rod surface, of the balls within a small gap of the rod
+  and moving towards it.
 
 Angles around the rod: phi = 0 faces v_w (front), +90 outwards (towards the
 bowl wall), +-180 the back, -90 towards the bowl axis.
@@ -43,7 +32,7 @@ import numpy as np
 from orchestrator.kinds.drag_finishing.chains import ROLE_ROD, path_of, rod_pose, snapshots_of
 
 
-def _turn(points: np.ndarray, angle: float | np.ndarray) -> np.ndarray:
+def turn_z(points: np.ndarray, angle: float | np.ndarray) -> np.ndarray:
     """points (n,3) turned by angle (rad, scalar or (n,)) about the z axis."""
     p = np.asarray(points, float).reshape(-1, 3)
     c, s = np.cos(angle), np.sin(angle)
@@ -121,7 +110,7 @@ def snapshot_facet_contacts(run: dict) -> dict:
         axis, vw = rod_pose(tp, radius, speed)
         phi.append(rod_angle(pts, axis, vw))
         z.append(pts[:, 2])
-        facet.append(nearest_facet(_turn(pts, speed / radius * (tp_end - tp)), rod["vertices"], rod["faces"]))
+        facet.append(nearest_facet(turn_z(pts, speed / radius * (tp_end - tp)), rod["vertices"], rod["faces"]))
         force.append(np.asarray(snap["normal_force"], float)[sel])
         when.append(np.full(int(sel.sum()), tp))
     cat = lambda x, dtype=float: np.concatenate(x).astype(dtype) if x else np.zeros(0, dtype)  # noqa: E731
@@ -189,12 +178,12 @@ def sector_sums(phi: np.ndarray, values: np.ndarray) -> dict[str, float]:
 
 
 def intensity_summary(run: dict) -> dict:
-    """Mesh and snapshot measures of the rod's contact intensity (see the module docstring) with the
-    approach speeds; None entries where run.h5 lacks the data."""
+    """Mesh and snapshot measures of the rod's contact intensity (see the module docstring); None entries where
+    run.h5 lacks the data."""
     rod = run["meshes"]["rod"]
     snap = snapshot_facet_contacts(run)
     geo = facet_geometry(rod["vertices"], rod["faces"], snap["axis"], snap["vw"])
-    out = {"geometry": geo, "snapshots": snap, "speeds": frame_approach_speeds(run)}
+    out = {"geometry": geo, "snapshots": snap}
     if "contact_intensity" in rod:
         out["intensity"] = np.asarray(rod["contact_intensity"], float)
         out["count"] = np.asarray(rod.get("contact_count", np.zeros(len(geo["area"]))), float)
@@ -227,9 +216,4 @@ def intensity_text(res: dict, record_interval: float | None = None) -> str:
                          f"{np.corrcoef(res['intensity'], snap['impulse'])[0, 1]:.2f})")
             lines.append(f"  sampled normal impulse of the process, contact normal forces x {snap['spacing']:.3g} s = "
                          f"{snap['impulse'].sum():.3f} N s{agree}")
-    sp = res["speeds"]
-    lines.append("  impact speed at contact start: not in run.h5 (see contact_intensity's docstring); proxy: "
-                 + (f"{len(sp)} balls approaching the rod within 10 % of R_b, approach speed median "
-                    f"{1e3 * np.median(sp):.2f} mm/s, 90th percentile {1e3 * np.percentile(sp, 90):.2f} mm/s, "
-                    f"max {1e3 * sp.max():.2f} mm/s" if len(sp) else "no approaching ball in the frames"))
     return "\n".join(lines)

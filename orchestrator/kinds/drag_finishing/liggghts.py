@@ -6,6 +6,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from orchestrator.kinds.base import Adapter
+from orchestrator.kinds.drag_finishing.impacts import template_values
 from orchestrator.kinds.drag_finishing.liggghts_deck import TEMPLATE, drag_context, write_drag_files
 from orchestrator.kinds.drag_finishing.liggghts_output import read_drag_output
 from orchestrator.kinds.drag_finishing.liggghts_resume import write_resume_deck
@@ -19,6 +20,10 @@ class LiggghtsDragFinishing(Adapter):
 
     engine = "liggghts"
     templates = (TEMPLATE,)
+
+    def check_scene(self, engine, scene) -> None:
+        """Refuse an impact window on a rod that is not a regular prism (impacts.template_values)."""
+        template_values(scene)
 
     def write_input(self, engine, scene, workdir: Path) -> None:
         (workdir / "output").mkdir(exist_ok=True)

@@ -29,6 +29,7 @@ from pathlib import Path
 import numpy as np
 
 from orchestrator.engines.liggghts_files import write_data_file, write_stl_ascii
+from orchestrator.kinds.drag_finishing.impacts import template_values
 from orchestrator.kinds.drag_finishing.schedule import every, schedule
 from orchestrator.kinds.impact.yade import yade_native_alpha
 from orchestrator.kinds.liggghts_physics import liggghts_beta, restitution_for_beta
@@ -100,9 +101,17 @@ def drag_context(scene) -> dict:
         "steps_after_insert": plan.steps_after_insert,
         "planned_steps": plan.planned_steps,
         "process_chunks": process_chunks(plan.process_steps, [round(t / dt) for t in case.output.network_times],
-                                         checkpointevery(case, dt)),
+                                         checkpointevery(case, dt), impact_steps(case, dt)),
         "resume": None,
+        "path_radius": repr(case.workpiece.path_radius),
+        **template_values(scene),
     }
+
+
+def impact_steps(case, dt: float) -> tuple[int, int] | None:
+    """output.impact_window as process steps [start, end), or None."""
+    window = case.output.impact_window
+    return None if window is None else (round(window[0] / dt), round(window[1] / dt))
 
 
 def checkpointevery(case, dt: float) -> int | None:
@@ -111,21 +120,26 @@ def checkpointevery(case, dt: float) -> int | None:
     return None if interval is None else every(interval, dt)
 
 
-def process_chunks(total: int, network_steps: list[int], checkpoint_steps: int | None = None) -> list[dict]:
-    """The process phase as runs: [{steps, timing, networks, checkpoint}], cut at each network snapshot's step
-    (from the process start), after the first TIMING_STEPS steps (the timing line) and every checkpoint_steps
-    (a restart file is written after a chunk whose checkpoint is True; never after the last one)."""
+def process_chunks(total: int, network_steps: list[int], checkpoint_steps: int | None = None,
+                   impact_steps: tuple[int, int] | None = None) -> list[dict]:
+    """The process phase as runs: [{steps, timing, networks, checkpoint, impacts}], cut at each network
+    snapshot's step (from the process start), after the first TIMING_STEPS steps (the timing line), every
+    checkpoint_steps (a restart file is written after a chunk whose checkpoint is True; never after the last one)
+    and at the ends of impact_steps (process steps [start, end) in which contact starts are recorded: impacts
+    is True for the chunks inside)."""
     checkpoints = set(range(checkpoint_steps, total, checkpoint_steps)) if checkpoint_steps else set()
-    cuts = sorted({min(TIMING_STEPS, total), total, *(min(s, total) for s in network_steps if s > 0), *checkpoints})
+    window = tuple(min(max(s, 0), total) for s in impact_steps) if impact_steps else ()
+    cuts = sorted({min(TIMING_STEPS, total), total, *(min(s, total) for s in network_steps if s > 0), *checkpoints,
+                   *(s for s in window if s > 0)})
     chunks, done = [], 0
     for cut in cuts:
         chunks.append({"steps": cut - done, "timing": not chunks,
                        "networks": [k for k, s in enumerate(network_steps) if min(max(s, 0), total) == cut],
-                       "checkpoint": cut in checkpoints})
+                       "checkpoint": cut in checkpoints, "impacts": bool(window) and window[0] <= done < window[1]})
         done = cut
     if 0 in network_steps:  # a snapshot at the start of the process: a zero-step run writes it
         chunks.insert(0, {"steps": 0, "timing": False, "networks": [k for k, s in enumerate(network_steps) if s <= 0],
-                          "checkpoint": False})
+                          "checkpoint": False, "impacts": False})
     return chunks
 
 

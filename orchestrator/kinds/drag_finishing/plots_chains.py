@@ -6,7 +6,7 @@ chains_network.png  xy and xz views of a snapshot's network with the chains high
 chains_fn.png       F_n with its peaks, the chain count per snapshot and their cross-correlation against lag
 contact_profiles.png mean ball-ball contact force against the angle to v_w and against height
 rod_intensity.png   the rod unrolled (phi around the rod, height): mesh |F| dt per facet, snapshot normal forces
-impact_speeds.png   histogram of the balls' approach speeds to the rod (the impact-speed proxy)
+(impact_speeds.png: plots_impacts.py)
 """
 
 from __future__ import annotations
@@ -21,7 +21,7 @@ from orchestrator.kinds.drag_finishing.intensity import intensity_summary, inten
 from orchestrator.plots import font_file, polydata, quiet_headless_vtk
 
 
-def _figure(width: float, height: float):
+def figure(width: float, height: float):
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
@@ -30,7 +30,7 @@ def _figure(width: float, height: float):
     return fig
 
 
-def _save(fig, path) -> Path:
+def save(fig, path) -> Path:
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path)
@@ -57,7 +57,7 @@ def plot_chain_network(chains: dict, bowl_radius: float, rod_radius: float, rod_
         (chains, "tab:blue", 4.5, f"chains rod -> bowl ({chains['n_chains']}): shortest strong paths"),
         (dominant, "k", 7.0, f"dominant chain: widest path, B = {(dominant or {}).get('strength', 0):.3g} N"))
         if c and c["contacts"]]
-    fig = _figure(12.0, 6.4)
+    fig = figure(12.0, 6.4)
     ax_xy, ax_xz = fig.subplots(1, 2, gridspec_kw={"width_ratios": [1.0, 1.0]})
     axis, vw = chains["axis"], chains["vw"]
     for ax, (i, j) in ((ax_xy, (0, 1)), (ax_xz, (0, 2))):
@@ -98,13 +98,13 @@ def plot_chain_network(chains: dict, bowl_radius: float, rod_radius: float, rod_
     bar = fig.colorbar(lines, ax=[ax_xy, ax_xz], shrink=0.8, pad=0.01)
     bar.set_label("normal contact force [N]")
     fig.suptitle(title or "interaction network with contact chains", fontsize=11)
-    return _save(fig, path)
+    return save(fig, path)
 
 
 def plot_chains_time(res: dict, path) -> Path:
     """F_n (N) against process time with the peak threshold and the peaks; the chain count and the chain
     strength B (N) per snapshot; their correlations with -F_n against lag (s)."""
-    fig = _figure(10.0, 9.0)
+    fig = figure(10.0, 9.0)
     grid = fig.add_gridspec(4, 1, height_ratios=[2.2, 1.0, 1.0, 1.4])
     ax_f = fig.add_subplot(grid[0])
     ax_c, ax_b = fig.add_subplot(grid[1], sharex=ax_f), fig.add_subplot(grid[2], sharex=ax_f)
@@ -142,12 +142,12 @@ def plot_chains_time(res: dict, path) -> Path:
     for ax in (ax_f, ax_c, ax_b, ax_r):
         ax.grid(True, color="0.93", lw=0.5)
     fig.suptitle("normal force on the rod and contact chains", fontsize=11)
-    return _save(fig, path)
+    return save(fig, path)
 
 
 def plot_force_profiles(res: dict, path) -> Path:
     """Mean ball-ball contact force (N, +- standard error) against the angle to v_w (deg) and height (mm)."""
-    fig = _figure(10.0, 4.2)
+    fig = figure(10.0, 4.2)
     ax_a, ax_h = fig.subplots(1, 2)
     prof = res["profiles"]
     for ax, key, horizontal in ((ax_a, "angle", True), (ax_h, "height", False)):
@@ -169,7 +169,7 @@ def plot_force_profiles(res: dict, path) -> Path:
     n = len(res["time"])
     fig.suptitle(f"ball-ball contact forces, {n} snapshot{'s' if n != 1 else ''} pooled (bars: standard error, "
                  "contacts taken as independent)", fontsize=11)
-    return _save(fig, path)
+    return save(fig, path)
 
 
 def plot_rod_intensity(ires: dict, rod_tip: float, bed_height: float, path) -> Path:
@@ -180,7 +180,7 @@ def plot_rod_intensity(ires: dict, rod_tip: float, bed_height: float, path) -> P
     from matplotlib.collections import PolyCollection
 
     geo, snap = ires["geometry"], ires["snapshots"]
-    fig = _figure(11.0, 5.0)
+    fig = figure(11.0, 5.0)
     ax_m, ax_s = fig.subplots(1, 2, sharey=True)
     side = np.flatnonzero(geo["kind"] == 0)
     if "intensity" in ires and side.size:
@@ -221,7 +221,7 @@ def plot_rod_intensity(ires: dict, rod_tip: float, bed_height: float, path) -> P
     ax_m.set_ylim(1e3 * rod_tip - 2.0, top)
     ax_m.set_ylabel("height above the bowl floor [mm]")
     fig.suptitle("contact intensity on the rod, unrolled (up to 5 mm above the bed)", fontsize=11)
-    return _save(fig, path)
+    return save(fig, path)
 
 
 def render_rod_intensity(ires: dict, vertices: np.ndarray, faces: np.ndarray, top: float, path) -> Path:
@@ -268,23 +268,6 @@ def render_rod_intensity(ires: dict, vertices: np.ndarray, faces: np.ndarray, to
         finally:
             plotter.close()
     return path
-
-
-def plot_impact_speeds(speeds: np.ndarray, path) -> Path:
-    """Histogram of approach speeds (mm/s) of balls about to touch the rod."""
-    fig = _figure(6.5, 4.0)
-    ax = fig.subplots()
-    speeds = 1e3 * np.asarray(speeds, float)
-    if speeds.size:
-        ax.hist(speeds, bins=max(5, min(40, int(np.sqrt(speeds.size)) + 1)), color="C0", edgecolor="white")
-        ax.axvline(np.median(speeds), color="k", ls="--", lw=1.0, label=f"median {np.median(speeds):.1f} mm/s")
-        ax.legend(fontsize=8)
-    ax.set_xlabel("normal approach speed to the rod surface [mm/s]")
-    ax.set_ylabel("balls")
-    ax.set_title(f"impact-speed proxy: {speeds.size} balls within 10 % of $R_b$ of the rod, approaching",
-                 fontsize=9.5)
-    ax.grid(True, color="0.93", lw=0.5)
-    return _save(fig, path)
 
 
 def chain_text(res: dict) -> str:
@@ -387,5 +370,4 @@ def report_chains(run_dir, run: dict, case, render: bool = True) -> dict:
             rod = run["meshes"]["rod"]
             out["rod_3d"] = render_rod_intensity(ires, rod["vertices"], rod["faces"], bed + 0.005,
                                                  run_dir / "rod_intensity_3d.png")
-        out["impacts"] = plot_impact_speeds(ires["speeds"], run_dir / "impact_speeds.png")
     return out

@@ -9,6 +9,7 @@ from orchestrator.errors import ReadError
 from orchestrator.kinds.drag_finishing.analysis import comparison_table
 from orchestrator.kinds.drag_finishing.plots import plot_drag_finishing_forces, render_network
 from orchestrator.kinds.drag_finishing.plots_chains import report_chains
+from orchestrator.kinds.drag_finishing.plots_impacts import report_impacts
 
 
 def analyze_drag_finishing_run(run_dir: Path, run: dict, case, render: bool = True) -> dict:
@@ -28,6 +29,7 @@ def analyze_drag_finishing_run(run_dir: Path, run: dict, case, render: bool = Tr
     if render and run.get("contacts", {}).keys() - {"attrs"}:
         outputs["network"] = render_network(run, run_dir / "network.png")
     outputs.update(report_chains(run_dir, run, case, render))
+    outputs.update(report_impacts(run_dir, run, case, render))
     for name, path in outputs.items():
         print(f"{name:<8} {path}")
     return outputs

@@ -11,6 +11,7 @@ import numpy as np
 from orchestrator.engines.base import Result, Series
 from orchestrator.errors import OrchestratorError, ReadError
 from orchestrator.kinds.base import Adapter
+from orchestrator.kinds.drag_finishing.impacts import ENGINE_COLUMNS, attach_impacts, impact_rows, template_values
 from orchestrator.kinds.drag_finishing.schedule import schedule
 from orchestrator.templating import render
 
@@ -23,6 +24,10 @@ class YadeDragFinishing(Adapter):
 
     engine = "yade"
     templates = (TEMPLATE,)
+
+    def check_scene(self, engine, scene) -> None:
+        """Refuse an impact window on a rod that is not a regular prism (impacts.template_values)."""
+        template_values(scene)
 
     def write_input(self, engine, scene, workdir: Path) -> None:
         arrays = {"positions": scene.positions, "radii": scene.radii}
@@ -51,7 +56,8 @@ class YadeDragFinishing(Adapter):
                 "output.checkpoint_interval) or stopped before the first one; run it again instead") from None
         if point["scene"] not in ("output/checkpoint_0.yade.gz", "output/checkpoint_1.yade.gz") or not saved.is_file():
             raise OrchestratorError(f"{path} names no saved scene of this run; run the case again instead")
-        _drop_rows_after(workdir / "output" / "series.csv", step)
+        for name in ("series.csv", "impacts.csv"):
+            _drop_rows_after(workdir / "output" / name, step)
         command, env = self.command(engine, scene, workdir)
         return command + ["--resume"], env
 
@@ -121,6 +127,7 @@ def render_context(scene) -> dict:
         "process_duration": repr(case.process.duration),
         "network_times": repr(list(case.output.network_times)),
         "checkpoint_interval": repr(case.output.checkpoint_interval),
+        **template_values(scene),
         "bowl_radius": repr(case.bowl.inner_radius),
         "bowl_height": repr(case.bowl.height),
         "planned_steps": plan.planned_steps,
@@ -239,6 +246,12 @@ def read_drag_finishing_output(scene, workdir: Path) -> Result:
         rod_entry["contact_intensity"] = final["rod_intensity"]
         rod_entry["contact_count"] = final["rod_contact_count"]
     result.meshes["rod"] = rod_entry
+    impacts = out / "impacts.csv"
+    if impacts.is_file() and last.is_file():  # the rod's pose is known at the end only
+        cols = read_series_csv(impacts)
+        raw = impact_rows(np.column_stack([cols[name] for name in ENGINE_COLUMNS]))
+        raw["time"] = cols["time"]
+        attach_impacts(result, raw, scene.case.angular_velocity, float(final["time"]))
     return result
 
 

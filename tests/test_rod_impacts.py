@@ -1,0 +1,146 @@
+"""Contact starts on the rod (kinds/drag_finishing/impacts.py): the prism the engines test against, the events
+recomputed from the stored mesh against hand-placed balls, per-face sums, the printed summary, the deck's chunks
+and the case's checks. The engines' own rows are checked against this in test_liggghts_run / test_yade_run."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+import trimesh
+
+from orchestrator.kinds.drag_finishing.impacts import (
+    facet_impacts,
+    impact_events,
+    impact_summary,
+    impact_text,
+    rod_prism,
+)
+from orchestrator.kinds.drag_finishing.intensity import turn_z
+from orchestrator.kinds.drag_finishing.liggghts_deck import process_chunks
+from orchestrator.kinds.drag_finishing.plots_impacts import plot_impact_speeds
+from orchestrator.scene.geometry import rod_mesh
+
+R_ROD, R_PATH, OMEGA, R_BALL, TIP = 0.005, 0.02, 0.5, 3.27e-3, 0.02
+
+
+def placed_rod():
+    """The generated rod (24 sides) at its process start pose: axis at (R_PATH, 0), tip at TIP."""
+    rod = rod_mesh(R_ROD, 0.1, 24)
+    rod.apply_translation([R_PATH, 0.0, TIP])
+    return np.asarray(rod.vertices), np.asarray(rod.faces)
+
+
+def test_the_generated_rod_is_the_prism_the_engines_test():
+    vertices, faces = placed_rod()
+    prism = rod_prism(vertices, faces)
+    assert prism["segments"] == 24
+    assert prism["apothem"] == pytest.approx(R_ROD * math.cos(math.pi / 24), rel=1e-12)
+    assert prism["alpha0"] == pytest.approx(math.pi / 24, abs=1e-9)
+    np.testing.assert_allclose(prism["axis"], [R_PATH, 0.0], atol=1e-15)
+    sphere = trimesh.creation.icosphere(subdivisions=1)
+    with pytest.raises(ValueError, match="not a regular vertical prism"):
+        rod_prism(np.asarray(sphere.vertices), np.asarray(sphere.faces))
+
+
+def test_events_from_hand_placed_balls_give_facet_gap_and_normal_speed():
+    vertices, faces = placed_rod()
+    t_stored, start = 3.0, 1.0  # the mesh is stored at 2 s of process
+    stored = turn_z(vertices, OMEGA * (t_stored - start))
+    a = R_ROD * math.cos(math.pi / 24)
+    rows = []
+    # (process time s, side k, height above the tip m, overlap m, approach U m/s, sliding speed along the face m/s)
+    cases = [(0.1, 0, 0.010, 1e-7, 0.004, 0.002), (0.7, 6, 0.030, 5e-8, 0.020, 0.0),
+             (1.9, 13, 0.002, 2e-7, 0.001, -0.01)]
+    for tp, k, height, overlap, u, slide in cases:
+        theta = OMEGA * tp
+        alpha = math.pi / 24 + k * math.pi / 12
+        n = np.array([math.cos(alpha + theta), math.sin(alpha + theta), 0.0])
+        along = np.array([-n[1], n[0], 0.0])
+        axis = R_PATH * np.array([math.cos(theta), math.sin(theta), 0.0])
+        p = axis + (a + R_BALL - overlap) * n + [0.0, 0.0, TIP + height]
+        v_rod = OMEGA * np.array([-p[1], p[0], 0.0])
+        rows.append((start + tp, p, v_rod - u * n + slide * along))
+    raw = {"time": np.array([r[0] for r in rows]), "ball": np.arange(3), "radius": np.full(3, R_BALL),
+           "position": np.array([r[1] for r in rows]), "velocity": np.array([r[2] for r in rows]),
+           "engine_speed": np.array([c[4] for c in cases])}
+    ev = impact_events(raw, stored, faces, OMEGA, start, t_stored)
+    np.testing.assert_allclose(ev["impact_speed"].values, [c[4] for c in cases], rtol=1e-9)
+    np.testing.assert_allclose(ev["gap"].values, [-c[3] for c in cases], atol=1e-12)
+    np.testing.assert_allclose(ev["process_time"].values, [c[0] for c in cases], atol=1e-15)
+    tri = stored[faces[ev["facet"].values]]
+    normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    normal_angle = np.degrees(np.arctan2(normal[:, 1], normal[:, 0]))
+    expected = np.degrees([math.pi / 24 + k * math.pi / 12 + OMEGA * (t_stored - start) for _, k, *_ in cases])
+    np.testing.assert_allclose(np.mod(normal_angle - expected + 180, 360) - 180, 0.0, atol=1e-9)
+
+
+def test_per_face_counts_mean_and_peak():
+    out = facet_impacts(np.array([2, 2, 5]), np.array([0.01, 0.03, 0.02]), 6)
+    np.testing.assert_array_equal(out["impact_count"], [0, 0, 2, 0, 0, 1])
+    np.testing.assert_allclose(out["impact_speed_mean"], [0, 0, 0.02, 0, 0, 0.02])
+    np.testing.assert_allclose(out["impact_speed_max"], [0, 0, 0.03, 0, 0, 0.02])
+
+
+def test_summary_sectors_text_and_picture(tmp_path):
+    vertices, faces = placed_rod()
+    # three balls at process time 0 (rod axis at (R_PATH, 0), v_w along +y): in front, behind, at the outer side
+    p = np.array([[R_PATH, 0.009, 0.05], [R_PATH, -0.009, 0.05], [R_PATH + 0.009, 0.0, 0.05]])
+    run = {"events": {"impact_speed": np.array([0.01, 0.02, 0.03]), "process_time": np.zeros(3), "position": p,
+                      "facet": np.array([0, 1, 2]), "engine_speed": np.array([0.01, 0.02, 0.03 + 1e-6])},
+           "case": {"attrs": {"workpiece.path_radius": R_PATH, "workpiece.speed": OMEGA * R_PATH,
+                              "output.impact_window": np.array([0.0, 0.5])}},
+           "meshes": {"rod": {"vertices": vertices, "faces": faces}}}
+    res = impact_summary(run)
+    np.testing.assert_allclose(res["phi"], [0.0, 180.0, 90.0], atol=1e-9)
+    text = impact_text(res)
+    assert "from 0 to 0.5 s of process): 3, 6.0 per s" in text
+    assert "median 20.00 mm/s" in text and "max 30.00 mm/s" in text
+    assert "front 33 %, outer side 33 %, back 33 %, inner side 0 %" in text
+    assert "agree on the speed to 0.001 mm/s" in text
+    assert "not recorded (set output.impact_window" in impact_text(None)
+    path = plot_impact_speeds(res, np.array([0.005, 0.015]), TIP, 0.07, tmp_path / "impacts.png")
+    assert path.stat().st_size > 20_000
+
+
+def test_the_deck_cuts_its_process_runs_at_the_impact_window():
+    chunks = process_chunks(4000, [], impact_steps=(1000, 2500))
+    assert [(c["steps"], c["impacts"]) for c in chunks] == [(500, False), (500, False), (1500, True), (1500, False)]
+    assert [c["impacts"] for c in process_chunks(300, [], impact_steps=(0, 300))] == [True]
+
+
+def assert_engine_impacts(run: dict) -> None:
+    """What a tiny engine run with output.impact_window must hold: contact starts inside the window, each
+    overlapping by less than one step of approach at the mesh's faces (or an edge's rounding, 0.05 mm at 8 sides),
+    approaching, and the engine's prism test agreeing with the stored mesh's speed (to 1e-6 m/s); per-face sums
+    that add up to the events."""
+    ev, dt = run["events"], run["attrs"]["dt"]
+    window = run["case"]["attrs"]["output.impact_window"]
+    speed = ev["impact_speed"]
+    assert len(speed) >= 3
+    assert np.all((ev["process_time"] >= window[0] - dt) & (ev["process_time"] <= window[1] + dt))
+    assert np.all(speed > 0)
+    np.testing.assert_allclose(ev["engine_speed"], speed, atol=1e-6)
+    assert np.all(ev["gap"] <= speed * dt + 1e-12 + 5e-5) and np.all(ev["gap"] >= -speed * dt - 1e-9)
+    rod = run["meshes"]["rod"]
+    assert rod["impact_count"].sum() == len(speed)
+    assert rod["impact_speed_max"].max() == pytest.approx(speed.max(), rel=1e-12)
+
+
+@pytest.mark.liggghts  # the engine is checked before the scene
+def test_an_impact_window_on_a_rod_that_is_no_prism_is_refused(tmp_path, capsys):
+    from orchestrator.cli import main
+
+    sphere = trimesh.creation.icosphere(subdivisions=2, radius=0.002)
+    sphere.apply_translation([0.0, 0.0, 0.002])
+    sphere.export(tmp_path / "ball.stl")
+    tiny = Path(__file__).parent / "data" / "tiny_bowl.toml"
+    code = main(["run", str(tiny), "--engine", "liggghts", "--out", str(tmp_path / "run"),
+                 "--set", f"workpiece.mesh={json.dumps(str(tmp_path / 'ball.stl'))}"])
+    err = capsys.readouterr().err
+    assert code == 2, err
+    assert "output.impact_window is set but the rod" in err and "allowed: remove output.impact_window" in err
+    assert "Traceback" not in err and not (tmp_path / "run" / "drag_finishing.in").exists()
