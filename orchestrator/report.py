@@ -3,6 +3,9 @@ pictures (kinds.<kind>: Kind.analyze)."""
 
 from __future__ import annotations
 
+import contextlib
+import io
+import json
 from pathlib import Path
 
 from orchestrator.errors import ReadError
@@ -25,3 +28,30 @@ def analyze_run(run_dir, render: bool = True) -> dict:
         raise ReadError(f"{run_dir}: run.h5 lacks the attribute {missing[0]!r}; it was not written by "
                         "'orchestrator run' (or is damaged)")
     return get_kind(case.case.kind).analysis(run_dir, run, case, render)
+
+
+#: Root attributes of run.h5 a summary keeps (what ran, how long, what it settled to).
+SUMMARY_ATTRS = ("case_name", "case_kind", "case_hash", "preset", "engine", "engine_version", "status", "message",
+                 "command", "n_particles", "n_steps", "dt", "simulated_time", "process_start_time", "bed_height",
+                 "settled", "wall_time_s", "engine_wall_time_s", "started", "finished")
+
+
+def write_summary(run_dir, path, render: bool = True) -> Path:
+    """analyze_run() with what it prints also written to path as JSON: the run's identity and timing
+    (SUMMARY_ATTRS), its resolved case (TOML text), its measured quantities (SI) and the printed report (lines):
+    a few kB that stand for a run whose raw data stay out of the repository. Returns path."""
+    buffer = io.StringIO()
+    with contextlib.redirect_stdout(buffer):
+        analyze_run(run_dir, render)
+    text = buffer.getvalue()
+    print(text, end="")
+    run = read_run(run_dir)
+    plain = lambda v: v.item() if hasattr(v, "item") else v.tolist() if hasattr(v, "tolist") else v  # noqa: E731
+    summary = {"run": {k: plain(run["attrs"][k]) for k in SUMMARY_ATTRS if k in run["attrs"]},
+               "measured": {k: plain(v) for k, v in run.get("measured", {}).get("attrs", {}).items()},
+               "case": str(run.get("case", {}).get("attrs", {}).get("toml", "")),
+               "report": text.splitlines()}
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(json.dumps(summary, indent=1, allow_nan=True) + "\n")
+    return path

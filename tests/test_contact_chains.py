@@ -217,3 +217,21 @@ def test_pictures_of_a_column_and_of_the_synthetic_run(tmp_path, synthetic_run):
     assert sorted(out) == ["chain_fn", "chains", "profiles", "rod_3d", "rod_map"]  # one snapshot: no peak view
     for name, file in out.items():
         assert file.parent == synthetic_run and file.stat().st_size > 5_000, name
+
+
+def test_summary_file_keeps_identity_measured_and_report(synthetic_run, tmp_path, capsys):
+    import json
+
+    from orchestrator.cli import main
+    from orchestrator.runh5 import read_run
+
+    path = tmp_path / "kept" / "summary.json"
+    assert main(["analyze", str(synthetic_run), "--no-render", "--summary", str(path)]) == 0
+    out = capsys.readouterr().out
+    data = json.loads(path.read_text())
+    run = read_run(synthetic_run)
+    assert data["run"]["engine"] == "synthetic" and data["run"]["n_particles"] == run["attrs"]["n_particles"]
+    assert data["measured"]["fn_mean"] == pytest.approx(run["measured"]["attrs"]["fn_mean"], rel=1e-15)
+    assert "[case]" in data["case"] and 'name = "tiny_bowl"' in data["case"]
+    assert any(line.startswith("contact chains (1 snapshot)") for line in data["report"])
+    assert "\n".join(data["report"]) in out and f"summary  {path}" in out
