@@ -347,6 +347,8 @@ class SphOutput(Frozen):
 CHECK_QUANTITIES = {
     "poiseuille_series": ("u_profile",),
     "couette_series": ("u_profile",),
+    "two_layer_poiseuille": ("u_profile",),
+    "two_layer_couette": ("u_profile",),
     "hydrostatic": ("pressure_profile", "particle_pressure", "spurious_speed", "simulated_time"),
     "surge_front": ("surge_front_Z",),
     "penalty_column": ("eq14_wall_force", "min_distance_to_wall", "floor_force"),
