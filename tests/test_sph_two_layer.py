@@ -12,10 +12,12 @@ import numpy as np
 import pytest
 
 from orchestrator.case import load_case
+from orchestrator.cli import main
 from orchestrator.errors import CaseError
 from orchestrator.kinds import bind, build_scene
 from orchestrator.kinds.sph_flow.checks_layers import check_two_layer_couette, check_two_layer_poiseuille
 from orchestrator.kinds.sph_flow.sph import _frame_material
+from orchestrator.runh5 import read_run
 from orchestrator.reference.sph_flows import (
     couette_steady_velocity,
     poiseuille_steady_velocity,
@@ -43,7 +45,7 @@ def test_two_layer_profiles_reduce_to_one_layer_for_equal_fluids():
 def test_two_layer_poiseuille_satisfies_its_conditions(rho1, rho2, mu1, mu2):
     """No slip at both plates; u and mu du/dy continuous at the interface; mu_i u'' = -rho_i F in each layer."""
     L, h1, F, e = 1e-3, 4e-4, 3e-4, 1e-9
-    u = lambda y: two_layer_poiseuille_velocity(y, h1, L, rho1, rho2, mu1, mu2, F)  # noqa: E731
+    u = lambda y: two_layer_poiseuille_velocity(y, h1, L, rho1, rho2, mu1, mu2, F)
     scale = float(np.max(u(np.linspace(0.0, L, 1001))))
     assert abs(u(0.0)) < 1e-14 * scale and abs(u(L)) < 1e-14 * scale
     assert abs(u(h1 - 1e-15) - u(h1 + 1e-15)) < 1e-9 * scale
@@ -160,7 +162,7 @@ def _run(case, profile, perturb=0.0, scale=1.0):
 
 def test_two_layer_checks_pass_the_profile_and_fail_a_3_percent_error():
     case = load_case(POISEUILLE).model
-    exact = lambda y: two_layer_poiseuille_velocity(y, 5e-4, 1e-3, 1000.0, 500.0, 1e-3, 2e-3, 4e-4)  # noqa: E731
+    exact = lambda y: two_layer_poiseuille_velocity(y, 5e-4, 1e-3, 1000.0, 500.0, 1e-3, 2e-3, 4e-4)
     peak = float(np.max(exact(np.linspace(0.0, 1e-3, 2001))))
     assert peak == pytest.approx(2.8125e-5, rel=1e-9)
     rows, plot = check_two_layer_poiseuille(case, _run(case, exact))
@@ -169,9 +171,31 @@ def test_two_layer_checks_pass_the_profile_and_fail_a_3_percent_error():
     assert not rows[0]["passed"] and rows[0]["rel_error"] == pytest.approx(0.03, rel=2e-3)
 
     case = load_case(COUETTE).model
-    exact = lambda y: two_layer_couette_velocity(y, 5e-4, 1e-3, 1e-3, 2e-3, 2.5e-5)  # noqa: E731
+    exact = lambda y: two_layer_couette_velocity(y, 5e-4, 1e-3, 1e-3, 2e-3, 2.5e-5)
     rows, _ = check_two_layer_couette(case, _run(case, exact))
     assert rows[0]["passed"] and rows[0]["rel_error"] < 1e-12
     assert rows[0]["expected"] == pytest.approx(2.0 / 3.0 * 2.5e-5, rel=0.05)  # the rows beside the interface
     rows, _ = check_two_layer_couette(case, _run(case, exact, 0.03, 2.5e-5))
     assert not rows[0]["passed"] and rows[0]["rel_error"] == pytest.approx(0.03, rel=2e-3)
+
+
+@pytest.mark.sph
+def test_two_layer_run_records_each_particles_material(capsys, tmp_path):
+    """A short two-layer Couette through `orchestrator run`: run.h5 frames carry material (layers stay apart),
+    and after 0.05 s the momentum of the plate has entered the light upper layer, not yet the heavy lower one."""
+    out = tmp_path / "run"
+    code = main(["run", str(COUETTE), "--set", "simulation.duration=0.05", "--set", "output.frame_interval=0.025",
+                 "--out", str(out), "--no-progress", "--json"])
+    assert code == 0 and json.loads(capsys.readouterr().out)["status"] == "ok"
+    run = read_run(out)
+    frames = [run["frames"][k] for k in sorted((k for k in run["frames"] if k != "attrs"), key=int)]
+    assert len(frames) == 3
+    for frame in frames:
+        y, material = frame["positions"][:, 1], frame["material"]
+        assert material.dtype == np.int32
+        np.testing.assert_array_equal(material[y < 4.5e-4], 0)
+        np.testing.assert_array_equal(material[y > 5.5e-4], 1)
+    last = frames[-1]
+    fluid = last["kind"] == 0
+    u, material = last["velocities"][fluid, 0], last["material"][fluid]
+    assert u[material == 1].mean() > 3.0 * u[material == 0].mean() > 0.0

@@ -139,9 +139,10 @@ def particle_materials(state: SphState, model: SphModel) -> SphMaterial:
     """Every particle's material parameters as arrays (n,) in one SphMaterial (viscosity 0 where None)."""
     materials = model.material_list()
     index = np.zeros(len(state.mass), dtype=np.int64) if state.material is None else np.asarray(state.material)
-    column = lambda key: np.array([getattr(m, key) for m in materials], dtype=float)[index]  # noqa: E731
+    rho0, c0, gamma, p_b = (np.array([getattr(m, key) for m in materials], dtype=float)[index]
+                            for key in ("rho0", "c0", "gamma", "background_pressure"))
     nu = np.array([m.viscosity or 0.0 for m in materials])[index]
-    return SphMaterial(column("rho0"), column("c0"), column("gamma"), column("background_pressure"), nu)
+    return SphMaterial(rho0, c0, gamma, p_b, nu)
 
 
 def pair_viscosity(model: SphModel) -> np.ndarray:

@@ -21,6 +21,7 @@ from pydantic import Field, model_validator
 
 from orchestrator.case.common import CaseMeta, Frozen
 from orchestrator.case.limits import check_sph
+from orchestrator.kinds.sph_flow.case_materials import Material, check_materials
 from orchestrator.kinds.sph_flow.case_parts import (  # noqa: F401  (the parts are part of this module's API)
     BOX_SIDES,
     LATTICE_TOLERANCE,
@@ -42,7 +43,6 @@ from orchestrator.kinds.sph_flow.case_parts import (  # noqa: F401  (the parts a
     WallPenalty,
     _norm,
 )
-from orchestrator.kinds.sph_flow.case_materials import Material, check_materials
 
 
 class SphFlowCase(Frozen):
