@@ -13,10 +13,12 @@ import pytest
 
 from orchestrator.case import load_case
 from orchestrator.cli import main
-from orchestrator.errors import CaseError
+from orchestrator.errors import CaseError, OrchestratorError
 from orchestrator.kinds import bind, build_scene
+from orchestrator.kinds.sph_flow.checks import check_poiseuille
 from orchestrator.kinds.sph_flow.checks_layers import check_two_layer_couette, check_two_layer_poiseuille
 from orchestrator.kinds.sph_flow.sph import _frame_material
+from orchestrator.reference import sph as ref
 from orchestrator.runh5 import read_run
 from orchestrator.reference.sph_flows import (
     couette_steady_velocity,
@@ -199,3 +201,20 @@ def test_two_layer_run_records_each_particles_material(capsys, tmp_path):
     fluid = last["kind"] == 0
     u, material = last["velocities"][fluid, 0], last["material"][fluid]
     assert u[material == 1].mean() > 3.0 * u[material == 0].mean() > 0.0
+
+
+def test_one_fluid_checks_refuse_two_materials():
+    case = load_case(POISEUILLE, overrides=['expected=[{check="poiseuille_series", quantity="u_profile", '
+                                            'tolerance=0.02}]']).model
+    with pytest.raises(OrchestratorError, match="check 'poiseuille_series' compares one fluid but the case has 2"):
+        check_poiseuille(case, {"frames": {}})
+
+
+def test_reference_pair_viscosity_is_the_harmonic_mean_across_materials():
+    model = ref.SphModel(dimension=2, rho0=1000.0, c0=1.0, h=0.01, materials=(
+        ref.SphMaterial(1000.0, 1.0, viscosity=1e-6), ref.SphMaterial(500.0, 2.0, viscosity=4e-6),
+        ref.SphMaterial(800.0, 1.0)))
+    mu = ref.pair_viscosity(model)
+    np.testing.assert_allclose(np.diag(mu), [1e-3, 2e-3, 0.0], rtol=1e-15)
+    assert mu[0, 1] == mu[1, 0] == pytest.approx(2 * 1e-3 * 2e-3 / 3e-3, rel=1e-15)  # 1.333e-3 Pa s
+    assert mu[0, 2] == 0.0 and model.viscous
