@@ -1,10 +1,12 @@
 """The reference SPH (orchestrator.reference.sph) against the sph executable,
 step by step, and its building blocks against their formulas.
 
-The two tiny scenes (tests/data/sph_reference_{2d,3d}.toml) switch on every
-term between them: Morris and artificial viscosity, gravity, fixed boundary
-particles (one wall sliding), hydrostatic start densities, triangle-mesh
-penalty walls, a periodic axis, background pressure.
+The tiny scenes (tests/data/sph_reference_{2d,3d,two_materials}.toml) switch
+on every term between them: Morris and artificial viscosity, gravity, fixed
+boundary particles (one wall sliding), hydrostatic start densities,
+triangle-mesh penalty walls, a periodic axis, background pressure, two
+materials (each its own EOS and viscosity, the harmonic mean of eq. 10
+across them).
 """
 
 from __future__ import annotations
@@ -49,7 +51,7 @@ def _engine_frames(scene, workdir: Path) -> list[dict]:
 
 
 @needs_sph
-@pytest.mark.parametrize("name", ["sph_reference_2d", "sph_reference_3d"])
+@pytest.mark.parametrize("name", ["sph_reference_2d", "sph_reference_3d", "sph_reference_two_materials"])
 def test_executable_and_reference_agree_step_by_step(name, tmp_path):
     case = load_case(DATA / f"{name}.toml", overrides=["output.frame_interval=2e-4"])  # a frame every step
     scene = build_scene(case.model)
@@ -74,6 +76,7 @@ def test_executable_and_reference_agree_step_by_step(name, tmp_path):
 @pytest.mark.parametrize("name,term", [
     ("sph_reference_2d", "viscosity"), ("sph_reference_2d", "alpha"), ("sph_reference_2d", "body_force"),
     ("sph_reference_3d", "walls"), ("sph_reference_3d", "periodic_axes"),
+    ("sph_reference_two_materials", "materials"),
 ])
 def test_every_term_changes_the_tiny_scenes(name, term):
     """Each term matters in its scene far beyond the tolerance (so the comparison above can fail)."""
@@ -81,7 +84,8 @@ def test_every_term_changes_the_tiny_scenes(name, term):
     state, model = ref.from_scene(scene)
     dt = scene.case.numerics.dt
     full, _ = ref.simulate(state, model, dt, 5)
-    without = {"periodic_axes": {"periodic_axes": (), "periodic_lo": (), "periodic_hi": ()}}.get(term, {term: None})
+    without = {"periodic_axes": {"periodic_axes": (), "periodic_lo": (), "periodic_hi": ()},
+               "materials": {"materials": model.materials[:1] * len(model.materials)}}.get(term, {term: None})
     cut, _ = ref.simulate(state, replace(model, **without), dt, 5)
     moved = np.abs(full.x - state.x).max()
     assert np.abs(cut.x - full.x).max() > 1e3 * TOLERANCE * moved

@@ -14,6 +14,11 @@ included (engines/sph/README.md):
   boundary particles entering with the mirrored velocity 2 v_b - <v>_fluid),
   Monaghan artificial viscosity (eqs. 11-12), body force, penalty walls
   (eq. 14, orchestrator.reference.sph_walls);
+- several materials (optional): each particle's rho0, c0, gamma, p_B and nu
+  are its material's (EOS, boundary pressure of max(rho, rho0)); the Morris
+  term of two different materials takes the harmonic mean
+  mu_ab = 2 mu_a mu_b / (mu_a + mu_b) for (mu_a + mu_b)/2, one material its mu
+  (engines/sph/src/material.h);
 - periodic axes: every image within 2h (the executable's cell lists find the
   same ones when the periodic length is at least 4h);
 - Monaghan's predictor-corrector leapfrog with one rate evaluation per step,
@@ -39,6 +44,17 @@ FLUID, BOUNDARY = 0, 1
 
 
 @dataclass(frozen=True)
+class SphMaterial:
+    """One material: rho0 kg/m^3, c0 m/s, gamma -, background pressure Pa, kinematic viscosity m^2/s (or None)."""
+
+    rho0: float
+    c0: float
+    gamma: float = 7.0
+    background_pressure: float = 0.0
+    viscosity: float | None = None
+
+
+@dataclass(frozen=True)
 class SphModel:
     """The physics of a run (SI units). Optional terms are None when off."""
 
@@ -56,6 +72,18 @@ class SphModel:
     periodic_axes: tuple[int, ...] = ()
     periodic_lo: tuple[float, ...] = ()  # m, one per periodic axis
     periodic_hi: tuple[float, ...] = ()
+    materials: tuple[SphMaterial, ...] = ()  # several materials (SphState.material indexes them); else the above
+
+    def material_list(self) -> tuple[SphMaterial, ...]:
+        """The materials, or the one material of rho0, c0, gamma, background_pressure and viscosity."""
+        if self.materials:
+            return self.materials
+        return (SphMaterial(self.rho0, self.c0, self.gamma, self.background_pressure, self.viscosity),)
+
+    @property
+    def viscous(self) -> bool:
+        """True if the Morris term is on (a material has a viscosity)."""
+        return any(m.viscosity is not None for m in self.material_list())
 
     @property
     def eta2(self) -> float:
@@ -66,7 +94,8 @@ class SphModel:
 @dataclass(frozen=True)
 class SphState:
     """Particle state: x (n, D) m, v (n, D) m/s, rho (n) kg/m^3, mass (n) kg, kind (n) 0 fluid / 1 boundary;
-    acc (n, D) m/s^2 and drho (n) kg/m^3/s: the rates of the last evaluation (None before the first step)."""
+    acc (n, D) m/s^2 and drho (n) kg/m^3/s: the rates of the last evaluation (None before the first step);
+    material (n) index into SphModel.material_list() (None: all 0)."""
 
     x: np.ndarray
     v: np.ndarray
@@ -75,6 +104,7 @@ class SphState:
     kind: np.ndarray
     acc: np.ndarray | None = None
     drho: np.ndarray | None = None
+    material: np.ndarray | None = None
 
 
 def kernel_value(r, h: float, dimension: int):
@@ -93,15 +123,35 @@ def kernel_gradient_factor(r, h: float, dimension: int):
     return np.where(q >= 2.0, 0.0, -5.0 * alpha_d / (h * h) * t**3)
 
 
-def tait_pressure(rho, model: SphModel):
-    """Eq. 6: rho0 c0^2/gamma ((rho/rho0)^gamma - 1) + p_B, Pa."""
+def tait_pressure(rho, model: SphModel | SphMaterial):
+    """Eq. 6: rho0 c0^2/gamma ((rho/rho0)^gamma - 1) + p_B, Pa (the model's or material's parameters; each may
+    be an array, one value per particle)."""
     ratio = np.asarray(rho, dtype=float) / model.rho0
     return model.rho0 * model.c0**2 / model.gamma * (ratio**model.gamma - 1.0) + model.background_pressure
 
 
-def sound_speed(rho, model: SphModel):
+def sound_speed(rho, model: SphModel | SphMaterial):
     """c = c0 (rho/rho0)^((gamma-1)/2), m/s."""
     return model.c0 * (np.asarray(rho, dtype=float) / model.rho0) ** (0.5 * (model.gamma - 1.0))
+
+
+def particle_materials(state: SphState, model: SphModel) -> SphMaterial:
+    """Every particle's material parameters as arrays (n,) in one SphMaterial (viscosity 0 where None)."""
+    materials = model.material_list()
+    index = np.zeros(len(state.mass), dtype=np.int64) if state.material is None else np.asarray(state.material)
+    rho0, c0, gamma, p_b = (np.array([getattr(m, key) for m in materials], dtype=float)[index]
+                            for key in ("rho0", "c0", "gamma", "background_pressure"))
+    nu = np.array([m.viscosity or 0.0 for m in materials])[index]
+    return SphMaterial(rho0, c0, gamma, p_b, nu)
+
+
+def pair_viscosity(model: SphModel) -> np.ndarray:
+    """mu_ab of eq. 10 for every two materials (k, l), Pa s: mu_k when k = l, else the harmonic mean
+    2 mu_k mu_l / (mu_k + mu_l) (0 when both are 0); mu = rho0 nu."""
+    mu = np.array([m.rho0 * (m.viscosity or 0.0) for m in model.material_list()])
+    total = mu[:, None] + mu[None, :]
+    harmonic = np.divide(2.0 * mu[:, None] * mu[None, :], total, out=np.zeros_like(total), where=total > 0.0)
+    return np.where(np.eye(len(mu), dtype=bool), mu[:, None] * np.ones_like(total), harmonic)
 
 
 def wrap(x: np.ndarray, model: SphModel) -> np.ndarray:
@@ -161,9 +211,10 @@ def rates(state: SphState, model: SphModel) -> tuple[np.ndarray, np.ndarray]:
     boundary particles)."""
     n, d = state.x.shape
     fluid = state.kind == FLUID
-    rho_eos = np.where(fluid, state.rho, np.maximum(state.rho, model.rho0))
-    p = tait_pressure(rho_eos, model)
-    c = sound_speed(rho_eos, model)
+    own = particle_materials(state, model)
+    rho_eos = np.where(fluid, state.rho, np.maximum(state.rho, own.rho0))
+    p = tait_pressure(rho_eos, own)
+    c = sound_speed(rho_eos, own)
     vol = state.mass / state.rho
     p_rho2 = p / (state.rho * state.rho)
     a, b, r_ab = neighbour_pairs(state.x, model)
@@ -175,8 +226,9 @@ def rates(state: SphState, model: SphModel) -> tuple[np.ndarray, np.ndarray]:
 
     drho = np.where(moving, state.rho[a] * vol[b] * v_dot_grad, state.mass[b] * v_dot_grad)
     acc_pairs = -(state.mass[b] * (p_rho2[a] + p_rho2[b]))[:, None] * grad_w
-    if model.viscosity is not None:
-        mu = model.rho0 * model.viscosity
+    if model.viscous:
+        index = np.zeros(n, dtype=np.int64) if state.material is None else np.asarray(state.material)
+        mu = pair_viscosity(model)[index[a], index[b]]
         v_noslip = _no_slip_velocities(state, model)
         s = 2.0 * mu * vol[b] / state.rho[a] * np.einsum("ij,ij->i", r_ab, grad_w) / (r2 + model.eta2)
         acc_pairs += s[:, None] * (state.v[a] - v_noslip[b])
@@ -283,14 +335,18 @@ def from_scene(scene) -> tuple[SphState, SphModel]:
         walls = PenaltyWalls({name: (m.vertices, m.faces) for name, m in scene.meshes.items()}, wp.range, wp.s, wp.psi)
     axes = tuple(case.domain.periodic)
     av = physics.artificial_viscosity
+    first = scene.materials[0]
+    several = tuple(SphMaterial(m.rho0, m.c0, m.gamma, m.background_pressure, m.viscosity)
+                    for m in scene.materials) if case.materials else ()
     model = SphModel(
-        dimension=case.dimension, rho0=case.fluid.density, c0=scene.c0, h=scene.h, gamma=case.fluid.gamma,
-        background_pressure=case.fluid.background_pressure, viscosity=case.fluid.viscosity,
+        dimension=case.dimension, rho0=first.rho0, c0=first.c0, h=scene.h, gamma=first.gamma,
+        background_pressure=first.background_pressure, viscosity=first.viscosity, materials=several,
         alpha=None if av is None else av.alpha, beta=0.0 if av is None else av.beta,
         body_force=physics.body_force, walls=walls, periodic_axes=axes,
         periodic_lo=tuple(case.domain.lo[a] for a in axes), periodic_hi=tuple(case.domain.hi[a] for a in axes),
     )
     state = SphState(x=np.array(scene.positions, dtype=float), v=np.array(scene.velocities, dtype=float),
                      rho=np.array(scene.densities, dtype=float), mass=np.array(scene.masses, dtype=float),
-                     kind=np.array(scene.kind, dtype=np.int8))
+                     kind=np.array(scene.kind, dtype=np.int8),
+                     material=None if not case.materials else np.array(scene.material, dtype=np.int64))
     return state, model

@@ -121,3 +121,52 @@ def tait_density(pressure, rest_density, sound_speed, gamma: float = 7.0, backgr
     """
     stiffness = rest_density * sound_speed**2 / gamma
     return rest_density * (1.0 + (np.asarray(pressure, dtype=float) - background_pressure) / stiffness) ** (1.0 / gamma)
+
+
+# ------------------------------------------------------------------------------------------ two-layer flows
+def two_layer_poiseuille_velocity(y, lower_height, gap, lower_density, upper_density, lower_viscosity,
+                                  upper_viscosity, body_force):
+    """Steady two-layer Poiseuille profile u(y), m/s: two immiscible Newtonian layers between plates at rest,
+    the lower (density rho1, dynamic viscosity mu1) on 0 < y < h1, the upper (rho2, mu2) on h1 < y < L,
+    driven along x by the body force per unit mass F (the force density rho_i F differs between the layers).
+
+    y: height above the lower plate, m; lower_height: h1, m; gap: L, m; densities: kg/m^3; viscosities:
+    dynamic mu, Pa s; body_force: F, m/s^2.
+
+    Derivation. Steady, fully developed: d tau/dy = -rho_i F with the shear stress tau = mu_i du/dy, so
+        u1(y) = -rho1 F y^2 / (2 mu1) + A1 y                      (u1(0) = 0),
+        u2(y) = -rho2 F s^2 / (2 mu2) + A2 s,  s = L - y           (u2(L) = 0).
+    The stress is continuous at y = h1 (h2 = L - h1): tau1 = -rho1 F h1 + mu1 A1, tau2 = rho2 F h2 - mu2 A2, so
+        mu1 A1 + mu2 A2 = F (rho1 h1 + rho2 h2) = S;
+    and so is the velocity: -rho1 F h1^2/(2 mu1) + A1 h1 = -rho2 F h2^2/(2 mu2) + A2 h2, so
+        h1 A1 - h2 A2 = F (rho1 h1^2 / (2 mu1) - rho2 h2^2 / (2 mu2)) = D.
+    Hence A1 = (S h2 + mu2 D) / (mu1 h2 + mu2 h1), A2 = (S h1 - mu1 D) / (mu1 h2 + mu2 h1). With rho1 = rho2,
+    mu1 = mu2 it is the one-layer F y (L - y) / (2 nu).
+    """
+    y = np.asarray(y, dtype=float)
+    h1, h2, f = lower_height, gap - lower_height, body_force
+    r1, r2, m1, m2 = lower_density, upper_density, lower_viscosity, upper_viscosity
+    s_total = f * (r1 * h1 + r2 * h2)
+    d_jump = f * (r1 * h1**2 / (2.0 * m1) - r2 * h2**2 / (2.0 * m2))
+    a1 = (s_total * h2 + m2 * d_jump) / (m1 * h2 + m2 * h1)
+    a2 = (s_total * h1 - m1 * d_jump) / (m1 * h2 + m2 * h1)
+    s = gap - y
+    return np.where(y <= h1, -r1 * f * y**2 / (2.0 * m1) + a1 * y, -r2 * f * s**2 / (2.0 * m2) + a2 * s)
+
+
+def two_layer_couette_velocity(y, lower_height, gap, lower_viscosity, upper_viscosity, plate_speed):
+    """Steady two-layer Couette profile u(y), m/s: the lower layer (dynamic viscosity mu1) on 0 < y < h1 over a
+    plate at rest, the upper (mu2) on h1 < y < L under a plate moving at v0.
+
+    y: height above the lower plate, m; lower_height: h1, m; gap: L, m; viscosities: Pa s; plate_speed: v0, m/s.
+
+    Derivation. Without a body force the shear stress tau is one constant across the gap, so each layer is
+    linear with du/dy = tau / mu_i; u(0) = 0, u(L) = v0 and continuity at h1 (h2 = L - h1) give
+    tau (h1/mu1 + h2/mu2) = v0 and the interface speed u_i = v0 (h1/mu1) / (h1/mu1 + h2/mu2):
+        u(y) = u_i y / h1 (y < h1),  u(y) = u_i + (v0 - u_i) (y - h1) / h2 (y > h1).
+    With mu1 = mu2 it is the one-layer v0 y / L.
+    """
+    y = np.asarray(y, dtype=float)
+    h1, h2 = lower_height, gap - lower_height
+    u_i = plate_speed * (h1 / lower_viscosity) / (h1 / lower_viscosity + h2 / upper_viscosity)
+    return np.where(y <= h1, u_i * y / h1, u_i + (plate_speed - u_i) * (y - h1) / h2)

@@ -9,7 +9,8 @@ mass is per metre of depth (kg/m) and a force per metre (N/m).
 Physics is explicit: ``physics.terms`` lists the optional terms the scene
 uses (continuity, the Tait equation of state and the pressure gradient are
 always on), and a term's parameters are given exactly when the term is on,
-as the executable's deck requires.
+as the executable's deck requires. A scene of several fluids lists them as
+[[materials]] and each block names its own (case_materials.py).
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ from pydantic import Field, model_validator
 
 from orchestrator.case.common import CaseMeta, Frozen
 from orchestrator.case.limits import check_sph
+from orchestrator.kinds.sph_flow.case_materials import Material, check_materials
 from orchestrator.kinds.sph_flow.case_parts import (  # noqa: F401  (the parts are part of this module's API)
     BOX_SIDES,
     LATTICE_TOLERANCE,
@@ -49,6 +51,8 @@ class SphFlowCase(Frozen):
     case: CaseMeta
     domain: Domain
     fluid: Fluid
+    materials: tuple[Material, ...] = Field((), max_length=255, description="several fluids, each block naming "
+                                            "one (case_materials.py); without them [fluid] is the one material")
     physics: Physics
     blocks: tuple[Block, ...] = Field(min_length=1)
     walls: tuple[Wall, ...] = ()
@@ -68,6 +72,7 @@ class SphFlowCase(Frozen):
     @model_validator(mode="after")
     def _consistent(self):
         self._check_lengths()
+        check_materials(self)
         self._check_terms()
         self._check_blocks()
         self._check_walls()
@@ -105,7 +110,7 @@ class SphFlowCase(Frozen):
 
     def _check_terms(self) -> None:
         terms = self.physics.terms
-        if "morris_viscosity" in terms and self.fluid.viscosity is None:
+        if "morris_viscosity" in terms and self.fluid.viscosity is None and not self.materials:
             raise ValueError("physics.terms has 'morris_viscosity' but fluid.viscosity is missing")
         if self.fluid.viscosity is not None and "morris_viscosity" not in terms:
             raise ValueError("fluid.viscosity is given but 'morris_viscosity' is not in physics.terms; "

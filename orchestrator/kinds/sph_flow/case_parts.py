@@ -69,9 +69,13 @@ class Domain(Frozen):
 
 
 class Fluid(Frozen):
-    """The fluid: reference density, viscosity and the weakly compressible equation of state (eq. 6)."""
+    """The fluid: reference density, viscosity and the weakly compressible equation of state (eq. 6).
 
-    density: Positive = Field(description="reference density rho0, kg/m^3")
+    With [[materials]] it holds only max_speed; each material then has its own density, viscosity and EOS.
+    """
+
+    density: Positive | None = Field(None, description="reference density rho0, kg/m^3 (required without "
+                                                       "[[materials]])")
     viscosity: Positive | None = Field(
         None, description="kinematic viscosity nu, m^2/s; given exactly when physics.terms has morris_viscosity"
     )
@@ -169,6 +173,11 @@ class Block(Frozen):
     hydrostatic_surface: Finite | None = Field(
         None, description="height of the free surface along -body_force, m: particles below start at the "
                           "hydrostatic density (Tait EOS of rho0 |g| depth); default rho0 everywhere"
+    )
+    material: Name | None = Field(
+        None, description="name of the block's [[materials]] table (required, for fluid and boundary blocks, "
+                          "when the case has [[materials]]; a boundary particle's rho0 sets its mass and wall "
+                          "pressure, its viscosity the wall's shear)"
     )
 
 
@@ -338,6 +347,8 @@ class SphOutput(Frozen):
 CHECK_QUANTITIES = {
     "poiseuille_series": ("u_profile",),
     "couette_series": ("u_profile",),
+    "two_layer_poiseuille": ("u_profile",),
+    "two_layer_couette": ("u_profile",),
     "hydrostatic": ("pressure_profile", "particle_pressure", "spurious_speed", "simulated_time"),
     "surge_front": ("surge_front_Z",),
     "penalty_column": ("eq14_wall_force", "min_distance_to_wall", "floor_force"),

@@ -25,9 +25,11 @@ from orchestrator.kinds.sph_flow.checks_base import (
     fluid_mask,
     frame_at,
     frames_of,
+    one_material,
     relative,
     tolerance_of,
 )
+from orchestrator.kinds.sph_flow.checks_layers import check_two_layer_couette, check_two_layer_poiseuille
 from orchestrator.kinds.sph_flow.checks_walls import check_penalty_column, check_penalty_incline
 from orchestrator.reference.dam_break_data import SURGE_FRONT_DATA, dimensionless_front, dimensionless_time
 from orchestrator.reference.sph_flows import (
@@ -43,7 +45,8 @@ def check_poiseuille(case, run) -> tuple[list[dict], dict]:
     """Start-up Poiseuille profiles u(y, t) against the series (Morris et al. 1997, eq. 21)."""
 
     fluid = block_of(case, "fluid")
-    gap, force, nu = fluid.hi[1] - fluid.lo[1], body_force_of(case)[0], case.fluid.viscosity
+    nu = one_material(case, "poiseuille_series").viscosity
+    gap, force = fluid.hi[1] - fluid.lo[1], body_force_of(case)[0]
     peak = float(poiseuille_steady_velocity(gap / 2, gap, nu, force))
     return _channel_rows(case, run, fluid.lo[1], gap, peak,
                          lambda y, t: poiseuille_velocity(y, t, gap, nu, force),
@@ -54,7 +57,7 @@ def check_couette(case, run) -> tuple[list[dict], dict]:
     """Start-up Couette profiles u(y, t) against the series (Morris et al. 1997, eq. 22)."""
 
     fluid = block_of(case, "fluid")
-    gap, nu = fluid.hi[1] - fluid.lo[1], case.fluid.viscosity
+    gap, nu = fluid.hi[1] - fluid.lo[1], one_material(case, "couette_series").viscosity
     moving = [b for b in case.blocks if b.kind == "boundary" and b.velocity is not None and any(b.velocity)]
     if len(moving) != 1:
         raise OrchestratorError(f"{case.case.name}: a Couette scene needs exactly one moving boundary block "
@@ -103,7 +106,7 @@ def check_hydrostatic(case, run) -> tuple[list[dict], dict]:
     name = case.case.name
     water = block_of(case, "fluid")
     g = float(np.linalg.norm(body_force_of(case)))
-    rho0, y0 = case.fluid.density, water.lo[1]
+    rho0, y0 = one_material(case, "hydrostatic").rho0, water.lo[1]
     depth = (water.hydrostatic_surface if water.hydrostatic_surface is not None else water.hi[1]) - y0
     scale = rho0 * g * depth
     source = "hydrostatic rho g (H - y)"
@@ -213,6 +216,8 @@ CHECKS = {
     "surge_front": check_dam_break,
     "penalty_column": check_penalty_column,
     "penalty_incline": check_penalty_incline,
+    "two_layer_poiseuille": check_two_layer_poiseuille,
+    "two_layer_couette": check_two_layer_couette,
 }
 
 

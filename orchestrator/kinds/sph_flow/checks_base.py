@@ -7,6 +7,9 @@ import math
 
 import numpy as np
 
+from orchestrator.errors import OrchestratorError
+from orchestrator.kinds.sph_flow.case_materials import RunMaterial, run_materials
+
 ENGINE = "sph"
 
 
@@ -78,3 +81,13 @@ def body_force_of(case) -> np.ndarray:
 
 def block_of(case, kind: str, index: int = 0):
     return [b for b in case.blocks if b.kind == kind][index]
+
+
+def one_material(case, check: str) -> RunMaterial:
+    """The one fluid of a one-material scene ([fluid], or a single [[materials]] table); OrchestratorError
+    naming the check when the scene has several."""
+    materials = run_materials(case)
+    if len(materials) != 1:
+        raise OrchestratorError(f"{case.case.name}: check {check!r} compares one fluid but the case has "
+                                f"{len(materials)} [[materials]]; use a two-layer check or one material")
+    return materials[0]

@@ -13,6 +13,7 @@ from orchestrator.kinds.sph_flow.checks_base import (
     check_row,
     fluid_mask,
     frames_of,
+    one_material,
     relative,
     tolerance_of,
 )
@@ -75,7 +76,7 @@ def check_penalty_column(case, run) -> tuple[list[dict], dict]:
     g = body_force_of(case)
     frames = frames_of(run)
     first = frames[0][1] if frames else None
-    mass = float(case.fluid.density * case.numerics.dx ** case.dimension)
+    mass = float(one_material(case, "penalty_column").rho0 * case.numerics.dx ** case.dimension)
     n_fluid = int(np.count_nonzero(fluid_mask(first))) if first is not None else 0
     weight = mass * n_fluid * float(-(g @ normal))
     series = run.get("series", {})
@@ -102,7 +103,7 @@ def check_penalty_incline(case, run) -> tuple[list[dict], dict]:
     wall, centre, normal, force = _plane_wall(case)
     g = body_force_of(case)
     frames = frames_of(run)
-    mass = float(case.fluid.density * case.numerics.dx ** case.dimension)
+    mass = float(one_material(case, "penalty_incline").rho0 * case.numerics.dx ** case.dimension)
     load = mass * float(-(g @ normal))  # weight across the plane, N
     params = case.physics.wall_penalty
     d_star = brentq(lambda d: float(force(d)) - load, 0.0, params.s, xtol=1e-16 * params.s)

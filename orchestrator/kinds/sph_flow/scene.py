@@ -12,6 +12,7 @@ import numpy as np
 
 from orchestrator.case.limits import sph_timestep
 from orchestrator.kinds.sph_flow.case import SphFlowCase, Wall
+from orchestrator.kinds.sph_flow.case_materials import RunMaterial, block_materials, run_materials
 from orchestrator.scene.geometry import read_mesh
 
 #: Particle kinds of the sph executable's input (engines/sph/src/physics_terms.h).
@@ -43,6 +44,8 @@ class SphScene:
     c0: float  # reference sound speed, m/s
     timestep: float  # fixed dt, or the adaptive CFL step at rest cfl h / c0, s
     physics: tuple[str, ...] = ()  # the terms the engine compiles in (physics.terms): what the deck switches on
+    material: np.ndarray | None = None  # (n,) int32 index into materials of each particle
+    materials: tuple[RunMaterial, ...] = ()  # the run's materials (one, "fluid", without [[materials]])
 
     @property
     def dimension(self) -> int:
@@ -78,11 +81,12 @@ def hydrostatic_density(positions: np.ndarray, surface: float, body_force, rho0:
     return rho0 * (1.0 + rho0 * np.linalg.norm(g) * depth / b) ** (1.0 / gamma)
 
 
-def _particles(case: SphFlowCase, c0: float):
-    dx, d, rho0 = case.numerics.dx, case.dimension, case.fluid.density
+def _particles(case: SphFlowCase, materials: tuple[RunMaterial, ...]):
+    dx, d = case.numerics.dx, case.dimension
     tree_points: list[np.ndarray] = []
     rows = []
-    for index, block in enumerate(case.blocks):
+    for index, (block, k) in enumerate(zip(case.blocks, block_materials(case))):
+        rho0 = materials[k].rho0
         points = lattice(block.lo, block.hi, dx)
         if tree_points:
             from scipy.spatial import cKDTree
@@ -95,16 +99,16 @@ def _particles(case: SphFlowCase, c0: float):
         tree_points.append(points)
         velocity = np.zeros(d) if block.velocity is None else np.asarray(block.velocity, dtype=float)
         if block.hydrostatic_surface is not None:
-            rho = hydrostatic_density(points, block.hydrostatic_surface, case.physics.body_force, rho0, c0,
-                                      case.fluid.gamma)
+            rho = hydrostatic_density(points, block.hydrostatic_surface, case.physics.body_force, rho0,
+                                      materials[k].c0, materials[k].gamma)
         else:
             rho = np.full(len(points), rho0)
         rows.append((points, np.tile(velocity, (len(points), 1)), rho,
                      np.full(len(points), FLUID if block.kind == "fluid" else BOUNDARY, dtype=np.int8),
-                     np.full(len(points), index, dtype=np.int32)))
-    positions, velocities, densities, kind, block = (np.concatenate(parts) for parts in zip(*rows))
-    masses = np.full(len(positions), rho0 * dx**d)
-    return positions, velocities, masses, densities, kind, block
+                     np.full(len(points), index, dtype=np.int32), np.full(len(points), rho0 * dx**d),
+                     np.full(len(points), k, dtype=np.int32)))
+    positions, velocities, densities, kind, block, masses, material = (np.concatenate(parts) for parts in zip(*rows))
+    return positions, velocities, masses, densities, kind, block, material
 
 
 def wall_mesh(wall: Wall, dimension: int) -> WallMesh:
@@ -159,12 +163,21 @@ def _plane(wall: Wall, dimension: int):
 
 
 def build_sph_flow(case: SphFlowCase) -> SphScene:
-    """Particles, wall meshes, h, c0 and the time step of an SPH flow case."""
-    c0 = case.fluid.c0
-    positions, velocities, masses, densities, kind, block = _particles(case, c0)
+    """Particles, wall meshes, h, c0 (the largest of the materials') and the time step of an SPH flow case."""
+    materials = run_materials(case)
+    c0 = max(m.c0 for m in materials)
+    positions, velocities, masses, densities, kind, block, material = _particles(case, materials)
     meshes = {wall.name: wall_mesh(wall, case.dimension) for wall in case.walls}
     h = case.numerics.h
     dt = sph_timestep(case)  # the fixed step, or the adaptive one at rest
+    if case.materials and case.numerics.dt is None:
+        # sph_timestep knows [fluid] only (c0 = 10 max_speed, no viscosity); the engine takes the largest c0
+        # and nu of the materials (README, "Materials"), which can only shorten the step.
+        adaptive = case.numerics.adaptive
+        dt = min(dt, adaptive["cfl"] * h / c0)
+        nu = max((m.viscosity for m in materials if m.viscosity is not None), default=None)
+        if nu is not None:
+            dt = min(dt, adaptive["viscous"] * h * h / nu)
     return SphScene(case=case, positions=positions, velocities=velocities, masses=masses, densities=densities,
                     kind=kind, block=block, meshes=meshes, h=h, c0=c0, timestep=dt,
-                    physics=tuple(case.physics.terms))
+                    physics=tuple(case.physics.terms), material=material, materials=materials)

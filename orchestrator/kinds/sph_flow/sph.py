@@ -53,7 +53,14 @@ def deck_context(scene, threads: int = 1) -> dict:
                     "hi": vec(case.domain.hi[a] for a in axes)}
     av = physics.artificial_viscosity
     wall = physics.wall_penalty
+    materials = None
+    if case.materials:  # the deck's `materials` list replaces its top-level fluid keys
+        materials = [json.dumps({"name": m.name, "model": m.model, "rho0": float(m.rho0), "c0": float(m.c0),
+                                 "gamma": float(m.gamma), "background_pressure": float(m.background_pressure),
+                                 **({} if m.viscosity is None else {"viscosity": float(m.viscosity)})})
+                     for m in scene.materials]
     return {
+        "materials": materials,
         "dimension": case.dimension,
         "physics": json.dumps(list(scene.physics)),
         "rho0": num(fluid.density),
@@ -102,7 +109,8 @@ def _patch_json(patch, **extra) -> str:
 
 def write_particles(scene, path: Path) -> None:
     """The particle input file: positions (n,D) m, velocities (n,D) m/s, masses (n) kg, densities (n)
-    kg/m^3, kind (n) int8 (0 fluid, 1 fixed boundary)."""
+    kg/m^3, kind (n) int8 (0 fluid, 1 fixed boundary) and, with [[materials]], material (n) int32 (index
+    into the deck's materials)."""
     import h5py
 
     with h5py.File(path, "w") as h5:
@@ -111,6 +119,8 @@ def write_particles(scene, path: Path) -> None:
         h5["masses"] = np.asarray(scene.masses, dtype=np.float64)
         h5["densities"] = np.asarray(scene.densities, dtype=np.float64)
         h5["kind"] = np.asarray(scene.kind, dtype=np.int8)
+        if scene.case.materials:
+            h5["material"] = np.asarray(scene.material, dtype=np.int32)
 
 
 def write_meshes(scene, path: Path) -> None:
@@ -148,6 +158,7 @@ def read_sph_output(workdir: Path, scene=None) -> Result:
 
     result = Result()
     path = Path(workdir) / OUTPUT
+    material = None if scene is None or not scene.case.materials else np.asarray(scene.material, dtype=np.int32)
     if scene is not None:
         result.meshes = {name: {"vertices": np.asarray(m.vertices), "faces": np.asarray(m.faces)}
                          for name, m in scene.meshes.items()}
@@ -174,6 +185,8 @@ def read_sph_output(workdir: Path, scene=None) -> Result:
                 if not all(name in group for name in FRAME_ARRAYS):
                     break  # a frame cut off while it was written
                 arrays = {name: np.asarray(group[name][()]) for name in FRAME_ARRAYS}
+                if material is not None:
+                    arrays["material"] = _frame_material(material, arrays["ids"])
                 arrays["step"] = np.int64(group.attrs.get("step", -1))
                 result.frames.append((float(group.attrs["time"]), arrays))
     except (OSError, KeyError, ValueError) as exc:
@@ -192,6 +205,15 @@ def read_sph_output(workdir: Path, scene=None) -> Result:
         result.status = "failed"
         result.message = _engine_error(workdir) or "the engine ended without finishing (status 'running' in out.h5)"
     return result
+
+
+def _frame_material(material: np.ndarray, ids: np.ndarray) -> np.ndarray:
+    """Each frame particle's material index, int32: out.h5 does not record it, and a particle keeps the
+    material of its input row (ids number the input rows); particles added by inlets take material 0 (the
+    engine gives them the deck's first material)."""
+    ids = np.asarray(ids, dtype=np.int64)
+    known = (ids >= 0) & (ids < len(material))
+    return np.where(known, material[np.clip(ids, 0, len(material) - 1)], 0).astype(np.int32)
 
 
 def _engine_error(workdir: Path) -> str:
