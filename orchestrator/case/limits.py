@@ -109,15 +109,19 @@ def check_drag_finishing(case) -> None:
 
 
 # ---------------------------------------------------------------------------------------------------- SPH
-def sph_timestep(case) -> float:
+def sph_timestep(case, c0: float | None = None, viscosity: float | None = None) -> float:
     """The fixed step numerics.dt, or the adaptive step at rest (the largest it takes), s: cfl h / c0, limited
-    by the viscous (factor h^2 / nu) and body-force (factor sqrt(h / |g|)) bounds."""
-    numerics, h, c0 = case.numerics, case.numerics.h, case.fluid.c0
+    by the viscous (factor h^2 / nu) and body-force (factor sqrt(h / |g|)) bounds. c0 (m/s) and viscosity
+    (kinematic, m^2/s) default to [fluid]'s; a case with several materials passes their largest, as the engine
+    takes them."""
+    numerics, h = case.numerics, case.numerics.h
+    c0 = case.fluid.c0 if c0 is None else c0
+    viscosity = case.fluid.viscosity if viscosity is None else viscosity
     if numerics.dt is not None:
         return numerics.dt
     dt = numerics.adaptive["cfl"] * h / c0
-    if case.fluid.viscosity is not None:
-        dt = min(dt, numerics.adaptive["viscous"] * h * h / case.fluid.viscosity)
+    if viscosity is not None:
+        dt = min(dt, numerics.adaptive["viscous"] * h * h / viscosity)
     force = case.physics.body_force
     if force is not None and any(force):
         dt = min(dt, numerics.adaptive["force"] * math.sqrt(h / math.sqrt(sum(c * c for c in force))))
@@ -134,12 +138,13 @@ def sph_particle_estimate(case) -> float:
     return total
 
 
-def check_sph(case) -> None:
-    """Memory of the particles, step and record counts, and probes/patches inside the domain of an SPH case."""
+def check_sph(case, c0: float | None = None, viscosity: float | None = None) -> None:
+    """Memory of the particles, step and record counts, and probes/patches inside the domain of an SPH case
+    (c0, viscosity: see sph_timestep)."""
     check_memory(f"numerics.dx = {case.numerics.dx:g} m over the blocks", sph_particle_estimate(case),
                  BYTES_PER_SPH_PARTICLE, "a larger dx or smaller blocks")
     duration = case.simulation.duration
-    dt = sph_timestep(case)
+    dt = sph_timestep(case, c0, viscosity)
     fixed = case.numerics.dt is not None
     step_key = "numerics.dt" if fixed else "the adaptive step at rest (cfl h / c0 and the viscous and force bounds)"
     if case.numerics.max_steps is None:  # a cap (at most MAX_STEPS) ends the run before the duration

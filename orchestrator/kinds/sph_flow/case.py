@@ -21,7 +21,8 @@ from pydantic import Field, model_validator
 
 from orchestrator.case.common import CaseMeta, Frozen
 from orchestrator.case.limits import check_sph
-from orchestrator.kinds.sph_flow.case_materials import Material, check_materials
+from orchestrator.kinds.sph_flow.case_materials import (Material, check_materials, largest_c0_and_viscosity,
+                                                       run_materials)
 from orchestrator.kinds.sph_flow.case_parts import (  # noqa: F401  (the parts are part of this module's API)
     BOX_SIDES,
     LATTICE_TOLERANCE,
@@ -79,7 +80,7 @@ class SphFlowCase(Frozen):
         self._check_patches()
         self._check_times()
 
-        check_sph(self)
+        check_sph(self, *largest_c0_and_viscosity(run_materials(self)))
         return self
 
     def _vectors(self):

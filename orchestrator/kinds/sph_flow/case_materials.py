@@ -89,6 +89,13 @@ def run_materials(case) -> tuple[RunMaterial, ...]:
                              m.gamma, m.background_pressure, m.viscosity) for m in case.materials)
 
 
+def largest_c0_and_viscosity(materials) -> tuple[float, float | None]:
+    """The largest sound speed (m/s) and kinematic viscosity (m^2/s, None if no material has one) of run
+    materials: what the engine's adaptive step takes (engines/sph/README.md, "Materials")."""
+    return (max(m.c0 for m in materials),
+            max((m.viscosity for m in materials if m.viscosity is not None), default=None))
+
+
 def block_materials(case) -> tuple[int, ...]:
     """Index into run_materials(case) of every block's material (0 for all without [[materials]])."""
     if not case.materials:

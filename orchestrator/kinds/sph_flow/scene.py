@@ -12,7 +12,8 @@ import numpy as np
 
 from orchestrator.case.limits import sph_timestep
 from orchestrator.kinds.sph_flow.case import SphFlowCase, Wall
-from orchestrator.kinds.sph_flow.case_materials import RunMaterial, block_materials, run_materials
+from orchestrator.kinds.sph_flow.case_materials import (RunMaterial, block_materials, largest_c0_and_viscosity,
+                                                       run_materials)
 from orchestrator.scene.geometry import read_mesh
 
 #: Particle kinds of the sph executable's input (engines/sph/src/physics_terms.h).
@@ -169,15 +170,7 @@ def build_sph_flow(case: SphFlowCase) -> SphScene:
     positions, velocities, masses, densities, kind, block, material = _particles(case, materials)
     meshes = {wall.name: wall_mesh(wall, case.dimension) for wall in case.walls}
     h = case.numerics.h
-    dt = sph_timestep(case)  # the fixed step, or the adaptive one at rest
-    if case.materials and case.numerics.dt is None:
-        # sph_timestep knows [fluid] only (c0 = 10 max_speed, no viscosity); the engine takes the largest c0
-        # and nu of the materials (README, "Materials"), which can only shorten the step.
-        adaptive = case.numerics.adaptive
-        dt = min(dt, adaptive["cfl"] * h / c0)
-        nu = max((m.viscosity for m in materials if m.viscosity is not None), default=None)
-        if nu is not None:
-            dt = min(dt, adaptive["viscous"] * h * h / nu)
+    dt = sph_timestep(case, *largest_c0_and_viscosity(materials))  # fixed, or the adaptive step at rest
     return SphScene(case=case, positions=positions, velocities=velocities, masses=masses, densities=densities,
                     kind=kind, block=block, meshes=meshes, h=h, c0=c0, timestep=dt,
                     physics=tuple(case.physics.terms), material=material, materials=materials)
