@@ -144,3 +144,11 @@ def test_an_impact_window_on_a_rod_that_is_no_prism_is_refused(tmp_path, capsys)
     assert code == 2, err
     assert "output.impact_window is set but the rod" in err and "allowed: remove output.impact_window" in err
     assert "Traceback" not in err and not (tmp_path / "run" / "drag_finishing.in").exists()
+
+
+def test_an_empty_window_turns_the_test_off():
+    from orchestrator.case import load_case
+
+    paper = Path(__file__).parents[1] / "cases" / "drag_finishing_uhlmann2015.toml"
+    assert load_case(paper).model.output.impact_window == (0.5, 2.0)
+    assert load_case(paper, overrides=["output.impact_window=[]"]).model.output.impact_window is None

@@ -140,7 +140,13 @@ class Output(Frozen):
     impact_window: tuple[NonNegative, NonNegative] | None = Field(
         None, description="[start, end] process time, s, in which every ball's first touch of the rod is recorded "
         "with its normal impact speed (checked every step; costs engine time; the rod must be a regular prism, as the "
-        "generated one; None: off)")
+        "generated one; [] or absent: off)")
+
+    @field_validator("impact_window", mode="before")
+    @classmethod
+    def _empty_window_is_off(cls, value):
+        """[] turns the window off (TOML, and so --set, has no null)."""
+        return None if isinstance(value, (list, tuple)) and len(value) == 0 else value
 
 
 class Analysis(Frozen):
