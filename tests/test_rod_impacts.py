@@ -78,6 +78,19 @@ def test_events_from_hand_placed_balls_give_facet_gap_and_normal_speed():
     np.testing.assert_allclose(np.mod(normal_angle - expected + 180, 360) - 180, 0.0, atol=1e-9)
 
 
+def test_at_an_edge_the_speed_is_along_the_normal_from_the_edge():
+    vertices, faces = placed_rod()
+    edge = math.pi / 12  # the edge between the first two sides, at the vertices' angle (rod radius R_ROD)
+    n = np.array([math.cos(edge), math.sin(edge), 0.0])
+    p = np.array([R_PATH, 0.0, TIP + 0.02]) + (R_ROD + R_BALL - 1e-7) * n
+    v = 0.5 * np.array([-p[1], p[0], 0.0]) - 0.01 * n
+    raw = {"time": np.array([1.0]), "ball": np.array([0]), "radius": np.array([R_BALL]), "position": p[None],
+           "velocity": v[None], "engine_speed": np.array([0.01 * math.cos(math.pi / 24)])}
+    ev = impact_events(raw, vertices, faces, 0.5, 1.0, 1.0)
+    assert ev["impact_speed"].values[0] == pytest.approx(0.01, rel=1e-9)  # the prism test's face normal: 0.99 of it
+    assert ev["gap"].values[0] == pytest.approx(-1e-7, abs=1e-12)
+
+
 def test_per_face_counts_mean_and_peak():
     out = facet_impacts(np.array([2, 2, 5]), np.array([0.01, 0.03, 0.02]), 6)
     np.testing.assert_array_equal(out["impact_count"], [0, 0, 2, 0, 0, 1])
@@ -100,7 +113,7 @@ def test_summary_sectors_text_and_picture(tmp_path):
     assert "from 0 to 0.5 s of process): 3, 6.0 per s" in text
     assert "median 20.00 mm/s" in text and "max 30.00 mm/s" in text
     assert "front 33 %, outer side 33 %, back 33 %, inner side 0 %" in text
-    assert "agree on the speed to 0.001 mm/s" in text
+    assert "agree on the speed to 1e-6 m/s for 66.7 % of the contacts" in text
     assert "not recorded (set output.impact_window" in impact_text(None)
     path = plot_impact_speeds(res, np.array([0.005, 0.015]), TIP, 0.07, tmp_path / "impacts.png")
     assert path.stat().st_size > 20_000
@@ -123,7 +136,7 @@ def assert_engine_impacts(run: dict) -> None:
     assert len(speed) >= 3
     assert np.all((ev["process_time"] >= window[0] - dt) & (ev["process_time"] <= window[1] + dt))
     assert np.all(speed > 0)
-    np.testing.assert_allclose(ev["engine_speed"], speed, atol=1e-6)
+    assert np.mean(np.abs(ev["engine_speed"] - speed) <= 1e-6) > 0.8  # the rest meet an edge (module docstring)
     assert np.all(ev["gap"] <= speed * dt + 1e-12 + 5e-5) and np.all(ev["gap"] >= -speed * dt - 1e-9)
     rod = run["meshes"]["rod"]
     assert rod["impact_count"].sum() == len(speed)
