@@ -1,7 +1,7 @@
 """Pictures of the rod impacts (contact starts, impacts.py) and ``report_impacts``, the part of ``orchestrator
 analyze`` that prints and draws them for a drag-finishing run (matplotlib, Agg, no pyplot state).
 
-impact_speeds.png   left: histogram of the normal impact speeds (mm/s) of the recorded contact starts, with the
+impact_speeds.png   left: histogram (log counts) of the normal impact speeds (mm/s) of the recorded contact starts, with the
                     frames' approach-speed proxy (balls within 10 % of R_b of the rod, moving towards it) as an
                     outline; right: where they hit, the rod unrolled (angle around the rod, height), coloured by
                     speed
@@ -35,15 +35,17 @@ def plot_impact_speeds(res: dict | None, proxy: np.ndarray, rod_tip: float, bed_
                   label=f"approach-speed proxy from frames ({proxy.size})")
     if both.size:
         ax_h.legend(fontsize=8)
+    ax_h.set_yscale("log")
     ax_h.set_xlabel("normal impact speed relative to the rod surface [mm/s]")
-    ax_h.set_ylabel("contacts")
+    ax_h.set_ylabel("contacts (log scale)")
     ax_h.grid(True, color="0.93", lw=0.5)
     if res is not None and speeds.size:
         t0, t1 = res["window"]
         order = np.argsort(speeds)
+        top = max(float(np.percentile(speeds, 99)), 1e-3)
         sc = ax_m.scatter(res["phi"][order], 1e3 * res["z"][order], c=speeds[order], cmap="viridis", s=14,
-                          edgecolors="0.3", linewidths=0.3)
-        fig.colorbar(sc, ax=ax_m, pad=0.01).set_label("impact speed [mm/s]")
+                          edgecolors="0.3", linewidths=0.3, vmin=0.0, vmax=top)
+        fig.colorbar(sc, ax=ax_m, pad=0.01, extend="max").set_label("impact speed [mm/s] (top: 99th percentile)")
         ax_m.set_title(f"where the balls hit the rod, {t0:g} to {t1:g} s of process (ball centres)", fontsize=10)
     else:
         ax_m.text(0.5, 0.5, "no contact starts recorded\n(output.impact_window)", transform=ax_m.transAxes,
