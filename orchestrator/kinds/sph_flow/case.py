@@ -204,6 +204,9 @@ class SphFlowCase(Frozen):
             if p.velocity > self.fluid.max_speed:
                 raise ValueError(f"inlets[{i}].velocity = {p.velocity} m/s is above fluid.max_speed = "
                                  f"{self.fluid.max_speed} m/s")
+            if p.peak_speed > self.fluid.max_speed:
+                raise ValueError(f"inlets[{i}]: the {p.profile} profile peaks at {p.peak_speed:g} m/s, above "
+                                 f"fluid.max_speed = {self.fluid.max_speed} m/s")
         for group, items in (("inlets", self.inlets), ("outlets", self.outlets),
                              ("output.flow_planes", self.output.flow_planes)):
             for i, p in enumerate(items):

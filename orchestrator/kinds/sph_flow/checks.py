@@ -28,6 +28,7 @@ from orchestrator.kinds.sph_flow.checks_base import (
     relative,
     tolerance_of,
 )
+from orchestrator.kinds.sph_flow.checks_open import check_annulus_laminar, check_hagen_poiseuille
 from orchestrator.kinds.sph_flow.checks_walls import check_penalty_column, check_penalty_incline
 from orchestrator.reference.dam_break_data import SURGE_FRONT_DATA, dimensionless_front, dimensionless_time
 from orchestrator.reference.sph_flows import (
@@ -213,6 +214,8 @@ CHECKS = {
     "surge_front": check_dam_break,
     "penalty_column": check_penalty_column,
     "penalty_incline": check_penalty_incline,
+    "hagen_poiseuille": check_hagen_poiseuille,
+    "annulus_laminar": check_annulus_laminar,
 }
 
 

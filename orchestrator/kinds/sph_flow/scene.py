@@ -84,6 +84,8 @@ def _particles(case: SphFlowCase, c0: float):
     rows = []
     for index, block in enumerate(case.blocks):
         points = lattice(block.lo, block.hi, dx)
+        if block.cylinder is not None:
+            points = points[block.cylinder.keeps(points)]
         if tree_points:
             from scipy.spatial import cKDTree
 
