@@ -48,7 +48,8 @@ def _channel_frames(case, perturb=0.0):
 def test_every_sph_scene_has_checks_and_units():
     files = scene_files(CASES)
     assert {f.stem for f in files} == {"sph_poiseuille_morris1997", "sph_couette_morris1997", "sph_hydrostatic_tank",
-                                       "sph_dam_break_2d", "sph_penalty_column", "sph_penalty_incline"}
+                                       "sph_dam_break_2d", "sph_penalty_column", "sph_penalty_incline",
+                                       "sph_pipe_hagen_poiseuille", "sph_annulus_laminar"}
     for path in files:
         case = load_case(path).model
         assert case.expected and all(row.check in CHECKS for row in case.expected)
@@ -103,7 +104,14 @@ def test_dam_break_check_compares_over_the_measured_range():
 
 
 #: Checks that fail today, with the largest error accepted until they are fixed (none now).
-KNOWN_FAILURES: dict[tuple[str, str], float] = {}
+KNOWN_FAILURES: dict[tuple[str, str], float] = {
+    # 3D open boundaries at 6 (pipe) and 5 (annulus gap) particles: the boundary-particle walls let the flow slip
+    # (full runs: pipe profile 2.4 %, gradient 5.8 % low; annulus profile 15 %, gradient 14 % low; issue 14)
+    ("sph_pipe_hagen_poiseuille", "u_profile"): 0.04,
+    ("sph_pipe_hagen_poiseuille", "pressure_gradient"): 0.09,
+    ("sph_annulus_laminar", "u_profile"): 0.2,
+    ("sph_annulus_laminar", "pressure_gradient"): 0.2,
+}
 
 
 @needs_sph
@@ -121,7 +129,7 @@ def test_every_scene_at_its_quick_preset_passes(tmp_path):
     assert by[("sph_hydrostatic_tank", "pressure_profile")]["rel_error"] < 0.02
     assert by[("sph_penalty_incline", "eq14_wall_force")]["rel_error"] < 1e-9
     assert by[("sph_penalty_column", "min_distance_to_wall")]["value"] > 0
-    assert len(rows) == 24
+    assert len(rows) == 32
 
 
 @needs_sph
