@@ -56,7 +56,7 @@ def test_the_gaps_are_the_networks():
     g = DrillGeometry()
     n = g.network
     meshes = g.meshes()
-    r = lambda m: np.hypot(m.vertices[:, 0], m.vertices[:, 1])  # noqa: E731
+    r = lambda m: np.hypot(m.vertices[:, 0], m.vertices[:, 1])
     # annular gap between the tubes: d_Diff / 2 = 0.5 mm radial (the paper's d_Diff = 1 mm, diametral)
     gap = r(meshes["outer_tube"]).min() - r(meshes["inner_tube"]).max()
     assert gap == pytest.approx(n.d_diff / 2, rel=1e-9)

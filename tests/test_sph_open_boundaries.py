@@ -105,7 +105,7 @@ def _synthetic_run(case, perturb=0.0, gradient_error=0.0, lost=0):
 @pytest.mark.parametrize("path", [PIPE, ANNULUS])
 def test_open_checks_pass_the_exact_flow_and_fail_errors(path):
     case = load_case(path).model
-    rows, plots = evaluate(case, _synthetic_run(case))
+    rows, _plots = evaluate(case, _synthetic_run(case))
     by = {r["quantity"]: r for r in rows}
     assert set(by) == {"u_profile", "pressure_gradient", "mass_balance", "density_drift"}
     assert all(r["passed"] for r in rows), rows

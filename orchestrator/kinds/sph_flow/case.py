@@ -20,6 +20,7 @@ from pydantic import Field, model_validator
 
 from orchestrator.case.common import CaseMeta, Frozen
 from orchestrator.case.limits import check_sph
+from orchestrator.kinds.sph_flow.case_open import Inlet, Outlet
 from orchestrator.kinds.sph_flow.case_parts import (  # noqa: F401  (the parts are part of this module's API)
     BOX_SIDES,
     LATTICE_TOLERANCE,
@@ -28,8 +29,6 @@ from orchestrator.kinds.sph_flow.case_parts import (  # noqa: F401  (the parts a
     Block,
     Domain,
     Fluid,
-    Inlet,
-    Outlet,
     Patch,
     Physics,
     Probe,

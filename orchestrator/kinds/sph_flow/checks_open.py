@@ -21,7 +21,13 @@ import math
 import numpy as np
 
 from orchestrator.errors import OrchestratorError
-from orchestrator.kinds.sph_flow.checks_base import check_row, fluid_mask, frames_of, relative, tolerance_of
+from orchestrator.kinds.sph_flow.checks_base import (
+    check_row,
+    fluid_mask,
+    frames_of,
+    relative,
+    tolerance_of,
+)
 from orchestrator.reference.hydraulics import annulus_laminar_flow
 
 SOURCE = {0: "Hagen-Poiseuille (White, Viscous Fluid Flow, eq. 3-34)",
