@@ -218,3 +218,21 @@ def test_reference_pair_viscosity_is_the_harmonic_mean_across_materials():
     np.testing.assert_allclose(np.diag(mu), [1e-3, 2e-3, 0.0], rtol=1e-15)
     assert mu[0, 1] == mu[1, 0] == pytest.approx(2 * 1e-3 * 2e-3 / 3e-3, rel=1e-15)  # 1.333e-3 Pa s
     assert mu[0, 2] == 0.0 and model.viscous
+
+
+def test_an_inlet_names_a_known_material():
+    from types import SimpleNamespace
+
+    from orchestrator.kinds.sph_flow.case_materials import check_materials
+
+    fluid = SimpleNamespace(density=1000.0, max_speed=1.0, model_fields_set=set())
+    physics = SimpleNamespace(terms=())
+    inlet = SimpleNamespace(material="oil")
+    bare = SimpleNamespace(fluid=fluid, physics=physics, materials=(), blocks=(), inlets=(inlet,))
+    with pytest.raises(ValueError, match=r"inlets\[0\].material = 'oil' names a material but the case has no"):
+        check_materials(bare)
+    water = SimpleNamespace(name="water", viscosity=None, sound_speed=None)
+    block = SimpleNamespace(material="water", name="fluid")
+    named = SimpleNamespace(fluid=fluid, physics=physics, materials=(water,), blocks=(block,), inlets=(inlet,))
+    with pytest.raises(ValueError, match=r"inlets\[0\].material = 'oil' is not a \[\[materials\]\] name; allowed: water"):
+        check_materials(named)

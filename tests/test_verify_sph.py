@@ -49,7 +49,8 @@ def test_every_sph_scene_has_checks_and_units():
     files = scene_files(CASES)
     assert {f.stem for f in files} == {"sph_poiseuille_morris1997", "sph_couette_morris1997", "sph_hydrostatic_tank",
                                        "sph_dam_break_2d", "sph_penalty_column", "sph_penalty_incline",
-                                       "sph_two_layer_poiseuille", "sph_two_layer_couette"}
+                                       "sph_two_layer_poiseuille", "sph_two_layer_couette",
+                                       "sph_pipe_hagen_poiseuille", "sph_annulus_laminar"}
     for path in files:
         case = load_case(path).model
         assert case.expected and all(row.check in CHECKS for row in case.expected)
@@ -104,7 +105,14 @@ def test_dam_break_check_compares_over_the_measured_range():
 
 
 #: Checks that fail today, with the largest error accepted until they are fixed (none now).
-KNOWN_FAILURES: dict[tuple[str, str], float] = {}
+KNOWN_FAILURES: dict[tuple[str, str], float] = {
+    # 3D open boundaries at 6 (pipe) and 5 (annulus gap) particles: the boundary-particle walls let the flow slip
+    # (full runs: pipe profile 2.4 %, gradient 5.8 % low; annulus profile 15 %, gradient 14 % low; issue 14)
+    ("sph_pipe_hagen_poiseuille", "u_profile"): 0.04,
+    ("sph_pipe_hagen_poiseuille", "pressure_gradient"): 0.09,
+    ("sph_annulus_laminar", "u_profile"): 0.2,
+    ("sph_annulus_laminar", "pressure_gradient"): 0.2,
+}
 
 
 @needs_sph
@@ -126,7 +134,7 @@ def test_every_scene_at_its_quick_preset_passes(tmp_path):
     # (Poiseuille, the one-fluid Morris term's 1.7 % at h = 1.5 dx) and 0.07 % (Couette)
     assert by[("sph_two_layer_poiseuille", "u_profile")]["rel_error"] < 0.02
     assert by[("sph_two_layer_couette", "u_profile")]["rel_error"] < 0.005
-    assert len(rows) == 26
+    assert len(rows) == 34
 
 
 @needs_sph

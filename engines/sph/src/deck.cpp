@@ -122,6 +122,47 @@ int buffer_layers(const json& e, const std::string& path, const Deck& d) {
   return layers;
 }
 
+// An inlet's profile, inner_radius, pressure and material (deck.h InletSpec).
+void parse_inlet_options(const json& e, const std::string& path, const Deck& d, InletSpec& in) {
+  if (e.contains("profile")) in.profile = text(e["profile"], path + ".profile");
+  const double v = in.velocity;
+  double peak = v;  // largest speed of the profile, m/s
+  if (in.profile == "parabolic") {
+    peak = in.patch.radius > 0.0 && d.dimension == 3 ? 2.0 * v : 1.5 * v;
+  } else if (in.profile == "annular") {
+    if (d.dimension != 3 || !(in.patch.radius > 0.0))
+      fail("'" + path + ".profile' = \"annular\" needs a disc patch (radius) in 3D");
+    in.inner_radius = positive(e, path, "inner_radius");
+    if (!(in.inner_radius < in.patch.radius))
+      fail("'" + path + ".inner_radius' must be below 'radius' (" + std::to_string(in.patch.radius) + " m)");
+    peak = 2.0 * v;  // the annulus profile peaks between 1.5 (thin gap) and 2 (pipe) times its mean
+  } else if (in.profile != "plug") {
+    fail("'" + path + ".profile' must be one of plug, parabolic, annular; got \"" + in.profile + "\"");
+  }
+  if (e.contains("inner_radius") && in.profile != "annular")
+    fail("'" + path + ".inner_radius' is only for profile = \"annular\"");
+  if (in.profile == "plug" && v > d.v_max)
+    fail("'" + path + ".velocity' = " + std::to_string(v) + " m/s exceeds v_max");
+  if (peak > d.v_max)
+    fail("'" + path + ".velocity' = " + std::to_string(v) + " m/s gives a peak speed " + std::to_string(peak) +
+         " m/s above v_max");
+  if (e.contains("pressure")) {
+    const std::string mode = text(e["pressure"], path + ".pressure");
+    if (mode != "extrapolated" && mode != "summation")
+      fail("'" + path + ".pressure' must be \"extrapolated\" or \"summation\"; got \"" + mode + "\"");
+    in.extrapolated = mode == "extrapolated";
+  }
+  if (e.contains("material")) {
+    const std::string name = text(e["material"], path + ".material");
+    const auto list = d.material_list();
+    std::vector<std::string> names;
+    for (const auto& m : list) names.push_back(m.name);
+    const auto it = std::find(names.begin(), names.end(), name);
+    if (it == names.end()) fail("'" + path + ".material' = \"" + name + "\" is not a material; materials: " + join(names));
+    in.material = static_cast<int>(it - names.begin());
+  }
+}
+
 void parse_open_boundaries(const json& j, Deck& d) {
   std::set<std::string> seen;
   for (const char* key : {"inlets", "outlets"}) {
@@ -131,17 +172,27 @@ void parse_open_boundaries(const json& j, Deck& d) {
     for (std::size_t i = 0; i < j[key].size(); ++i) {
       const std::string path = std::string(key) + "[" + std::to_string(i) + "]";
       const auto& e = j[key][i];
-      if (inlet) check_keys(e, path, {"name", "center", "normal", "radius", "u", "half_extents", "velocity", "layers"});
-      else check_keys(e, path, {"name", "center", "normal", "radius", "u", "half_extents", "layers"});
+      if (inlet)
+        check_keys(e, path, {"name", "center", "normal", "radius", "u", "half_extents", "velocity", "layers", "profile",
+                             "inner_radius", "pressure", "material"});
+      else check_keys(e, path, {"name", "center", "normal", "radius", "u", "half_extents", "layers", "pressure"});
       PlanePatch patch = parse_patch(e, path, d.dimension, seen);
       const int layers = buffer_layers(e, path, d);
       if (!inlet) {
-        d.outlets.push_back({std::move(patch), layers});
+        OutletSpec out{std::move(patch), layers, std::nullopt};
+        if (e.contains("pressure")) {
+          out.pressure = number(e["pressure"], path + ".pressure");
+          for (const auto& m : d.material_list())  // eq. 6 must give a density for it
+            if (!(1.0 + m.gamma * (*out.pressure - m.background_pressure) / (m.rho0 * m.c0 * m.c0) > 0.0))
+              fail("'" + path + ".pressure' = " + std::to_string(*out.pressure) +
+                   " Pa is below the lowest pressure of material '" + m.name + "' (eq. 6)");
+        }
+        d.outlets.push_back(std::move(out));
         continue;
       }
-      const double v = positive(e, path, "velocity");
-      if (v > d.v_max) fail("'" + path + ".velocity' = " + std::to_string(v) + " m/s exceeds v_max");
-      d.inlets.push_back({std::move(patch), v, layers});
+      InletSpec in{std::move(patch), positive(e, path, "velocity"), layers};
+      parse_inlet_options(e, path, d, in);
+      d.inlets.push_back(std::move(in));
     }
   }
 }

@@ -41,17 +41,30 @@ using FlowPlaneSpec = PlanePatch;  // volume flux through it is measured
 
 // Velocity inlet: fluid enters through the patch along `normal` at `velocity`,
 // fed by `layers` layers of buffer particles behind the patch.
+// profile: plug (velocity everywhere, the default), parabolic (disc: pipe
+// Poiseuille; rectangle or 2D segment: plane Poiseuille across u) or annular
+// (disc with inner_radius: the laminar annulus profile); for a profile,
+// `velocity` is the mean speed over the patch. extrapolated: the buffer takes
+// the mean density of the fluid just inside the patch (else its summation
+// density). material: index into the run's materials (0 by default).
 struct InletSpec {
   PlanePatch patch;
   double velocity = 0.0;  // m/s
   int layers = 3;
+  std::string profile = "plug";
+  double inner_radius = 0.0;  // m (annular)
+  bool extrapolated = false;
+  int material = 0;
 };
 
 // Outlet: fluid leaving through the patch along `normal` keeps its velocity
-// in a buffer `layers` dx deep and is then removed.
+// in a buffer `layers` dx deep and is then removed. With `pressure` (Pa), the
+// buffer holds the density of that pressure (the reference pressure of the
+// domain); without it, each particle keeps the density it left with.
 struct OutletSpec {
   PlanePatch patch;
   int layers = 3;
+  std::optional<double> pressure;  // Pa
 };
 
 // One material of the deck's `materials` list. Every material is weakly

@@ -87,7 +87,8 @@ int run_simulation(const Deck& deck, Particles<D> particles, WallPenalty<D> wall
       next_id = open.update(sim.particles(), next_id, [&](const Vec<D>& x, double m, double sign) {
         sim.boundary_density_event(x, m, sign);
       });
-      sim.forget_maxima();  // particles came in, turned fluid or left
+      if (open.particles_kept()) sim.forget_step_maxima();  // only buffer densities and velocities changed
+      else sim.forget_maxima();  // particles came in, turned fluid or left
     }
     const double tol = 1e-6 * dt;
     const bool series_due = t >= (series_count + 1) * deck.series_interval - tol;

@@ -254,6 +254,8 @@ class Simulation {
   // Forget the maxima the corrector took (call after adding, removing or
   // changing particles: indices change, the list is rebuilt before the next evaluation).
   void forget_maxima() { maxima_.valid = false, list_stale_ = true; }
+  // Forget the maxima only (call after changing velocities or densities of particles that stay).
+  void forget_step_maxima() { maxima_.valid = false; }
   // Rates of the initial state, before the first step (later steps reuse the
   // rates of the previous step's half-step evaluation); cells must be binned.
   void ensure_rates() {

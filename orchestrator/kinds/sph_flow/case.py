@@ -23,6 +23,7 @@ from orchestrator.case.common import CaseMeta, Frozen
 from orchestrator.case.limits import check_sph
 from orchestrator.kinds.sph_flow.case_materials import (Material, check_materials, largest_c0_and_viscosity,
                                                        run_materials)
+from orchestrator.kinds.sph_flow.case_open import Inlet, Outlet
 from orchestrator.kinds.sph_flow.case_parts import (  # noqa: F401  (the parts are part of this module's API)
     BOX_SIDES,
     LATTICE_TOLERANCE,
@@ -31,8 +32,6 @@ from orchestrator.kinds.sph_flow.case_parts import (  # noqa: F401  (the parts a
     Block,
     Domain,
     Fluid,
-    Inlet,
-    Outlet,
     Patch,
     Physics,
     Probe,
@@ -210,6 +209,9 @@ class SphFlowCase(Frozen):
             if p.velocity > self.fluid.max_speed:
                 raise ValueError(f"inlets[{i}].velocity = {p.velocity} m/s is above fluid.max_speed = "
                                  f"{self.fluid.max_speed} m/s")
+            if p.peak_speed > self.fluid.max_speed:
+                raise ValueError(f"inlets[{i}]: the {p.profile} profile peaks at {p.peak_speed:g} m/s, above "
+                                 f"fluid.max_speed = {self.fluid.max_speed} m/s")
         for group, items in (("inlets", self.inlets), ("outlets", self.outlets),
                              ("output.flow_planes", self.output.flow_planes)):
             for i, p in enumerate(items):

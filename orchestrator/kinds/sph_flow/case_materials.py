@@ -110,9 +110,11 @@ def check_materials(case) -> None:
     if not case.materials:
         if fluid.density is None:
             raise ValueError("fluid.density is missing; give it (kg/m^3), or describe the fluids as [[materials]]")
-        for i, block in enumerate(case.blocks):
-            if block.material is not None:
-                raise ValueError(f"blocks[{i}].material = {block.material!r} names a material but the case has no "
+        named = [(f"blocks[{i}]", b.material) for i, b in enumerate(case.blocks)]
+        named += [(f"inlets[{i}]", p.material) for i, p in enumerate(case.inlets)]
+        for key, material in named:
+            if material is not None:
+                raise ValueError(f"{key}.material = {material!r} names a material but the case has no "
                                  "[[materials]]; add them or remove the key")
         return
     given = [key for key in MATERIAL_KEYS if key in fluid.model_fields_set]
@@ -139,3 +141,7 @@ def check_materials(case) -> None:
         if block.material not in names:
             raise ValueError(f"blocks[{i}].material = {block.material!r} ({block.name}) is not a [[materials]] "
                              f"name; allowed: {', '.join(sorted(names))}")
+    for i, inlet in enumerate(case.inlets):
+        if inlet.material is not None and inlet.material not in names:
+            raise ValueError(f"inlets[{i}].material = {inlet.material!r} is not a [[materials]] name; allowed: "
+                             f"{', '.join(sorted(names))}")

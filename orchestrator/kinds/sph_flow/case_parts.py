@@ -11,6 +11,7 @@ from typing import Annotated, Literal
 from pydantic import Field, ValidationInfo, field_validator, model_validator
 
 from orchestrator.case.common import Frozen, Name, NonNegative, Positive, mesh_file
+from orchestrator.kinds.sph_flow.case_cylinder import BlockCylinder
 
 #: Optional physics terms of the sph executable (engines/sph/src/physics_terms.h).
 PHYSICS_TERMS = ("morris_viscosity", "artificial_viscosity", "body_force", "wall_penalty")
@@ -179,6 +180,7 @@ class Block(Frozen):
                           "when the case has [[materials]]; a boundary particle's rho0 sets its mass and wall "
                           "pressure, its viscosity the wall's shear)"
     )
+    cylinder: BlockCylinder | None = Field(None, description="keep only the sites in a cylindrical shell (3D)")
 
 
 #: Keys each wall shape takes (besides shape and name), required first then optional.
@@ -263,19 +265,6 @@ class Patch(Frozen):
         return self
 
 
-class Inlet(Patch):
-    """A velocity inlet: fluid enters through the patch along `normal` at `velocity`."""
-
-    velocity: Positive = Field(description="inflow speed along the normal, m/s (at most fluid.max_speed)")
-    layers: int = Field(3, ge=1, le=100, description="buffer layers behind the patch (layers dx must cover 2h), -")
-
-
-class Outlet(Patch):
-    """An outlet: fluid crossing the patch along `normal` is removed `layers` dx downstream."""
-
-    layers: int = Field(3, ge=1, le=100, description="buffer layers after the patch (layers dx must cover 2h), -")
-
-
 class Probe(Frozen):
     """A pressure probe: the kernel-interpolated fluid pressure at a point."""
 
@@ -346,6 +335,8 @@ class SphOutput(Frozen):
 #: (kinds/sph_flow/checks.py computes them; the scene's rows give the tolerances).
 CHECK_QUANTITIES = {
     "poiseuille_series": ("u_profile",),
+    "hagen_poiseuille": ("u_profile", "pressure_gradient", "mass_balance", "density_drift"),
+    "annulus_laminar": ("u_profile", "pressure_gradient", "mass_balance", "density_drift"),
     "couette_series": ("u_profile",),
     "two_layer_poiseuille": ("u_profile",),
     "two_layer_couette": ("u_profile",),

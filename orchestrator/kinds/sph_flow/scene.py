@@ -89,6 +89,8 @@ def _particles(case: SphFlowCase, materials: tuple[RunMaterial, ...]):
     for index, (block, k) in enumerate(zip(case.blocks, block_materials(case))):
         rho0 = materials[k].rho0
         points = lattice(block.lo, block.hi, dx)
+        if block.cylinder is not None:
+            points = points[block.cylinder.keeps(points)]
         if tree_points:
             from scipy.spatial import cKDTree
 

@@ -1,0 +1,154 @@
+// Open boundaries in 3D (open_boundaries.h): a short pipe fed by a parabolic
+// inlet with extrapolated pressure, drained by an outlet that holds the
+// reference pressure. Mass balance, no density drift, inflow as prescribed;
+// and the deck's inlet/outlet options are validated.
+#include <cmath>
+
+#include <nlohmann/json.hpp>
+
+#include "check.h"
+#include "deck.h"
+#include "run.h"
+#include "run_loop.h"
+#include "test_files.h"
+
+using namespace sph;
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+namespace {
+
+// A pipe of radius R = 3 dx and length 10 dx along x, walls of 3 layers of
+// boundary particles on the same Cartesian lattice, Re = 2 U R / nu = 0.6.
+struct TinyPipe {
+  double dx = 1e-3, R = 3e-3, L = 10e-3, U = 0.01, nu = 1e-4, rho0 = 1000.0, c0 = 1.0;
+  int layers = 3;
+  int fluid = 0;
+
+  json deck(const fs::path& dir, double t_end) {
+    testfiles::ParticleRows p;
+    p.dim = 3;
+    const int nr = static_cast<int>(std::lround(R / dx)) + layers, nx = static_cast<int>(std::lround(L / dx));
+    for (int i = -layers - 2; i < nx + layers + 2; ++i)
+      for (int j = -nr; j < nr; ++j)
+        for (int k = -nr; k < nr; ++k) {
+          const double x = (i + 0.5) * dx, y = (j + 0.5) * dx, z = (k + 0.5) * dx, r = std::hypot(y, z);
+          const bool is_fluid = r < R && x > 0.0 && x < L + layers * dx;
+          const bool is_wall = r >= R && r < R + layers * dx;
+          if (!is_fluid && !is_wall) continue;
+          fluid += is_fluid;
+          p.add({x, y, z}, {0.0, 0.0, 0.0}, rho0 * dx * dx * dx, rho0, is_wall ? 1 : 0);
+        }
+    p.write(dir / "particles.h5");
+    return {{"dimension", 3},
+            {"particles_file", "particles.h5"},
+            {"physics", {"morris_viscosity"}},
+            {"rho0", rho0},
+            {"c0", c0},
+            {"v_max", 2.5 * U},
+            {"viscosity", nu},
+            {"h", 1.3 * dx},
+            {"dx", dx},
+            {"inlets",
+             {{{"name", "feed"}, {"center", {0.0, 0.0, 0.0}}, {"normal", {1.0, 0.0, 0.0}}, {"radius", R},
+               {"velocity", U}, {"profile", "parabolic"}, {"pressure", "extrapolated"}}}},
+            {"outlets",
+             {{{"name", "drain"}, {"center", {L, 0.0, 0.0}}, {"normal", {1.0, 0.0, 0.0}}, {"radius", R},
+               {"pressure", 0.0}}}},
+            {"t_end", t_end},
+            {"threads", 1},
+            {"output", {{"file", "out.h5"}, {"frame_interval", t_end / 6}, {"series_interval", t_end / 20}}}};
+  }
+};
+
+struct FluidState {
+  double count = 0.0, mean_rho = 0.0;
+};
+FluidState fluid_of_frame(const fs::path& out, int frame) {
+  const std::string g = "/frames/" + std::to_string(frame);
+  const auto kind = testfiles::read_doubles(out, g + "/kind");
+  const auto rho = testfiles::read_doubles(out, g + "/densities");
+  FluidState s;
+  for (std::size_t i = 0; i < kind.size(); ++i)
+    if (kind[i] == 0) s.count += 1.0, s.mean_rho += rho[i];
+  s.mean_rho /= s.count;
+  return s;
+}
+
+}  // namespace
+
+TEST(pipe_with_parabolic_inlet_and_pressure_outlet_keeps_its_mass) {
+  TinyPipe pipe;
+  const fs::path dir = testfiles::scratch("open_pipe");
+  const double t_end = 3.0 * pipe.L / pipe.U;  // three flow-through times
+  testfiles::write_text(dir / "deck.json", pipe.deck(dir, t_end).dump(2));
+  CHECK(run_deck(load_deck((dir / "deck.json").string())) == exit_ok);
+  const fs::path out = dir / "out.h5";
+  CHECK(testfiles::read_string_attr(out, "status") == "ok");
+  const auto time = testfiles::read_doubles(out, "/series/time");
+  const auto qin = testfiles::read_doubles(out, "/series/inflow_feed");
+  const auto qout = testfiles::read_doubles(out, "/series/outflow_drain");
+  // Volumes at the reference density (m / rho0) over the second half.
+  double vin = 0.0, vout = 0.0;
+  for (std::size_t i = 1; i < time.size(); ++i)
+    if (time[i] > t_end / 2 + 1e-9) vin += qin[i] * (time[i] - time[i - 1]), vout += qout[i] * (time[i] - time[i - 1]);
+  // Frames 3..6 cover the second half: a = frame 3, b = frame 6; the density drift compares frames 3-4 with 5-6.
+  const FluidState a = fluid_of_frame(out, 3), b = fluid_of_frame(out, 6);
+  const double drift = (fluid_of_frame(out, 5).mean_rho + b.mean_rho - fluid_of_frame(out, 4).mean_rho - a.mean_rho) /
+                       (2.0 * pipe.rho0);
+  const double dvol = (b.count - a.count) * std::pow(pipe.dx, 3);  // d(mass)/rho0 over the window
+  const double q_set = pipe.U * M_PI * pipe.R * pipe.R;
+  const double imbalance = (vin - vout - dvol) / vin;
+  std::fprintf(stderr,
+               "  pipe: inflow %.4g (set %.4g) outflow %.4g m^3/s; (in - out - dM/rho0)/in = %.2e; "
+               "fluid %g -> %g (%d at start); mean rho/rho0 - 1 = %.2e -> %.2e, drift %.1e\n",
+               vin / (t_end / 2), q_set, vout / (t_end / 2), imbalance, a.count, b.count, pipe.fluid,
+               a.mean_rho / pipe.rho0 - 1.0, b.mean_rho / pipe.rho0 - 1.0, drift);
+  CHECK(std::abs(imbalance) < 5e-3);
+  CHECK_CLOSE(vin / (t_end / 2), q_set, 0.02);            // the profile carries U pi R^2
+  CHECK_CLOSE(vout / (t_end / 2), q_set, 0.03);           // and it all leaves at steady state
+  // The outlet holds the reference density: the mean density is that of the
+  // steady pressure field (about half the pressure drop 8 mu U L / R^2 over rho0 c0^2 = 0.9 %) and does not drift.
+  CHECK(std::abs(b.mean_rho / pipe.rho0 - 1.0) < 6e-3);
+  CHECK(std::abs(drift) < 1e-3);
+  CHECK(std::abs(b.count - a.count) < 0.03 * a.count);    // no pile-up
+}
+
+TEST(inlet_and_outlet_options_are_validated) {
+  TinyPipe pipe;
+  const fs::path dir = testfiles::scratch("open_pipe_deck");
+  const json good = pipe.deck(dir, 0.1);
+  auto rejection = [&](json j) -> std::string {
+    try {
+      parse_deck(j, dir.string());
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  CHECK(rejection(good).empty());
+  const Deck d = parse_deck(good, dir.string());
+  CHECK(d.inlets[0].profile == "parabolic" && d.inlets[0].extrapolated && d.outlets[0].pressure == 0.0);
+  json j = good;
+  j["inlets"][0]["profile"] = "swirl";
+  CHECK(rejection(j).find("inlets[0].profile") != std::string::npos);
+  j = good;
+  j["inlets"][0]["velocity"] = 0.02;  // peak 2 U = 0.04 > v_max 0.025
+  CHECK(rejection(j).find("peak speed") != std::string::npos);
+  j = good;
+  j["inlets"][0]["profile"] = "annular";
+  CHECK(rejection(j).find("inlets[0].inner_radius") != std::string::npos);
+  j["inlets"][0]["inner_radius"] = 4e-3;  // above radius 3e-3
+  CHECK(rejection(j).find("below 'radius'") != std::string::npos);
+  j = good;
+  j["inlets"][0]["material"] = "oil";
+  CHECK(rejection(j).find("not a material") != std::string::npos);
+  j["inlets"][0]["material"] = "fluid";  // the one material of the top-level keys
+  CHECK(rejection(j).empty());
+  j = good;
+  j["outlets"][0]["pressure"] = -1e9;  // below -rho0 c0^2 / gamma
+  CHECK(rejection(j).find("lowest pressure") != std::string::npos);
+  j = good;
+  j["inlets"][0]["pressure"] = "fixed";
+  CHECK(rejection(j).find("extrapolated") != std::string::npos);
+}

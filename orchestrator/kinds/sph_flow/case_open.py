@@ -1,0 +1,62 @@
+"""The open boundaries of an SPH flow case (kind "sph_flow"): velocity inlets (plug or a laminar profile, buffer
+pressure by summation or extrapolated) and outlets (optionally holding a reference pressure). SI units."""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import Field, model_validator
+
+from orchestrator.case.common import Name, Positive
+from orchestrator.kinds.sph_flow.case_parts import Finite, Patch
+
+
+class Inlet(Patch):
+    """A velocity inlet: fluid enters through the patch along `normal` at `velocity`."""
+
+    velocity: Positive = Field(description="inflow speed along the normal (plug), or the mean speed of a profile, m/s "
+                                           "(the profile's peak at most fluid.max_speed)")
+    layers: int = Field(3, ge=1, le=100, description="buffer layers behind the patch (layers dx must cover 2h), -")
+    profile: Literal["plug", "parabolic", "annular"] = Field(
+        "plug", description="plug: velocity everywhere; parabolic: pipe Poiseuille on a disc (peak 2 velocity), plane "
+                            "Poiseuille across u on a rectangle or 2D segment (peak 1.5 velocity); annular: the "
+                            "laminar annulus profile on a disc with inner_radius (peak below 2 velocity)")
+    inner_radius: Positive | None = Field(None, description="inner radius of an annular profile, m (< radius)")
+    pressure: Literal["summation", "extrapolated"] = Field(
+        "summation", description="the buffer's density: its summation density, or the mean density of the fluid just "
+                                 "ahead of the patch (extrapolated pressure, for long open flows)")
+
+    material: Name | None = Field(None, description="name of the [[materials]] table of the fluid it makes "
+                                                    "(default: the first)")
+
+    @model_validator(mode="after")
+    def _annulus(self):
+        if (self.profile == "annular") != (self.inner_radius is not None):
+            raise ValueError("inner_radius is given exactly with profile = 'annular'")
+        if self.inner_radius is not None and (self.radius is None or self.inner_radius >= self.radius):
+            raise ValueError("an annular profile needs a disc patch (radius) with inner_radius < radius")
+        return self
+
+    @property
+    def peak_speed(self) -> float:
+        """The profile's largest speed, m/s (an upper bound for the annulus)."""
+        disc = self.radius is not None and len(self.center) == 3
+        return self.velocity * (1.0 if self.profile == "plug" else 2.0 if disc else 1.5)
+
+    def deck_options(self) -> dict:
+        """The profile, pressure and material keys of the engine deck, only where they differ from the defaults."""
+        out = {"profile": self.profile, "inner_radius": self.inner_radius, "pressure": self.pressure,
+               "material": self.material}
+        return {k: v for k, v in out.items() if v not in ("plug", None, "summation")}
+
+
+class Outlet(Patch):
+    """An outlet: fluid crossing the patch along `normal` is removed `layers` dx downstream."""
+
+    layers: int = Field(3, ge=1, le=100, description="buffer layers after the patch (layers dx must cover 2h), -")
+    pressure: Finite | None = Field(None, description="reference pressure held in the buffer (its particles then move "
+                                                      "at the fluid's speed before the patch), Pa; default none")
+
+    def deck_options(self) -> dict:
+        """The pressure key of the engine deck when set."""
+        return {} if self.pressure is None else {"pressure": float(self.pressure)}
