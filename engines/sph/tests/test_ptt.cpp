@@ -95,3 +95,29 @@ TEST(ptt_steady_shear_in_a_3d_cell) {
   CHECK_CLOSE(tau(0, 0) - tau(1, 1), 2.0 * eta * lambda * gamma_dot * gamma_dot / (f * f), 0.02);
   CHECK(std::abs(tau(1, 1)) < 0.01 * tau(0, 0) && std::abs(tau(2, 2)) < 0.01 * tau(0, 0));
 }
+
+TEST(oscillatory_shear_of_ucm_gives_the_maxwell_moduli) {
+  // Lees-Edwards strain gamma_A sin(omega t), one mode with epsilon = 0 (UCM): after the start-up,
+  // sigma_xy = gamma_A (G' sin + G'' cos), G' = eta lambda omega^2 / (1 + (lambda omega)^2),
+  // G'' = eta omega / (1 + (lambda omega)^2). Least squares over the last two periods.
+  const double lambda = 1.0, eta = 0.01, amplitude = 0.1, omega = M_PI;
+  Deck d = ptt_deck(10, lambda, eta, 0.0);
+  d.lees_edwards.shear_rate = 0.0, d.lees_edwards.amplitude = amplitude, d.lees_edwards.omega = omega;
+  PttCell sim(d, fixtures::shear_cell(10, 1.0, 1.0, amplitude * omega));
+  const double dt = 1e-3;
+  double ss = 0, sc = 0, cc = 0, ys = 0, yc = 0;
+  for (int step = 1; step <= 10000; ++step) {
+    CHECK(sim.step(dt, NoCrossings{}));
+    const double t = step * dt;
+    if (t < 6.0 || step % 10) continue;
+    const double s = std::sin(omega * t), c = std::cos(omega * t), y = sim.mean_extra_stress()(0, 1);
+    ss += s * s, sc += s * c, cc += c * c, ys += y * s, yc += y * c;
+  }
+  const double det = ss * cc - sc * sc;
+  const double g1 = (ys * cc - yc * sc) / det / amplitude, g2 = (yc * ss - ys * sc) / det / amplitude;
+  const double w2 = 1.0 + lambda * lambda * omega * omega;
+  std::fprintf(stderr, "  G' = %.6g Pa (Maxwell %.6g), G'' = %.6g Pa (Maxwell %.6g)\n", g1, eta * lambda * omega * omega / w2,
+               g2, eta * omega / w2);
+  CHECK_CLOSE(g1, eta * lambda * omega * omega / w2, 0.03);
+  CHECK_CLOSE(g2, eta * omega / w2, 0.03);
+}
