@@ -105,6 +105,7 @@ class CellList {
     int longest = D - 1;
     for (int d = D - 2; d >= 0; --d)
       if (dims[d] > dims[longest]) longest = d;
+    if (lees_edwards_) longest = 1;
     for (int k = 0, d = 0; d < D; ++d)
       if (d != longest) perm_[k++] = d;
     perm_[D - 1] = longest;
@@ -148,8 +149,16 @@ class CellList {
     Vec<D> shift;
   };
   // Most runs around a point: (2 reach + 1)^D for reach <= 2 (a periodic axis
-  // shorter than the stencil splits a row into single cells).
-  static constexpr int max_runs = D == 2 ? 25 : 125;
+  // shorter than the stencil splits a row into single cells); a Lees-Edwards
+  // row across the gradient axis spans 2 reach + 2 cells.
+  static constexpr int max_runs = D == 2 ? 30 : 150;
+
+  // Lees-Edwards cell (box_policy.h): shear axis 0 is the fastest internal
+  // axis and gradient axis 1 the slowest (the neighbour list's blocks are
+  // slabs across the gradient, so a sheared image never spans far blocks);
+  // rows across the gradient faces are searched around x - k_g delta.
+  void set_lees_edwards(bool on) { lees_edwards_ = on; }
+  void set_shear_offset(double delta) { delta_ = delta; }  // delta_b of box_policy.h, m, in [0, L_0)
 
   // The runs of cells around point xa (wrapped into the periodic box), in a
   // fixed order: up to three along axis 0 per row of the other axes. Returns their count.
@@ -180,7 +189,8 @@ class CellList {
       Vec<D> shift = Vec<D>::Zero();
       bool inside = true;
       for (int d = 1; d < D && inside; ++d) inside = neighbour_index(c[d] + o[d], d, cc[d], shift[d]);
-      if (inside) sweep_axis0(c[0], cc, shift, out, count);
+      if (inside && lees_edwards_ && shift[D - 1] != 0.0) sweep_sheared(c[0], cc, shift, out, count);
+      else if (inside) sweep_axis0(c[0], cc, shift, out, count);
       int d = 1;
       for (; d < D; ++d) {
         if (++o[d] <= reach_) break;
@@ -258,6 +268,38 @@ class CellList {
     }
   }
 
+  // A Lees-Edwards row across the gradient faces (k_g = shift / L_g): its
+  // images sit k_g delta further along axis 0, so the row is searched over the
+  // 2 reach + 2 cells around c0 - k_g delta / width, each run shifted by k_g delta too.
+  void sweep_sheared(int c0, std::array<int, D>& cc, const Vec<D>& shift, Run* out, int& count) const {
+    const int n0 = dims_[0];
+    const double offset = std::lround(shift[D - 1] / length_[D - 1]) * delta_;
+    const int m = static_cast<int>(std::floor(offset / width_[0]));
+    int first = c0 - m - 1 - reach_, last = c0 - m + reach_;
+    auto run = [&](int from, int to, double s) {
+      Run& r = out[count++];
+      cc[0] = from;
+      r.cell_begin = linear(cc);
+      r.cell_end = r.cell_begin + (to - from) + 1;
+      for (int k = 1; k < D; ++k) r.shift[perm_[k]] = shift[k];
+      r.shift[perm_[0]] = s + offset;
+    };
+    if (last - first + 1 > n0) {  // fewer cells than the window: every cell its own image
+      for (int c = first; c <= last; ++c) {
+        int cell = 0;
+        double s = 0.0;
+        neighbour_index(c, 0, cell, s);
+        run(cell, cell, s);
+      }
+      return;
+    }
+    const int wraps = first < 0 ? -((-first + n0 - 1) / n0) : first / n0;  // floor(first / n0)
+    first -= wraps * n0, last -= wraps * n0;
+    const double base = wraps * length_[0];
+    run(first, std::min(last, n0 - 1), base);
+    if (last >= n0) run(0, last - n0, base + length_[0]);
+  }
+
   bool neighbour_index(int c, int d, int& out, double& shift) const {
     const int n = dims_[d];
     if (c >= 0 && c < n) {
@@ -292,6 +334,8 @@ class CellList {
     return lin;
   }
 
+  bool lees_edwards_ = false;
+  double delta_ = 0.0;
   double min_cell_ = 1.0;
   int reach_ = 1;
   std::size_t max_cells_ = 0;

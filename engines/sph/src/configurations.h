@@ -27,7 +27,9 @@ struct Configuration {
 
 namespace config {
 using N = ModelList<Newtonian>;
+using P = ModelList<Ptt>;
 constexpr unsigned morris = term::morris_viscosity, av = term::artificial_viscosity, several = term::several_materials;
+constexpr unsigned sheared = term::sheared;  // Lees-Edwards boundaries (the deck's `lees_edwards`)
 }  // namespace config
 
 using Configurations = std::tuple<                           //
@@ -36,6 +38,10 @@ using Configurations = std::tuple<                           //
     Configuration<config::N, config::morris>,                 // channel flows
     Configuration<config::N, config::morris | config::av>,    //
     Configuration<config::N, config::morris | config::several>,               // layered Newtonian fluids
-    Configuration<config::N, config::morris | config::av | config::several>>;  //
+    Configuration<config::N, config::morris | config::av | config::several>,  //
+    Configuration<config::N, config::morris | config::sheared>,               // Newtonian Lees-Edwards cell
+    Configuration<config::P, 0>,                                              // PTT viscoelastic fluid (seed 002)
+    Configuration<config::P, config::av>,                                     //   with artificial viscosity
+    Configuration<config::P, config::sheared>>;                               // PTT Lees-Edwards cell (rheometer)
 
 }  // namespace sph

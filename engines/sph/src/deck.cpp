@@ -245,7 +245,7 @@ Deck parse_deck(const json& j, const std::string& deck_dir) {
   check_keys(j, "", {"dimension", "particles_file", "physics", "rho0", "c0", "gamma", "background_pressure", "v_max",
                      "viscosity", "alpha", "beta", "h", "dx", "body_force", "meshes", "wall", "periodic", "inlets",
                      "outlets", "dt", "time_step", "t_end", "max_steps", "stability", "output", "threads",
-                     "materials"});
+                     "materials", "lees_edwards"});
   Deck d;
   d.deck_dir = deck_dir;
   const auto& dim = need(j, "", "dimension");
@@ -323,6 +323,7 @@ Deck parse_deck(const json& j, const std::string& deck_dir) {
              " must be at least the kernel support 2h long (periodic.hi - periodic.lo >= 2h)");
   }
 
+  if (j.contains("lees_edwards")) parse_lees_edwards(j["lees_edwards"], d);
   parse_open_boundaries(j, d);
 
   if (j.contains("dt") && j.contains("time_step"))

@@ -75,6 +75,19 @@ struct MaterialSpec {
   std::string name, model = "newtonian";
   double rho0 = 0, c0 = 0, gamma = 7, background_pressure = 0;  // kg/m^3, m/s, -, Pa
   double viscosity = 0;                                         // kinematic, m^2/s (Newtonian)
+  bool quadratic_eos = false;                                   // `eos`: "tait" (eq. 6) or "quadratic" (seed 002, eq. 9)
+  // PTT (materials/ptt.h): relaxation time s and viscosity Pa s per mode, extensibility, solvent viscosity Pa s
+  std::vector<double> mode_lambda, mode_eta;
+  double epsilon = 0, solvent_viscosity = 0;
+};
+
+// Lees-Edwards boundaries (box_policy.h): a sheared periodic cell, shear along
+// x (axis 0), gradient along y (axis 1). Steady: gamma(t) = shear_rate t;
+// oscillatory: gamma(t) = amplitude sin(omega t).
+struct LeesEdwardsSpec {
+  bool on = false;
+  double shear_rate = 0;          // 1/s (steady)
+  double amplitude = 0, omega = 0;  // strain amplitude, angular frequency rad/s (oscillatory)
 };
 
 // A material's keys as the model's parser sees them (deck.cpp): values checked, errors name the key.
@@ -83,6 +96,10 @@ class MaterialKeys {
   MaterialKeys(const nlohmann::json& j, std::string path, unsigned terms) : j_(j), path_(std::move(path)), terms_(terms) {}
   bool has(const std::string& key) const;
   double positive(const std::string& key) const;  // required, > 0
+  double non_negative_or(const std::string& key, double fallback) const;  // optional, >= 0
+  // The entries of list `key` (required, min_size..max_size objects with only `allowed` keys), each as MaterialKeys.
+  std::vector<MaterialKeys> objects(const std::string& key, std::size_t min_size, std::size_t max_size,
+                                    const std::vector<std::string>& allowed) const;
   // Required exactly when the physics term `bit` (named `term`) is on; 0 otherwise.
   double positive_with_term(const std::string& key, unsigned bit, const std::string& term) const;
   const std::string& path() const { return path_; }
@@ -113,6 +130,7 @@ struct Deck {
   std::vector<MeshSpec> meshes;
   double wall_range = 0, wall_s = 0, wall_psi = 0;  // R m, s m, psi N
   // periodic boundaries
+  LeesEdwardsSpec lees_edwards;
   std::vector<int> periodic_axes;
   std::vector<double> periodic_lo, periodic_hi;  // m, one per axis
   // open boundaries
@@ -144,5 +162,7 @@ Deck parse_deck(const nlohmann::json& j, const std::string& deck_dir);
 Deck load_deck(const std::string& path);
 // The `materials` list into d.materials (deck_materials.cpp; d.terms and d.v_max must be parsed).
 void parse_materials(const nlohmann::json& j, Deck& d);
+// The `lees_edwards` object into d.lees_edwards (deck_lees_edwards.cpp; d.periodic_* must be parsed).
+void parse_lees_edwards(const nlohmann::json& j, Deck& d);
 
 }  // namespace sph

@@ -26,7 +26,7 @@ void parse_materials(const json& j, Deck& d) {
     m.model = text(need(e, path, "model"), where(path, "model"));
     const int index = MaterialModels::index(m.model);
     if (index < 0) fail("'" + where(path, "model") + "' = '" + m.model + "' is not a material model; known: " + join(models));
-    std::vector<std::string> allowed = {"name", "model", "rho0", "c0", "gamma", "background_pressure"};
+    std::vector<std::string> allowed = {"name", "model", "rho0", "c0", "gamma", "background_pressure", "eos"};
     MaterialModels::visit(index, [&](auto model) {
       for (const auto& k : decltype(model)::keys()) allowed.push_back(k);
     });
@@ -36,6 +36,13 @@ void parse_materials(const json& j, Deck& d) {
     if (e.contains("gamma")) {
       m.gamma = number(e["gamma"], where(path, "gamma"));
       if (!(m.gamma >= 1)) fail("'" + where(path, "gamma") + "' must be >= 1, got " + std::to_string(m.gamma));
+    }
+    if (e.contains("eos")) {
+      const std::string eos = text(e["eos"], where(path, "eos"));
+      if (eos != "tait" && eos != "quadratic")
+        fail("'" + where(path, "eos") + "' = '" + eos + "' is not an equation of state; known: tait, quadratic");
+      m.quadratic_eos = eos == "quadratic";
+      if (m.quadratic_eos && e.contains("gamma")) fail("'" + where(path, "gamma") + "' is a Tait key; 'eos' is 'quadratic'");
     }
     if (e.contains("background_pressure")) m.background_pressure = number(e["background_pressure"], where(path, "background_pressure"));
     if (m.c0 < 10.0 * d.v_max)
@@ -53,6 +60,24 @@ void parse_materials(const json& j, Deck& d) {
 
 bool MaterialKeys::has(const std::string& key) const { return j_.contains(key); }
 double MaterialKeys::positive(const std::string& key) const { return deck_json::positive(j_, path_, key); }
+double MaterialKeys::non_negative_or(const std::string& key, double fallback) const {
+  return deck_json::non_negative(j_, path_, key, fallback);
+}
+std::vector<MaterialKeys> MaterialKeys::objects(const std::string& key, std::size_t min_size, std::size_t max_size,
+                                                const std::vector<std::string>& allowed) const {
+  const json& list = need(j_, path_, key);
+  const std::string name = where(path_, key);
+  if (!list.is_array() || list.size() < min_size || list.size() > max_size)
+    fail("'" + name + "' must be a list of " + std::to_string(min_size) + " to " + std::to_string(max_size) + " objects");
+  std::vector<MaterialKeys> out;
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const std::string item = name + "[" + std::to_string(i) + "]";
+    if (!list[i].is_object()) fail("'" + item + "' must be a JSON object");
+    check_keys(list[i], item, allowed);
+    out.emplace_back(list[i], item, terms_);
+  }
+  return out;
+}
 double MaterialKeys::positive_with_term(const std::string& key, unsigned bit, const std::string& term) const {
   const bool on = terms_ & bit;
   if (on && !j_.contains(key)) fail("physics term '" + term + "' is on but key '" + where(path_, key) + "' is missing");

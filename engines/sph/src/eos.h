@@ -1,4 +1,6 @@
-// Tait equation of state with background pressure (Canini et al., eq. 6).
+// Tait equation of state with background pressure (Canini et al., eq. 6), or
+// the quadratic EOS of Nutto et al. (seed 002, eq. 9), p = c0^2 rho^2 / (2 rho0),
+// when `quadratic` (a material's `eos = "quadratic"`).
 #pragma once
 #include <cmath>
 
@@ -9,14 +11,18 @@ struct TaitEos {
   double c0;                   // reference speed of sound, m/s
   double gamma;                // exponent (7 for water)
   double background_pressure;  // p_B, Pa
+  bool quadratic = false;      // seed 002, eq. 9 instead of eq. 6
 
   // p = rho0 c0^2 / gamma ((rho/rho0)^gamma - 1) + p_B, Pa
+  // or p = c0^2 rho^2 / (2 rho0) + p_B (seed 002, eq. 9; p_B is 0 unless the deck gives it)
   double pressure(double rho) const {
+    if (quadratic) return c0 * c0 * rho * rho / (2.0 * rho0) + background_pressure;
     return rho0 * c0 * c0 / gamma * (power(rho / rho0) - 1.0) + background_pressure;
   }
 
-  // c = sqrt(dp/drho) = c0 (rho/rho0)^((gamma-1)/2), m/s
+  // c = sqrt(dp/drho) = c0 (rho/rho0)^((gamma-1)/2), m/s (quadratic: c0 sqrt(rho/rho0))
   double sound_speed(double rho) const {
+    if (quadratic) return c0 * std::sqrt(rho / rho0);
     const double ratio = rho / rho0;
     if (gamma == 7.0) return c0 * ratio * ratio * ratio;
     return c0 * std::pow(ratio, 0.5 * (gamma - 1.0));

@@ -14,6 +14,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "box_policy.h"
 #include "cell_list.h"
 #include "parallel.h"
 #include "particles.h"
@@ -35,8 +36,12 @@ inline void predict_in_place(Particles<D>& P, std::ptrdiff_t i, double half) {
 // x_pred the predicted (wrapped) position of o. Writes the start-of-step
 // copies (x0 shifted by the same wrap as the prediction) and the second
 // buffers of the persistent state; swap_next() then makes them current.
-template <int D>
-inline void predict_reordered(Particles<D>& P, std::ptrdiff_t k, int o, const Vec<D>& x_pred, double half) {
+// Under Lees-Edwards (Sheared) a particle remapped across the gradient faces
+// also takes the velocity jump (box_policy.h, eq. LE2) in its start-of-step
+// and predicted velocity.
+template <int D, bool Sheared = false>
+inline void predict_reordered(Particles<D>& P, std::ptrdiff_t k, int o, const Vec<D>& x_pred, double half,
+                              const PeriodicImages<D>* images = nullptr) {
   const Vec<D> unwrapped = P.advects(o) ? Vec<D>(P.x[o] + half * P.v[o]) : P.x[o];
   P.x0[k] = P.x[o] + (x_pred - unwrapped);
   P.next_x[k] = x_pred;
@@ -47,6 +52,10 @@ inline void predict_reordered(Particles<D>& P, std::ptrdiff_t k, int o, const Ve
     f.next_value[k] = P.integrates(who, o) ? T(f.value[o] + half * f.rate[o]) : f.value[o];
   });
   P.for_carried([&](auto& a, auto& next) { next[k] = a[o]; });
+  if constexpr (Sheared) {
+    const Vec<D> dv = images->velocity_change(x_pred - unwrapped);
+    P.vel.start[k] += dv, P.vel.next_value[k] += dv;
+  }
 }
 
 // The predictor with binning and reordering by cell: the cells of the
@@ -55,9 +64,9 @@ inline void predict_reordered(Particles<D>& P, std::ptrdiff_t k, int o, const Ve
 // state of old index o (predict_reordered) into the second buffers, which
 // become the state. False if the particles spread over too many cells
 // (blow-up); then the start-of-step copies hold the state, for the last good frame.
-template <int D>
+template <int D, bool Sheared = false>
 bool predict_rebinned(Particles<D>& P, CellList<D>& cells, const std::vector<Vec<D>>& x_pred, const double* lo,
-                      const double* hi, double half) {
+                      const double* hi, double half, const PeriodicImages<D>* images = nullptr) {
   const std::ptrdiff_t n = P.size();
   if (!cells.lay_out(Eigen::Map<const Vec<D>>(lo), Eigen::Map<const Vec<D>>(hi), n)) {
     parallel_for(n, parallel_min_light, [&](std::ptrdiff_t i) {
@@ -73,7 +82,7 @@ bool predict_rebinned(Particles<D>& P, CellList<D>& cells, const std::vector<Vec
   parallel_for(n, parallel_min_light, [&](std::ptrdiff_t k) {
     const int o = order[k];
     order[k] = static_cast<int>(k);
-    predict_reordered(P, k, o, x_pred[o], half);
+    predict_reordered<D, Sheared>(P, k, o, x_pred[o], half, images);
   });
   P.swap_next();
   cells.mark_sorted_in_place();

@@ -13,18 +13,30 @@
 // one-material run is bitwise what it was before materials existed.
 #pragma once
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <vector>
 
 #include "eos.h"
+#include "vec.h"
 
 namespace sph {
+
+// Parameters of a multi-mode viscoelastic model (materials/ptt.h).
+struct ModeParameters {
+  int count = 0;                                   // modes in use
+  std::array<double, max_stress_modes> lambda{};   // relaxation times, s
+  std::array<double, max_stress_modes> eta{};      // mode viscosities, Pa s
+  double epsilon = 0.0;                            // PTT extensibility (0: Oldroyd-B / UCM)
+  double eta_s = 0.0;                              // solvent viscosity, Pa s
+};
 
 struct Material {
   TaitEos eos;      // rho0, c0, gamma, p_B (eq. 6)
   double nu = 0.0;  // kinematic viscosity m^2/s (Newtonian with Morris)
   double mu = 0.0;  // dynamic viscosity rho0 nu, Pa s
   int model = 0;    // index of its model in the configuration's model list
+  ModeParameters modes;  // viscoelastic models only
 };
 
 class MaterialTable {

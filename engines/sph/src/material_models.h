@@ -4,13 +4,24 @@
 #include <type_traits>
 
 #include "materials/newtonian.h"
+#include "materials/ptt.h"
 
 namespace sph {
+
+// A model's number of stress modes (its static `stress_modes`, else 0: a single tau or none).
+template <class M, class = void>
+struct stress_modes_of : std::integral_constant<int, 0> {};
+template <class M>
+struct stress_modes_of<M, std::void_t<decltype(M::stress_modes)>> : std::integral_constant<int, M::stress_modes> {};
+template <class M>
+constexpr int stress_modes_v = stress_modes_of<M>::value;
 
 template <class... M>
 struct ModelList {
   static constexpr int size = sizeof...(M);
   static constexpr bool any_stress = (M::has_stress || ...);  // then the momentum pass takes the tensor form
+  static constexpr bool any_modes = ((stress_modes_v<M> > 0) || ...);  // per-mode stresses (PTT)
+  static constexpr bool any_single_stress = ((M::has_stress && stress_modes_v<M> == 0) || ...);  // one tau
   // Whether model `name` is in the list, and its index (-1 if not).
   static int index(const std::string& name) {
     int k = 0, found = -1;
@@ -31,6 +42,6 @@ struct ModelList {
 };
 
 // The models a deck may name in `materials[].model` (one line per model).
-using MaterialModels = ModelList<Newtonian>;
+using MaterialModels = ModelList<Newtonian, Ptt>;
 
 }  // namespace sph

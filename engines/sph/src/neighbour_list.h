@@ -55,8 +55,9 @@ class NeighbourList {
     int begin, mid, end;
   };
 
+  // The image policy (held by reference: its shift table changes with time under Lees-Edwards).
   void configure(const PeriodicImages<D>& images) {
-    images_ = images;
+    images_ = &images;
     box_ = images.box();
   }
 
@@ -183,7 +184,8 @@ class NeighbourList {
   int block_end(int k) const { return begin_[k + 1]; }
   const Row& row(int a) const { return rows_[a]; }
   const std::uint32_t* entries(int k) const { return lists_[k].data(); }
-  const Vec<D>* shifts() const { return images_.shifts(); }
+  const Vec<D>* shifts() const { return images_->shifts(); }
+  const Vec<D>* jumps() const { return images_->jumps(); }  // velocity jump per image code (Lees-Edwards)
   std::size_t pair_count() const {
     std::size_t s = 0;
     for (int k = 0; k < blocks_; ++k) s += lists_[k].size();
@@ -191,7 +193,7 @@ class NeighbourList {
   }
 
  private:
-  int code_of(const Vec<D>& shift) const { return images_.code_of(shift); }
+  int code_of(const Vec<D>& shift) const { return images_->code_of(shift); }
   // Whether a (of block ka) owns its pair with b seen at shift `code`.
   bool owns(int a, int b, int code, int ka) const {
     const int kb = block_of_[b];
@@ -200,7 +202,7 @@ class NeighbourList {
     return periodic_last_ && ka == blocks_ - 1 && kb == 0;
   }
 
-  PeriodicImages<D> images_;
+  const PeriodicImages<D>* images_ = nullptr;
   PeriodicBox<D> box_;
   std::vector<Row> rows_;
   std::vector<int> block_of_, begin_;

@@ -9,6 +9,8 @@
 //   eq. T2  G_a       += V_b (v_b - v_a) (x) grad_a W_ab,  M_a += V_b (x_b - x_a) (x) grad_a W_ab
 //           (velocity gradient L_a = G_a, or G_a M_a^-1 kernel-corrected: exact for linear v; close_rates)
 // Both:  eqs. 11-12 artificial viscosity and eq. 10 Morris viscosity (mu_ab of material.h).
+// Lees-Edwards (term::sheared): b's image moves at v_b + jump(code) (box_policy.h, eq. LE2),
+// so v_ab = v_a - v_b - jump(code) in every term.
 // grad_a W_ab = F r_ab with F of eq. 8; grad_b W_ba = -F r_ab. Pairs of the
 // skin, beyond 2h, add exact zeros (the kernel factor is clamped to 0).
 #pragma once
@@ -112,7 +114,7 @@ class PairLoop {
   static constexpr int chunk = 128;
   // Pass B's inputs and outputs for one chunk (on the stack of the calling thread).
   struct Chunk {
-    int b[chunk];
+    int b[chunk], code[chunk];
     double r[D][chunk], v_ab[D][chunk], r2[chunk], vr[chunk];
     double m[chunk], rho[chunk], vol[chunk], p_rho2[chunk], c[chunk], mu[chunk];
     double drho_a[chunk], drho_b[chunk], radial_a[chunk], radial_b[chunk], visc_a[chunk], visc_b[chunk];
@@ -166,6 +168,7 @@ class PairLoop {
     const Vec<D>* const x = P_.x.data();
     const Vec<D>* const v = P_.v.data();
     const Vec<D>* const shifts = list_.shifts();
+    const Vec<D>* const jumps = list_.jumps();
     const Vec<D> xa = x[a], va = v[a];
     const double support2 = 4.0 * kernel_.h * kernel_.h;
     const double* const mu_row = materials_.pair_mu_table() + P_.material[a] * materials_.size();
@@ -174,7 +177,8 @@ class PairLoop {
     for (; e != stop; ++e) {
       const int b = static_cast<int>(*e >> List::shift_bits);
       const Vec<D> r = xa - x[b] - shifts[*e & List::shift_mask];  // r_ab to the listed image of b
-      const Vec<D> v_ab = va - v[b];
+      Vec<D> v_ab = va - v[b];
+      if constexpr (has(term::sheared)) v_ab -= jumps[*e & List::shift_mask], k.code[n] = *e & List::shift_mask;
       const double r2 = r.squaredNorm();
       k.b[n] = b, k.r2[n] = r2, k.vr[n] = v_ab.dot(r);
       for (int d = 0; d < D; ++d) k.r[d][n] = r[d], k.v_ab[d][n] = v_ab[d];
@@ -183,6 +187,7 @@ class PairLoop {
       if constexpr (has(term::several_materials)) k.mu[n] = mu_row[P_.material[b]];
       n += r2 < support2;
     }
+    (void)jumps;
     // B. per-pair coefficients (AVX2 where the CPU has it: no FMA, so every
     // lane rounds as the scalar code does and results do not depend on the CPU).
     const Owner o{P_.mass[a], P_.rho[a], P_.vol[a], P_.p_rho2[a], 1.0 / P_.rho[a],
@@ -205,7 +210,11 @@ class PairLoop {
         for (int d = 0; d < D; ++d) r[d] = k.r[d][j];
         if constexpr (AMoves) acc_a.noalias() += k.radial_a[j] * r;
         if constexpr (BMoves) acc[b].noalias() -= k.radial_b[j] * r;
-        if constexpr (has(term::morris_viscosity)) {
+        if constexpr (has(term::morris_viscosity) && has(term::sheared)) {
+          const Vec<D>& jump = jumps[k.code[j]];
+          if constexpr (AMoves) acc_a.noalias() += k.visc_a[j] * (va - v_noslip[b] - jump);
+          if constexpr (BMoves) acc[b].noalias() += k.visc_b[j] * (v[b] + jump - vns_a);
+        } else if constexpr (has(term::morris_viscosity)) {
           if constexpr (AMoves) acc_a.noalias() += k.visc_a[j] * (va - v_noslip[b]);
           if constexpr (BMoves) acc[b].noalias() += k.visc_b[j] * (v[b] - vns_a);
         }
@@ -232,6 +241,7 @@ class PairLoop {
     Mat<D>* const grad_v = P_.grad_v.data();
     Mat<D>* const shape = P_.shape.data();
     const Vec<D>* const shifts = list_.shifts();
+    const Vec<D>* const jumps = list_.jumps();
     const double inv_h = kernel_.inv_h, grad_factor = kernel_.grad_factor;
     const Model model = model_;
     const Vec<D> xa = x[a], va = v[a];
@@ -251,7 +261,9 @@ class PairLoop {
       const double u = 1.0 - 0.5 * (std::sqrt(r2) * inv_h);
       const double t = 0.5 * (u + std::abs(u));  // exactly max(u, 0), without a branch (a third of the list is skin)
       const double F = grad_factor * (t * t * t);  // grad_a W_ab = F r_ab (eq. 8), 0 beyond 2h
-      const Vec<D> v_ab = va - v[b];
+      Vec<D> v_ab = va - v[b];
+      Vec<D> jump = Vec<D>::Zero();
+      if constexpr (has(term::sheared)) jump = jumps[*e & List::shift_mask], v_ab -= jump;
       const double Fvr = F * v_ab.dot(r);  // v_ab . grad_a W_ab (= v_ba . grad_b W_ba)
       const double m_b = mass[b], rho_b = rho[b];
       // Eq. 7 for fluid (drho_a = rho_a sum m_b/rho_b v_ab . grad W), the summation rate otherwise.
@@ -288,15 +300,20 @@ class PairLoop {
           double s;
           if constexpr (has(term::several_materials)) s = model.morris.factor(mu_row[mat[b]], F, r2);
           else s = model.morris.factor(F, r2);
-          if constexpr (AMoves) acc_a.noalias() += (s * vol[b] * inv_rho_a) * (va - v_noslip[b]);
-          if constexpr (BMoves) acc[b].noalias() += (s * vol_a / rho_b) * (v[b] - vns_a);
+          if constexpr (has(term::sheared)) {
+            if constexpr (AMoves) acc_a.noalias() += (s * vol[b] * inv_rho_a) * (va - v_noslip[b] - jump);
+            if constexpr (BMoves) acc[b].noalias() += (s * vol_a / rho_b) * (v[b] + jump - vns_a);
+          } else {
+            if constexpr (AMoves) acc_a.noalias() += (s * vol[b] * inv_rho_a) * (va - v_noslip[b]);
+            if constexpr (BMoves) acc[b].noalias() += (s * vol_a / rho_b) * (v[b] - vns_a);
+          }
         }
       }
     }
     acc[a] += acc_a;
     drho[a] += drho_a;
     if constexpr (tensor) grad_v[a] += G_a, shape[a] += M_a;
-    (void)mu_row;
+    (void)mu_row, (void)jumps;
   }
 
   Particles<D>& P_;

@@ -45,6 +45,8 @@ struct Particles {
   Field<double> dens{"densities"};    // density kg/m^3, rate drho/dt kg/m^3/s
   Field<Mat<D>> stress{"stress"};     // deviatoric stress tau Pa, rate Pa/s (only when has_stress), frames (n, D*D) row-major
   bool has_stress = false;            // a material of the run carries a deviatoric stress
+  Field<ModeStress<D>> mode_stress{"mode_stress"};  // per-mode stresses tau_i Pa (PTT), rate Pa/s; only when modes > 0
+  int modes = 0;                      // stress modes of the run (0: none)
   // -- carried (reordered, compacted, never integrated)
   std::vector<double> mass;             // kg
   std::vector<Kind> kind;
@@ -54,13 +56,14 @@ struct Particles {
   std::vector<Kind> next_kind;
   std::vector<std::int64_t> next_id;
   std::vector<std::uint8_t> next_material;
+  std::vector<Mat<D>> tau_solvent, next_tau_solvent;  // solvent stress 2 eta_s D Pa of the last evaluation (modes > 0)
   // -- derived each evaluation
   std::vector<double> p, c;          // pressure Pa, sound speed m/s
   std::vector<double> vol, p_rho2;   // m/rho m^D, p/rho^2 (saves divisions in the pair loop)
   std::vector<Vec<D>> v_noslip;      // velocity seen by the viscous term: v for fluid, mirrored for boundary
-  std::vector<Mat<D>> grad_v;        // velocity gradient (has_stress): row i, column j is d v_i / d x_j
-  std::vector<Mat<D>> shape;         // kernel-correction sum, then its inverse (has_stress)
-  std::vector<Mat<D>> sigma_rho2;    // (-p I + tau) / rho^2 (has_stress)
+  std::vector<Mat<D>> grad_v;        // velocity gradient (tensor()): row i, column j is d v_i / d x_j
+  std::vector<Mat<D>> shape;         // kernel-correction sum, then its inverse (tensor())
+  std::vector<Mat<D>> sigma_rho2;    // (-p I + tau) / rho^2 (tensor())
 
   // Short names of the integrated values and rates used all over the solver.
   std::vector<Vec<D>>& v = vel.value;
@@ -84,14 +87,17 @@ struct Particles {
     f(vel, Integrates::advecting);  // acc is zero for all but fluid
     f(dens, Integrates::all);
     if (has_stress) f(stress, Integrates::advecting);
+    if (modes) f(mode_stress, Integrates::advecting);
   }
   // f(array, second buffer) for every carried field.
   template <class F>
   void for_carried(F&& f) {
     f(mass, next_mass), f(kind, next_kind), f(id, next_id), f(material, next_material);
+    if (modes) f(tau_solvent, next_tau_solvent);
   }
 
   std::size_t size() const { return x.size(); }
+  bool tensor() const { return has_stress || modes > 0; }  // momentum in the tensor form: gradients and sigma
   bool moves(std::size_t a) const { return kind[a] == Kind::fluid; }       // integrates the forces
   bool advects(std::size_t a) const { return kind[a] != Kind::boundary; }  // changes position
   bool integrates(Integrates who, std::size_t a) const { return who == Integrates::all || advects(a); }
@@ -99,12 +105,15 @@ struct Particles {
   void resize(std::size_t n) {
     for (auto* a : {&x, &x0, &v_noslip}) a->resize(n, Vec<D>::Zero());
     for (auto* a : {&p, &c, &vol, &p_rho2}) a->resize(n, 0.0);
-    for_integrated([n](auto& f, Integrates) {
-      const auto z = zero<typename std::decay_t<decltype(f.value)>::value_type>();
+    for_integrated([n, this](auto& f, Integrates) {
+      const auto z = zero<typename std::decay_t<decltype(f.value)>::value_type>(modes);
       f.value.resize(n, z), f.rate.resize(n, z), f.start.resize(n, z);
     });
+    const std::size_t had = tau_solvent.size();
     for_carried([n](auto& a, auto&) { a.resize(n); });
-    if (has_stress)
+    if (modes)
+      for (std::size_t i = had; i < n; ++i) tau_solvent[i].setZero();  // fresh entries hold no stress
+    if (tensor())
       for (auto* a : {&grad_v, &shape, &sigma_rho2}) a->resize(n, Mat<D>::Zero());
   }
 
@@ -114,7 +123,7 @@ struct Particles {
     for (auto* a : {&p, &c, &vol, &p_rho2}) a->reserve(n);
     for_integrated([n](auto& f, Integrates) { f.each_array([n](auto& a) { a.reserve(n); }); });
     for_carried([n](auto& a, auto& next) { a.reserve(n), next.reserve(n); });
-    if (has_stress)
+    if (tensor())
       for (auto* a : {&grad_v, &shape, &sigma_rho2}) a->reserve(n);
     reserved_ = n;
   }
@@ -178,8 +187,9 @@ struct Particles {
     a.swap(scratch);
   }
   template <class T>
-  static T zero() {
+  static T zero(int modes) {
     if constexpr (std::is_arithmetic_v<T>) return T(0);
+    else if constexpr (T::ColsAtCompileTime == Eigen::Dynamic) return T::Zero(T::RowsAtCompileTime, modes);
     else return T::Zero();
   }
   // Copy or move every array (the short names above are references into the fields, so the
@@ -189,7 +199,8 @@ struct Particles {
 #define SPH_TAKE(m) m = std::forward<P>(o).m
     const std::size_t cap = std::max(o.reserved_, o.x.capacity());
     SPH_TAKE(x), SPH_TAKE(x0), SPH_TAKE(next_x), SPH_TAKE(vel), SPH_TAKE(dens), SPH_TAKE(stress);
-    SPH_TAKE(has_stress), SPH_TAKE(mass), SPH_TAKE(kind), SPH_TAKE(id), SPH_TAKE(material);
+    SPH_TAKE(has_stress), SPH_TAKE(mode_stress), SPH_TAKE(modes), SPH_TAKE(tau_solvent), SPH_TAKE(next_tau_solvent);
+    SPH_TAKE(mass), SPH_TAKE(kind), SPH_TAKE(id), SPH_TAKE(material);
     SPH_TAKE(next_mass), SPH_TAKE(next_kind), SPH_TAKE(next_id), SPH_TAKE(next_material);
     SPH_TAKE(p), SPH_TAKE(c), SPH_TAKE(vol), SPH_TAKE(p_rho2), SPH_TAKE(v_noslip);
     SPH_TAKE(grad_v), SPH_TAKE(shape), SPH_TAKE(sigma_rho2), SPH_TAKE(scratch_vec_);

@@ -27,6 +27,9 @@ constexpr unsigned pair_terms = morris_viscosity | artificial_viscosity;
 // Not a deck term: set by the dispatcher for runs with several materials and
 // Morris viscosity (the pair loop then looks up mu_ab, material.h).
 constexpr unsigned several_materials = 1u << 8;
+// Not a deck term: set by the dispatcher for Lees-Edwards runs (the pair loop
+// then subtracts the velocity jump of a sheared image, box_policy.h eq. LE2).
+constexpr unsigned sheared = 1u << 9;
 
 struct Named {
   const char* name;

@@ -45,17 +45,28 @@ class Recorder {
       for (const auto& m : sim.walls().meshes()) out.series("wall_force_" + m.name, D, D == 3 ? "N" : "N/m");
     out.series("kinetic_energy", 0, D == 3 ? "J" : "J/m");
     out.series("max_density_deviation", 0, "1");
+    if constexpr (Sim::tensor) {
+      out.series("shear_stress", 0, "Pa");
+      out.series("first_normal_stress_difference", 0, "Pa");
+    }
+    if (sim.images().lees_edwards()) {
+      out.series("shear_strain", 0, "1");
+      out.series("shear_rate", 0, "1/s");
+    }
+    const std::size_t extra = (Sim::tensor ? 2 : 0) + (sim.images().lees_edwards() ? 2 : 0);
     const std::size_t n = sim.particles().x.capacity();
     const std::size_t scalars = probes_.size() + planes_.size() + open.count();
-    values_.resize(scalars + D * sim.walls().meshes().size() + 2);
+    values_.resize(scalars + D * sim.walls().meshes().size() + 2 + extra);
     std::size_t j = 0;  // where each series' row starts in values_
     for (std::size_t i = 0; i < scalars; ++i) rows_.push_back(&values_[j++]);
     for (std::size_t m = 0; m < sim.walls().meshes().size(); ++m, j += D) rows_.push_back(&values_[j]);
     rows_.push_back(&values_[j++]);
     rows_.push_back(&values_[j++]);
+    for (std::size_t e = 0; e < extra; ++e) rows_.push_back(&values_[j++]);
     ids_.reserve(n), kind_.reserve(n), x_.reserve(n * D), v_.reserve(n * D), rho_.reserve(n), p_.reserve(n);
     order_.reserve(n);
     if (sim.particles().has_stress) field_.reserve(n * D * D);
+    if (sim.particles().modes) field_.reserve(n * D * D * sim.particles().modes);
   }
 
   bool has_flow_planes() const { return !planes_.empty(); }
@@ -89,6 +100,15 @@ class Recorder {
       if (P.moves(i)) ke += 0.5 * P.mass[i] * P.v[i].squaredNorm();
     values_[k++] = ke;
     values_[k++] = sim_.max_density_deviation();
+    if constexpr (Sim::tensor) {  // the fluid's volume-averaged extra stress (Lees-Edwards cell: the rheometer's)
+      const Mat<D> tau = sim_.mean_extra_stress();
+      values_[k++] = tau(0, 1);
+      values_[k++] = tau(0, 0) - tau(1, 1);
+    }
+    if (sim_.images().lees_edwards()) {
+      values_[k++] = sim_.images().strain(t);
+      values_[k++] = sim_.images().strain_rate(t);
+    }
     out_.record(t, rows_);
     last_series_ = t;
   }
@@ -130,7 +150,17 @@ class Recorder {
     Q.for_integrated([&](auto& f, Integrates) {
       using T = typename std::decay_t<decltype(f.value)>::value_type;
       if constexpr (!std::is_arithmetic_v<T>) {
-        if constexpr (T::SizeAtCompileTime != D) {  // velocities are written above
+        if constexpr (T::ColsAtCompileTime == Eigen::Dynamic) {  // per-mode stresses: (n, modes D D), row-major per mode
+          const auto& values = start_state ? f.start : f.value;
+          const int cols = Q.modes * D * D;
+          field_.resize(n * cols);
+          for (std::size_t r = 0; r < n; ++r)
+            for (int c = 0; c < cols; ++c) {
+              const int mode = c / (D * D), i = c % (D * D) / D, j = c % D;
+              field_[r * cols + c] = values[order_[r]](j * D + i, mode);  // column-major tau of the mode
+            }
+          out_.frame_field(f.output, n, cols, field_.data());
+        } else if constexpr (T::SizeAtCompileTime != D) {  // velocities are written above
           const auto& values = start_state ? f.start : f.value;
           constexpr int cols = T::SizeAtCompileTime;
           field_.resize(n * cols);

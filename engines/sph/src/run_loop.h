@@ -165,6 +165,7 @@ inline Wanted wanted_by(const Deck& deck) {
   for (const auto& m : materials)
     if (std::find(w.models.begin(), w.models.end(), m.model) == w.models.end()) w.models.push_back(m.model);
   if (materials.size() > 1 && (w.terms & term::morris_viscosity)) w.terms |= term::several_materials;
+  if (deck.lees_edwards.on) w.terms |= term::sheared;
   return w;
 }
 template <class Models>

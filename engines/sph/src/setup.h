@@ -32,6 +32,9 @@ Particles<D> make_particles(const Deck& deck, const ParticleInput& in, std::size
     P.mass[i] = in.masses[i];
     P.rho[i] = in.densities[i];
     P.kind[i] = static_cast<Kind>(in.kind[i]);
+    if (deck.lees_edwards.on && P.kind[i] != Kind::fluid)
+      throw InputError("particle " + std::to_string(i) + " is not fluid (kind " + std::to_string(in.kind[i]) +
+                       "): a 'lees_edwards' cell takes fluid particles only");
     P.id[i] = static_cast<std::int64_t>(i);
     const std::int32_t mat = in.material.empty() ? 0 : in.material[i];
     if (mat < 0 || static_cast<std::size_t>(mat) >= nm)

@@ -44,6 +44,7 @@ class Simulation {
   using Images = PeriodicImages<D>;
   static constexpr bool has(unsigned t) { return Model::has(t); }
   static constexpr bool tensor = Models::any_stress;  // momentum in the tensor form (eq. T1)
+  static constexpr bool sheared = has(term::sheared);  // Lees-Edwards images (box_policy.h)
 
   // Cells of half the list range (5^D stencil) test fewer far pairs than cells
   // of the full range (3^D), and two layers of them make a block of the list.
@@ -56,9 +57,16 @@ class Simulation {
   Simulation(const Deck& deck, Particles<D> particles, WallPenalty<D> walls = {})
       : deck_(deck), P_(std::move(particles)), kernel_(deck.h), walls_(std::move(walls)),
         pairs_(P_, list_, kernel_, model_, materials_, shepard_) {
-    for (const MaterialSpec& m : deck.material_list())
-      materials_.add({{m.rho0, m.c0, m.gamma, m.background_pressure}, m.viscosity, m.rho0 * m.viscosity,
-                      std::max(0, Models::index(m.model))});
+    int modes = 0;
+    for (const MaterialSpec& m : deck.material_list()) {
+      Material mat{{m.rho0, m.c0, m.gamma, m.background_pressure, m.quadratic_eos}, m.viscosity, m.rho0 * m.viscosity,
+                   std::max(0, Models::index(m.model)), {}};
+      Models::visit(mat.model, [&](auto model) {
+        if constexpr (stress_modes_v<decltype(model)> > 0) decltype(model)::configure(m, mat);
+      });
+      modes = std::max(modes, mat.modes.count);
+      materials_.add(mat);
+    }
     const double eta2 = 0.01 * deck.h * deck.h;
     model_.morris.mu = materials_[0].mu;
     model_.morris.eta2 = eta2;
@@ -73,7 +81,8 @@ class Simulation {
       box.periodic[a] = true, box.lo[a] = deck.periodic_lo[i], box.hi[a] = deck.periodic_hi[i];
     }
     images_ = Images(box);
-    for (auto& x : P_.x) images_.wrap(x);
+    if (deck.lees_edwards.on) images_.set_lees_edwards(deck.lees_edwards), cells_.set_lees_edwards(true);
+    for (std::size_t i = 0; i < P_.size(); ++i) images_.wrap(P_.x[i], P_.v[i]);
     walls_together_ = true;
     const Vec<D>* wall_velocity = nullptr;
     for (std::size_t i = 0; i < P_.size(); ++i)
@@ -82,7 +91,8 @@ class Simulation {
         walls_together_ = walls_together_ && P_.v[i] == *wall_velocity;
       }
     const std::size_t n = P_.size(), capacity = P_.x.capacity();
-    P_.has_stress = tensor;
+    P_.has_stress = Models::any_single_stress;
+    P_.modes = Models::any_modes ? modes : 0;
     P_.resize(n);
     P_.reserve(capacity);
     for (auto* a : {&x_pred_, &x_build_}) a->reserve(capacity);
@@ -114,7 +124,8 @@ class Simulation {
   // cell (memory locality) and build the Verlet list; false if they blew apart.
   bool sort_particles() {
     const double t0 = omp_get_wtime();
-    for (auto& x : P_.x) images_.wrap(x);
+    if constexpr (sheared) images_.update(time_);
+    for (std::size_t i = 0; i < P_.size(); ++i) images_.wrap(P_.x[i], P_.v[i]);
     if (!cells_.build(P_.x, P_.size())) return false;
     P_.reorder(cells_.items());
     cells_.mark_sorted();
@@ -136,9 +147,37 @@ class Simulation {
     if constexpr (has(term::artificial_viscosity)) P_.c[i] = eos.sound_speed(rho);
     P_.vol[i] = P_.mass[i] / P_.rho[i];
     P_.p_rho2[i] = P_.p[i] / (P_.rho[i] * P_.rho[i]);
-    if constexpr (tensor)  // sigma / rho^2 = (-p I + tau) / rho^2 for eq. T1
+    if constexpr (tensor && Models::any_modes)  // sigma / rho^2 = (-p I + tau) / rho^2 for eq. T1
+      P_.sigma_rho2[i] = (extra_stress(i) - P_.p[i] * Mat<D>::Identity()) / (P_.rho[i] * P_.rho[i]);
+    else if constexpr (tensor)
       P_.sigma_rho2[i] = (P_.tau[i] - P_.p[i] * Mat<D>::Identity()) / (P_.rho[i] * P_.rho[i]);
   }
+
+  // The extra stress of particle i, Pa: its tau (single-stress models), the sum
+  // of its mode stresses and the solvent stress 2 eta_s D (PTT, materials/ptt.h eq. 3).
+  Mat<D> extra_stress(std::size_t i) const {
+    Mat<D> tau = Mat<D>::Zero();
+    if constexpr (Models::any_single_stress) tau += P_.tau[i];
+    if constexpr (Models::any_modes) {
+      tau += P_.tau_solvent[i];
+      const ModeStress<D>& s = P_.mode_stress.value[i];
+      for (int k = 0; k < s.cols(); ++k) tau += Eigen::Map<const Mat<D>>(s.col(k).data());
+    }
+    return tau;
+  }
+  // Volume average of the fluid's extra stress, Pa (sigma_xy of a Lees-Edwards cell is its (0, 1) entry).
+  Mat<D> mean_extra_stress() const {
+    Mat<D> sum = Mat<D>::Zero();
+    double volume = 0.0;
+    for (std::size_t i = 0; i < P_.size(); ++i)
+      if (P_.moves(i)) {
+        const double vol = P_.mass[i] / P_.rho[i];
+        sum += vol * extra_stress(i), volume += vol;
+      }
+    return volume > 0.0 ? Mat<D>(sum / volume) : sum;
+  }
+  const PeriodicImages<D>& images() const { return images_; }
+  double time() const { return time_; }  // s, advanced by each step's dt
 
   // Rates of every particle at the current x, v, rho (the Verlet list must
   // hold them): the gather and close_rates stages in one parallel region,
@@ -222,7 +261,15 @@ class Simulation {
         const double scale = M.cwiseAbs().maxCoeff();
         if (correct_gradient_ && std::abs(M.determinant()) > 1e-6 * std::pow(scale, D)) L = L * M.inverse();
         const Material& mat = materials_[P_.material[a]];
-        Models::visit(mat.model, [&](auto model) { model.stress_rate(mat, L, P_.tau[a], P_.dtau[a]); });
+        Models::visit(mat.model, [&](auto model) {
+          using M = decltype(model);
+          if constexpr (stress_modes_v<M> > 0) {
+            M::mode_rates(mat, L, P_.mode_stress.value[a], P_.mode_stress.rate[a]);
+            P_.tau_solvent[a] = M::solvent_stress(mat, L);
+          } else if constexpr (Models::any_single_stress) {
+            model.stress_rate(mat, L, P_.tau[a], P_.dtau[a]);
+          }
+        });
       }
     } else if (P_.kind[a] == Kind::outlet) {
       P_.drho[a] = 0.0;
@@ -276,11 +323,22 @@ class Simulation {
     double lo[D], hi[D], moved2 = 0.0;
     for (int d = 0; d < D; ++d) lo[d] = std::numeric_limits<double>::infinity(), hi[d] = -lo[d];
     const bool check = !list_stale_;  // x_build_ matches the particles
-    auto position = [this, half, check](std::ptrdiff_t i, double* lo, double* hi, double& moved2) {
+    double strain = 0.0, y_mid = 0.0;  // Lees-Edwards: strain since the build, mid-plane of the cell
+    if constexpr (sheared) {
+      images_.update(time_ + half);  // the images at the half step
+      strain = images_.strain_since_build(), y_mid = 0.5 * (images_.box().lo[1] + images_.box().hi[1]);
+    }
+    auto position = [this, half, check, strain, y_mid](std::ptrdiff_t i, double* lo, double* hi, double& moved2) {
       Vec<D> x = P_.x[i];
       if (P_.advects(i)) {  // fixed boundary particles stay
         x += half * P_.v[i];
-        if (check) moved2 = std::max(moved2, (x - x_build_[i]).squaredNorm());
+        if constexpr (sheared) {  // displacement beside the affine shear (eq. LE3)
+          Vec<D> moved = x - x_build_[i];
+          moved[0] -= strain * (x_build_[i][1] - y_mid);
+          if (check) moved2 = std::max(moved2, moved.squaredNorm());
+        } else if (check) {
+          moved2 = std::max(moved2, (x - x_build_[i]).squaredNorm());
+        }
         images_.wrap(x);
       }
       x_pred_[i] = x;
@@ -292,14 +350,26 @@ class Simulation {
     } else {
       for (std::ptrdiff_t i = 0; i < n; ++i) position(i, lo, hi, moved2);
     }
-    if (check && moved2 <= 0.25 * skin_ * skin_) {
+    // Moved less than skin/2. Under Lees-Edwards (eq. LE3): with u_i the
+    // displacement of particle i beside the affine shear, x_i - x_i^b - s (y_i^b - y_mid) e_x
+    // (s the strain since the build), a pair vector (images included) is
+    // r = A r^b + u_a - u_b, A = I + s e_x e_y^T; an unlisted pair (|r^b| >= R,
+    // the list range) stays beyond the support 2h while 2 max |u| <= R / (1 + |s|) - 2h
+    // (y_mid, any constant, cancels in u_a - u_b; the mid-plane keeps |u| small in a
+    // cell sheared about its middle).
+    double allowed = 0.5 * skin_;
+    if constexpr (sheared) {
+      const double support = kernel_.support_radius();
+      allowed = std::max(0.0, 0.5 * ((support + skin_) / (1.0 + std::abs(strain)) - support));
+    }
+    if (check && moved2 <= allowed * allowed) {
       parallel_for(n, parallel_min_light, [this, half](std::ptrdiff_t i) { predict_in_place(P_, i, half); });
       times_.predict += omp_get_wtime() - t_start;
       return true;
     }
     const double t_bin = omp_get_wtime();
     times_.predict += t_bin - t_start;
-    if (!predict_rebinned(P_, cells_, x_pred_, lo, hi, half)) return false;
+    if (!predict_rebinned<D, sheared>(P_, cells_, x_pred_, lo, hi, half, &images_)) return false;
     build_list();
     times_.neighbours += omp_get_wtime() - t_bin;
     return true;
@@ -318,6 +388,7 @@ class Simulation {
       correct_at(P_, i, dt);
       if constexpr (tensor) post_correct_at(i);
     });
+    time_ += dt;
     if constexpr (!std::is_same_v<std::decay_t<Crossed>, NoCrossings>)
       for (std::ptrdiff_t i = 0; i < n; ++i)
         if (P_.moves(i)) {
@@ -355,6 +426,7 @@ class Simulation {
  private:
   // post_correct of particle i: its material's return mapping and failure (models with stress).
   void post_correct_at(std::ptrdiff_t i) {
+    if constexpr (!Models::any_single_stress) return;
     if (!P_.advects(i)) return;
     const Material& mat = materials_[P_.material[i]];
     Models::visit(mat.model, [&](auto model) { model.post_correct(mat, P_.tau[i]); });
@@ -367,6 +439,7 @@ class Simulation {
 
   // The Verlet list of the current (binned, sorted) positions.
   void build_list() {
+    if constexpr (sheared) images_.rebase(), cells_.set_shear_offset(images_.build_offset());
     list_.build(cells_, P_.x, P_.kind, kernel_.support_radius() + skin_, walls_together_);
     x_build_.assign(P_.x.begin(), P_.x.end());
     shepard_.resize(P_.size());
@@ -394,6 +467,7 @@ class Simulation {
   std::vector<Vec<D>> x_pred_;   // predicted positions by index before the reorder (scratch of predict)
   std::vector<Vec<D>> x_build_;  // positions at the last Verlet list build
   double skin_ = 0.0;
+  double time_ = 0.0;  // s
   bool list_stale_ = true;  // the list must be rebuilt before the next evaluation
   StageTimes times_;
 };

@@ -198,3 +198,50 @@ TEST(materials_list_is_parsed_and_checked) {
   twice["materials"][1]["name"] = "water";
   CHECK(mentions(rejection(twice), "duplicate name 'water'"));
 }
+
+// A PTT material (materials/ptt.h) and its keys; the `eos` choice; Lees-Edwards boundaries.
+TEST(ptt_material_and_lees_edwards_are_parsed_and_checked) {
+  json j = good_deck();
+  j.erase("rho0"), j.erase("c0"), j.erase("viscosity");
+  j["physics"] = json::array();
+  j.erase("body_force");
+  j["materials"] = json::parse(R"([{"name": "melt", "model": "ptt", "rho0": 1000, "c0": 20, "eos": "quadratic",
+      "epsilon": 0.1, "solvent_viscosity": 0.5, "modes": [{"lambda": 0.1, "eta": 100}, {"lambda": 0.01, "eta": 10}]}])");
+  j["periodic"] = json::parse(R"({"axes": [0, 1], "lo": [0, 0], "hi": [0.01, 0.01]})");
+  j["lees_edwards"] = json::parse(R"({"shear_rate": 10})");
+  const Deck d = parse_deck(j, deck_dir().string());
+  CHECK(d.materials[0].model == "ptt" && d.materials[0].quadratic_eos);
+  CHECK(d.materials[0].mode_lambda.size() == 2 && d.materials[0].mode_eta[1] == 10.0);
+  CHECK(d.materials[0].epsilon == 0.1 && d.materials[0].solvent_viscosity == 0.5);
+  CHECK(d.lees_edwards.on && d.lees_edwards.shear_rate == 10.0);
+  json bad_eos = j;
+  bad_eos["materials"][0]["eos"] = "ideal_gas";
+  CHECK(mentions(rejection(bad_eos), "'materials[0].eos' = 'ideal_gas'"));
+  json no_modes = j;
+  no_modes["materials"][0].erase("modes");
+  CHECK(mentions(rejection(no_modes), "materials[0].modes"));
+  json bad_mode = j;
+  bad_mode["materials"][0]["modes"][1]["lambda"] = -1.0;
+  CHECK(mentions(rejection(bad_mode), "'materials[0].modes[1].lambda' must be > 0"));
+  json extra = j;
+  extra["materials"][0]["modes"][0]["G"] = 1.0;
+  CHECK(mentions(rejection(extra), "materials[0].modes[0].G"));
+  json many = j;
+  for (int k = 0; k < 8; ++k) many["materials"][0]["modes"].push_back({{"lambda", 1.0}, {"eta", 1.0}});
+  CHECK(mentions(rejection(many), "'materials[0].modes' must be a list of 1 to 8"));
+  json negative = j;
+  negative["materials"][0]["epsilon"] = -0.1;
+  CHECK(mentions(rejection(negative), "'materials[0].epsilon' must be >= 0"));
+  json oscillatory = j;
+  oscillatory["lees_edwards"] = json::parse(R"({"amplitude": 0.5, "omega": 6.28})");
+  CHECK(parse_deck(oscillatory, deck_dir().string()).lees_edwards.omega == 6.28);
+  json both = j;
+  both["lees_edwards"]["amplitude"] = 0.5;
+  CHECK(mentions(rejection(both), "'lees_edwards' takes either 'shear_rate'"));
+  json no_omega = j;
+  no_omega["lees_edwards"] = json::parse(R"({"amplitude": 0.5})");
+  CHECK(mentions(rejection(no_omega), "lees_edwards.omega"));
+  json not_periodic = j;
+  not_periodic["periodic"] = json::parse(R"({"axes": [0], "lo": [0], "hi": [0.01]})");
+  CHECK(mentions(rejection(not_periodic), "'periodic.axes' must list axes 0 and 1"));
+}

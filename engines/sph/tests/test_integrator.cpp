@@ -8,6 +8,7 @@
 #include <random>
 
 #include "check.h"
+#include "fixtures.h"
 #include "simulation.h"
 
 using namespace sph;
@@ -27,21 +28,9 @@ Deck block_deck() {
 }
 
 Particles<2> block(int columns, int rows) {
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<double> jitter(-0.1, 0.1), speed(-0.5, 0.5);
-  Particles<2> P;
-  P.resize(columns * (rows + 3));
-  int k = 0;
-  for (int i = 0; i < columns; ++i)
-    for (int j = -3; j < rows; ++j, ++k) {
-      const bool wall = j < 0;
-      P.x[k] = 1e-3 * Vec<2>(i + (wall ? 0.0 : jitter(rng)), j + (wall ? 0.0 : jitter(rng)));
-      P.v[k] = wall ? Vec<2>::Zero() : Vec<2>(speed(rng), speed(rng));
-      P.rho[k] = 1000.0 * (wall ? 1.0 : 1.0 + 0.005 * (1.0 + jitter(rng)));
-      P.mass[k] = 1e-3, P.id[k] = k;
-      P.kind[k] = wall ? Kind::boundary : Kind::fluid;
-    }
-  return P;
+  fixtures::Block b;
+  b.columns = columns, b.rows = rows, b.seed = 11, b.jitter = 0.1, b.speed = 0.5, b.density_jitter = 0.005;
+  return fixtures::block(b);
 }
 
 // Positions by particle id after `steps` steps of dt.

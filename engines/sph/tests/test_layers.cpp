@@ -30,7 +30,12 @@ TEST(two_layer_couette_matches_piecewise_linear_profile) {
   Deck d;
   d.dimension = 2, d.terms = term::morris_viscosity;
   d.h = 1.3 * dx, d.dx = dx, d.v_max = U;
-  d.materials = {{"lower", "newtonian", rho_1, 1.0, 7.0, 0.0, nu_1}, {"upper", "newtonian", rho_2, 1.0, 7.0, 0.0, nu_2}};
+  d.materials.resize(2);
+  for (int k = 0; k < 2; ++k) {
+    MaterialSpec& m = d.materials[k];
+    m.name = k ? "upper" : "lower", m.model = "newtonian", m.rho0 = k ? rho_2 : rho_1, m.c0 = 1.0;
+    m.gamma = 7.0, m.background_pressure = 0.0, m.viscosity = k ? nu_2 : nu_1;
+  }
   d.rho0 = rho_1, d.c0 = 1.0;
   d.periodic_axes = {0}, d.periodic_lo = {0.0}, d.periodic_hi = {columns * dx};
   Particles<2> P;

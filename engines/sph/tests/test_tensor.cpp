@@ -2,21 +2,16 @@
 // sigma = -p I the tensor momentum reproduces the scalar one to round-off,
 // and the kernel-corrected gradient of a linear velocity field is exact.
 #include <cmath>
-#include <random>
 
 #include "check.h"
+#include "fixtures.h"
 #include "simulation.h"
 
 using namespace sph;
 
 namespace {
 
-// A model that carries a deviatoric stress but never changes it: tau stays 0,
-// so sigma = -p I on the tensor path.
-struct InertStress : Newtonian {
-  static constexpr const char* name = "inert_stress";
-  static constexpr bool has_stress = true;
-};
+using fixtures::InertStress;
 
 constexpr unsigned kTerms = term::morris_viscosity | term::artificial_viscosity | term::body_force;
 using Scalar = Simulation<2, kTerms>;
@@ -30,25 +25,12 @@ Deck deck() {
   return d;
 }
 
-// A jittered block of fluid on three layers of boundary particles; v = G x + v0 when linear,
-// random otherwise.
+// The shared jittered block (fixtures.h); v = G x + v0 when linear, random otherwise.
 Particles<2> block(bool linear, const Mat<2>& G) {
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<double> jitter(-0.15, 0.15), speed(-0.5, 0.5);
-  Particles<2> P;
-  const int columns = 14, rows = 12;
-  P.resize(columns * (rows + 3));
-  int k = 0;
-  for (int i = 0; i < columns; ++i)
-    for (int j = -3; j < rows; ++j, ++k) {
-      const bool wall = j < 0;
-      P.x[k] = 1e-3 * Vec<2>(i + (wall ? 0.0 : jitter(rng)), j + (wall ? 0.0 : jitter(rng)));
-      P.v[k] = linear ? Vec<2>(G * P.x[k] + Vec<2>(0.1, -0.2)) : (wall ? Vec<2>::Zero() : Vec<2>(speed(rng), speed(rng)));
-      P.rho[k] = 1000.0 * (1.0 + 0.004 * (1.0 + jitter(rng)));
-      P.mass[k] = 1e-3, P.id[k] = k;
-      P.kind[k] = wall ? Kind::boundary : Kind::fluid;
-    }
-  return P;
+  fixtures::Block b;
+  b.seed = 5, b.jitter = 0.15, b.speed = 0.5, b.density_jitter = 0.004, b.walls_jittered = true;
+  b.linear = linear, b.G = G;
+  return fixtures::block(b);
 }
 
 }  // namespace

@@ -1,0 +1,132 @@
+"""Reference (numpy, brute force) of the sph executable's multi-mode PTT fluid in a periodic box.
+
+The same equations as engines/sph (README "PTT viscoelastic fluid"): Wendland C2 kernel (eq. 8 of seed 000),
+Tait EOS (eq. 6) or the quadratic EOS of seed 002 (eq. 9), continuity (eq. 7), tensor momentum
+dv_a/dt = sum_b m_b (sigma_a/rho_a^2 + sigma_b/rho_b^2) . grad_a W_ab (eq. T1), the kernel-corrected
+velocity gradient L_a = G_a M_a^-1 (eq. T2), per mode the linear PTT rate
+d tau/dt = L tau + tau L^T + (eta (L + L^T) - f tau) / lambda, f = 1 + (lambda eps / eta) tr tau (eq. R1),
+the solvent stress 2 eta_s D of the previous evaluation, and Monaghan's predictor-corrector with one rate
+evaluation per step (eqs. P1-P4). Every particle is fluid; every axis is periodic (box at least 4h long,
+so each pair has one image within the support 2h). SI units throughout.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class PttFluid:
+    """One PTT material and its box: rho0 kg/m^3, c0 m/s, gamma (Tait), lambdas s, etas Pa s, epsilon,
+    eta_s Pa s, h m, box lengths m (origin 0), quadratic: seed 002's EOS instead of Tait."""
+
+    rho0: float
+    c0: float
+    lambdas: tuple[float, ...]
+    etas: tuple[float, ...]
+    epsilon: float
+    eta_s: float
+    h: float
+    box: tuple[float, ...]
+    gamma: float = 7.0
+    quadratic: bool = False
+
+
+@dataclass(frozen=True)
+class PttState:
+    """Positions (n, D) m, velocities (n, D) m/s, masses (n) kg, densities (n) kg/m^3, mode stresses
+    (n, modes, D, D) Pa, solvent stress of the last evaluation (n, D, D) Pa, and the last rates."""
+
+    x: np.ndarray
+    v: np.ndarray
+    m: np.ndarray
+    rho: np.ndarray
+    tau: np.ndarray
+    tau_solvent: np.ndarray
+    acc: np.ndarray | None = None
+    drho: np.ndarray | None = None
+    dtau: np.ndarray | None = None
+
+
+def pressure(rho: np.ndarray, fluid: PttFluid) -> np.ndarray:
+    """EOS in Pa: Tait (seed 000 eq. 6) or p = c0^2 rho^2 / (2 rho0) (seed 002 eq. 9)."""
+    if fluid.quadratic:
+        return fluid.c0 ** 2 * rho ** 2 / (2.0 * fluid.rho0)
+    return fluid.rho0 * fluid.c0 ** 2 / fluid.gamma * ((rho / fluid.rho0) ** fluid.gamma - 1.0)
+
+
+def ptt_mode_rates(L: np.ndarray, tau: np.ndarray, fluid: PttFluid) -> np.ndarray:
+    """d tau_i/dt in Pa/s (eq. R1) for velocity gradients L (n, D, D) 1/s (L_jk = dv_j/dx_k) and mode
+    stresses tau (n, modes, D, D) Pa."""
+    lam = np.asarray(fluid.lambdas)[None, :, None, None]
+    eta = np.asarray(fluid.etas)[None, :, None, None]
+    trace = np.trace(tau, axis1=2, axis2=3)[:, :, None, None]
+    f = 1.0 + lam * fluid.epsilon / eta * trace
+    Lm = L[:, None]
+    two_d = Lm + np.swapaxes(Lm, 2, 3)
+    return Lm @ tau + tau @ np.swapaxes(Lm, 2, 3) + (eta * two_d - f * tau) / lam
+
+
+def _pairs(x: np.ndarray, fluid: PttFluid):
+    """Every unordered pair within 2h at its nearest image: indices a, b and r_ab = x_a - x_b (m)."""
+    box = np.asarray(fluid.box)
+    a, b = np.triu_indices(len(x), k=1)
+    r = x[a] - x[b]
+    r -= box * np.round(r / box)
+    keep = np.einsum("ij,ij->i", r, r) < (2.0 * fluid.h) ** 2
+    return a[keep], b[keep], r[keep]
+
+
+def rates(state: PttState, fluid: PttFluid) -> PttState:
+    """The rates of eqs. 7, T1, T2, R1 at this state; also the new solvent stress (for the next evaluation)."""
+    n, dim = state.x.shape
+    h = fluid.h
+    alpha = 7.0 / (4.0 * math.pi * h * h) if dim == 2 else 21.0 / (16.0 * math.pi * h ** 3)
+    a, b, r = _pairs(state.x, fluid)
+    t = np.maximum(1.0 - 0.5 * np.sqrt(np.einsum("ij,ij->i", r, r)) / h, 0.0)
+    F = -5.0 * alpha / (h * h) * t ** 3
+    vol = state.m / state.rho
+    sigma = state.tau.sum(axis=1) + state.tau_solvent - pressure(state.rho, fluid)[:, None, None] * np.eye(dim)
+    S = sigma / state.rho[:, None, None] ** 2
+    v_ab = state.v[a] - state.v[b]
+    Fvr = F * np.einsum("ij,ij->i", v_ab, r)
+    drho = np.zeros(n)
+    np.add.at(drho, a, state.rho[a] * vol[b] * Fvr)
+    np.add.at(drho, b, state.rho[b] * vol[a] * Fvr)
+    f = np.einsum("pij,pj->pi", S[a] + S[b], F[:, None] * r)
+    acc = np.zeros((n, dim))
+    np.add.at(acc, a, state.m[b][:, None] * f)
+    np.add.at(acc, b, -state.m[a][:, None] * f)
+    vr = np.einsum("pi,pj->pij", v_ab, r)
+    rr = np.einsum("pi,pj->pij", r, r)
+    G = np.zeros((n, dim, dim))
+    M = np.zeros((n, dim, dim))
+    np.add.at(G, a, -(F * vol[b])[:, None, None] * vr)
+    np.add.at(M, a, -(F * vol[b])[:, None, None] * rr)
+    np.add.at(G, b, -(F * vol[a])[:, None, None] * vr)
+    np.add.at(M, b, -(F * vol[a])[:, None, None] * rr)
+    L = G @ np.linalg.inv(M)
+    return replace(state, acc=acc, drho=drho, dtau=ptt_mode_rates(L, state.tau, fluid),
+                   tau_solvent=fluid.eta_s * (L + np.swapaxes(L, 1, 2)))
+
+
+def step(state: PttState, fluid: PttFluid, dt: float) -> PttState:
+    """One predictor-corrector step of dt s (eqs. P1-P4) from a state that holds its last rates."""
+    half = 0.5 * dt
+    predicted = replace(state, x=state.x + half * state.v, v=state.v + half * state.acc,
+                        rho=state.rho + half * state.drho, tau=state.tau + half * state.dtau)
+    mid = rates(predicted, fluid)
+    return PttState(x=state.x + dt * (state.v + half * mid.acc), v=state.v + dt * mid.acc,
+                    m=state.m, rho=state.rho + dt * mid.drho, tau=state.tau + dt * mid.dtau,
+                    tau_solvent=mid.tau_solvent, acc=mid.acc, drho=mid.drho, dtau=mid.dtau)
+
+
+def simulate(state: PttState, fluid: PttFluid, dt: float, n_steps: int) -> PttState:
+    """n_steps steps of dt s from a state without rates (the initial rates are evaluated first)."""
+    state = rates(state, fluid)
+    for _ in range(n_steps):
+        state = step(state, fluid, dt)
+    return state
