@@ -136,7 +136,15 @@ def assert_engine_impacts(run: dict) -> None:
     assert len(speed) >= 3
     assert np.all((ev["process_time"] >= window[0] - dt) & (ev["process_time"] <= window[1] + dt))
     assert np.all(speed > 0)
-    assert np.mean(np.abs(ev["engine_speed"] - speed) <= 1e-6) > 0.8  # the rest meet an edge (module docstring)
+    # on a face the engine's prism test and the mesh agree; at an edge the contact normal turns by at most half a
+    # side's angle from the face normal the test takes, which bounds the difference by |v_rel| 2 sin(pi / 2n)
+    attrs = run["case"]["attrs"]
+    omega = attrs["workpiece.speed"] / attrs["workpiece.path_radius"]
+    p, v = np.asarray(ev["position"]), np.asarray(ev["velocity"])
+    v_rel = np.linalg.norm(v - omega * np.column_stack([-p[:, 1], p[:, 0], np.zeros(len(p))]), axis=1)
+    difference = np.abs(ev["engine_speed"] - speed)
+    assert np.mean(difference <= 1e-6) >= 0.5
+    assert np.all(difference <= v_rel * 2 * np.sin(np.pi / (2 * attrs["workpiece.segments"])) + 1e-9)
     assert np.all(ev["gap"] <= speed * dt + 1e-12 + 5e-5) and np.all(ev["gap"] >= -speed * dt - 1e-9)
     rod = run["meshes"]["rod"]
     assert rod["impact_count"].sum() == len(speed)
