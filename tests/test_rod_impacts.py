@@ -173,3 +173,5 @@ def test_an_empty_window_turns_the_test_off():
     paper = Path(__file__).parents[1] / "cases" / "drag_finishing_uhlmann2015.toml"
     assert load_case(paper).model.output.impact_window == (0.5, 2.0)
     assert load_case(paper, overrides=["output.impact_window=[]"]).model.output.impact_window is None
+    short = load_case(paper, overrides=["process.duration=1.2", "output.network_times=[1.0]"]).model
+    assert short.output.impact_window == (0.5, 2.0) and short.impact_window == (0.5, 1.2)  # cut to the process

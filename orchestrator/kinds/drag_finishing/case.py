@@ -138,7 +138,7 @@ class Output(Frozen):
         None, description="process time between checkpoints from which 'orchestrator run --resume' continues a "
         "stopped run, s (LIGGGHTS restart files; None: no checkpoints)")
     impact_window: tuple[NonNegative, NonNegative] | None = Field(
-        None, description="[start, end] process time, s, in which every ball's first touch of the rod is recorded "
+        None, description="[start, end] process time, s (the end cut to the process), in which every ball's first touch of the rod is recorded "
         "with its normal impact speed (checked every step; costs engine time; the rod must be a regular prism, as the "
         "generated one; [] or absent: off)")
 
@@ -234,10 +234,11 @@ class DragFinishingCase(MaterialCase):
                     f"(process.duration = {self.process.duration} s); allowed: 0 <= t <= duration"
                 )
         window = self.output.impact_window
-        if window is not None and not 0 <= window[0] < window[1] <= self.process.duration:
+        if window is not None and not (window[0] < window[1] and window[0] < self.process.duration):
             raise ValueError(
-                f"output.impact_window = {list(window)} s is not inside the process (process.duration = "
-                f"{self.process.duration} s); allowed: [start, end] with 0 <= start < end <= duration"
+                f"output.impact_window = {list(window)} s does not start inside the process (process.duration = "
+                f"{self.process.duration} s); allowed: [start, end] with 0 <= start < end and start < duration (an "
+                "end after the process is cut to it), or [] for none"
             )
         if self.output.record_interval > self.process.duration:
             raise ValueError(
@@ -275,6 +276,12 @@ class DragFinishingCase(MaterialCase):
     def settling_timestep_factor(self) -> float:
         """Time-step factor (of the settling Rayleigh step) while settling and inserting, -."""
         return self.settling.timestep_factor or self.numerics.timestep_factor
+
+    @property
+    def impact_window(self) -> tuple[float, float] | None:
+        """output.impact_window cut to the process, s of process time, or None."""
+        window = self.output.impact_window
+        return None if window is None else (float(window[0]), min(float(window[1]), self.process.duration))
 
     @property
     def angular_velocity(self) -> float:

@@ -62,7 +62,7 @@ def template_values(scene) -> dict:
     """What the engine templates need for the impact test (SI units): impact_window (start, end) in s of process
     time or None, and the rod prism about its own axis (segments, alpha0 rad, apothem m). OrchestratorError when
     the window is set and the rod is not a regular vertical prism (a user's mesh)."""
-    window = scene.case.output.impact_window
+    window = scene.case.impact_window
     if window is None:
         return {"impact_window": None}
     rod = scene.meshes["rod"].mesh
@@ -184,6 +184,7 @@ def impact_summary(run: dict) -> dict | None:
     params = run.get("case", {}).get("attrs", {})
     tp = np.asarray(ev["process_time"], float)
     window = np.asarray(params.get("output.impact_window", [tp.min(initial=0.0), tp.max(initial=0.0)]), float)
+    window[1] = min(window[1], float(params.get("process.duration", window[1])))  # cut to the process, as the run
     theta = speed / radius * tp
     axis = radius * np.column_stack([np.cos(theta), np.sin(theta)])
     d = np.asarray(ev["position"], float).reshape(-1, 3)[:, :2] - axis

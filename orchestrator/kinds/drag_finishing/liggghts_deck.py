@@ -109,8 +109,8 @@ def drag_context(scene) -> dict:
 
 
 def impact_steps(case, dt: float) -> tuple[int, int] | None:
-    """output.impact_window as process steps [start, end), or None."""
-    window = case.output.impact_window
+    """output.impact_window (cut to the process) as process steps [start, end), or None."""
+    window = case.impact_window
     return None if window is None else (round(window[0] / dt), round(window[1] / dt))
 
 
