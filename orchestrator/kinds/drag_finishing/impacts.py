@@ -31,6 +31,7 @@ from orchestrator.engines.base import Series
 from orchestrator.errors import OrchestratorError
 from orchestrator.kinds.drag_finishing.chains import path_of
 from orchestrator.kinds.drag_finishing.intensity import point_triangle_distance, sector_sums, turn_z
+from orchestrator.reference.dem_geometry import closest_points_on_triangles
 
 #: The columns the engines write for each contact start (SI units).
 ENGINE_COLUMNS = ("id", "radius", "x", "y", "z", "vx", "vy", "vz", "gap", "speed")
@@ -104,7 +105,8 @@ def impact_events(raw: dict[str, np.ndarray], rod_vertices: np.ndarray, rod_face
     gap -= np.asarray(raw["radius"], float)
     # the contact normal: from the nearest point of the facet to the centre (the facet's normal on its face, the
     # direction from the edge or corner where the ball meets one)
-    q = closest_points(p_s, tri[facet])
+    chosen = tri[facet]
+    q, _ = closest_points_on_triangles(p_s, chosen[:, 0], chosen[:, 1], chosen[:, 2])
     n = p_s - q
     length = np.linalg.norm(n, axis=1)
     n = np.where(length[:, None] > 1e-12, n / np.maximum(length, 1e-300)[:, None], normal[facet])
@@ -120,28 +122,6 @@ def impact_events(raw: dict[str, np.ndarray], rod_vertices: np.ndarray, rod_face
         "impact_speed": Series(speed, "m/s", "normal speed towards the face, relative to the moving rod"),
         "engine_speed": Series(np.asarray(raw["engine_speed"], float), "m/s", "the engine's prism-test speed u"),
     }
-
-
-def closest_points(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
-    """The point (n,3) m of each triangle (n,3,3) nearest to each point (n,3): the projection onto its plane when
-    that falls inside, else the nearest point of its three edges."""
-    p = np.asarray(points, float).reshape(-1, 3)
-    a, b, c = (np.asarray(triangles, float)[:, k] for k in range(3))
-    normal = np.cross(b - a, c - a)
-    normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), 1e-300)
-    q = p - np.einsum("ij,ij->i", p - a, normal)[:, None] * normal
-    inside = np.ones(len(p), bool)
-    for u, v in ((a, b), (b, c), (c, a)):
-        inside &= np.einsum("ij,ij->i", np.cross(v - u, q - u), normal) >= -1e-15
-    best, best_d = q.copy(), np.where(inside, 0.0, np.inf)
-    for u, v in ((a, b), (b, c), (c, a)):
-        e = v - u
-        t = np.clip(np.einsum("ij,ij->i", p - u, e) / np.maximum(np.einsum("ij,ij->i", e, e), 1e-300), 0.0, 1.0)
-        on_edge = u + t[:, None] * e
-        d = np.linalg.norm(p - on_edge, axis=1) - np.linalg.norm(p - q, axis=1)
-        take = ~inside & (d < best_d)
-        best[take], best_d[take] = on_edge[take], d[take]
-    return best
 
 
 def facet_impacts(facet: np.ndarray, speed: np.ndarray, n_faces: int) -> dict[str, np.ndarray]:
