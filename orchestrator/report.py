@@ -8,7 +8,7 @@ import io
 import json
 from pathlib import Path
 
-from orchestrator.errors import ReadError
+from orchestrator.errors import OrchestratorError, ReadError
 from orchestrator.kinds import get_kind
 from orchestrator.runh5 import read_run, stored_case
 
@@ -39,7 +39,16 @@ SUMMARY_ATTRS = ("case_name", "case_kind", "case_hash", "preset", "engine", "eng
 def write_summary(run_dir, path, render: bool = True) -> Path:
     """analyze_run() with what it prints also written to path as JSON: the run's identity and timing
     (SUMMARY_ATTRS), its resolved case (TOML text), its measured quantities (SI) and the printed report (lines):
-    a few kB that stand for a run whose raw data stay out of the repository. Returns path."""
+    a few kB that stand for a run whose raw data stay out of the repository. Returns path; OrchestratorError,
+    before anything is analysed, when path cannot be written."""
+    path = Path(path)
+    try:  # checked first: a summary that cannot be written should not cost the analysis
+        path.parent.mkdir(parents=True, exist_ok=True)
+        with open(path, "a"):
+            pass
+    except OSError as exc:
+        raise OrchestratorError(f"--summary {path}: cannot write there ({exc.strerror}); give a file in a "
+                                "writable folder") from None
     buffer = io.StringIO()
     with contextlib.redirect_stdout(buffer):
         analyze_run(run_dir, render)
@@ -51,7 +60,5 @@ def write_summary(run_dir, path, render: bool = True) -> Path:
                "measured": {k: plain(v) for k, v in run.get("measured", {}).get("attrs", {}).items()},
                "case": str(run.get("case", {}).get("attrs", {}).get("toml", "")),
                "report": text.splitlines()}
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(json.dumps(summary, indent=1, allow_nan=True) + "\n")
     return path

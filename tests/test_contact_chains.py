@@ -235,3 +235,8 @@ def test_summary_file_keeps_identity_measured_and_report(synthetic_run, tmp_path
     assert "[case]" in data["case"] and 'name = "tiny_bowl"' in data["case"]
     assert any(line.startswith("contact chains (1 snapshot)") for line in data["report"])
     assert "\n".join(data["report"]) in out and f"summary  {path}" in out
+    blocked = tmp_path / "a_file"
+    blocked.write_text("")
+    assert main(["analyze", str(synthetic_run), "--no-render", "--summary", str(blocked / "s.json")]) == 2
+    err = capsys.readouterr().err
+    assert f"--summary {blocked / 's.json'}: cannot write there" in err and "Traceback" not in err
