@@ -10,6 +10,7 @@ import pytest
 from orchestrator.errors import OrchestratorError
 from orchestrator.reference.maxwell import TABLE_III, Mode, loss_modulus, storage_modulus
 from orchestrator.reference.sph_flows import poiseuille_velocity
+from orchestrator.reference.sph_ptt import PttFluid, ptt_mode_rates
 from orchestrator.reference.viscoelastic_flows import (
     maxwell_saos_stress,
     oldroyd_b_poiseuille_steady_velocity,
@@ -28,8 +29,8 @@ PEAK = G * L**2 * RHO / (8 * ETA0)
 
 def fluid(beta, relaxation_time):
     """Keyword arguments of the Waters & King functions for beta = eta_s / eta_0 and lambda (s)."""
-    return dict(gap=L, body_force=G, rho=RHO, eta_polymer=(1 - beta) * ETA0, eta_solvent=beta * ETA0,
-                relaxation_time=relaxation_time)
+    return {"gap": L, "body_force": G, "rho": RHO, "eta_polymer": (1 - beta) * ETA0, "eta_solvent": beta * ETA0,
+            "relaxation_time": relaxation_time}
 
 
 def method_of_lines(beta, relaxation_time, times, cells, method):
@@ -46,7 +47,7 @@ def method_of_lines(beta, relaxation_time, times, cells, method):
     lap = sparse.diags([np.ones(nodes - 1), -2 * np.ones(nodes), np.ones(nodes - 1)], [-1, 0, 1]) / dy**2
     a = sparse.bmat([[eta_s / RHO * lap, div / RHO], [eta_p / lam * grad, -sparse.identity(cells) / lam]]).tocsr()
     b = np.concatenate([np.full(nodes, G), np.zeros(cells)])
-    options = dict(jac=a) if method == "Radau" else {}
+    options = {"jac": a} if method == "Radau" else {}
     sol = solve_ivp(lambda _, x: a @ x + b, (0.0, max(times)), np.zeros(nodes + cells), method=method,
                     t_eval=times, rtol=1e-9, atol=1e-10 * PEAK, **options)
     assert sol.success
@@ -144,3 +145,116 @@ def test_bad_fluid_is_named():
         waters_king_startup_velocity(0.5 * L, 1.0, **fluid(0.5, -1.0))
     with pytest.raises(OrchestratorError, match="rho"):
         waters_king_startup_velocity(0.5 * L, 1.0, **{**fluid(0.5, 1.0), "rho": 0.0})
+
+
+# ------------------------------------------------------------------------------------------ PTT steady shear
+def homogeneous_shear_rates(modes, epsilon):
+    """d tau / dt (flattened) of each 2-D mode in the homogeneous shear of reference/sph_ptt.py's rate law
+    (eq. R1, the engine's), as a function of (t, tau, gamma_dot) for solve_ivp."""
+    fluid = PttFluid(rho0=1.0, c0=1.0, lambdas=tuple(m.relaxation_time for m in modes),
+                     etas=tuple(m.viscosity for m in modes), epsilon=epsilon, eta_s=0.0, h=1.0, box=(1.0, 1.0))
+
+    def rate(_, tau_flat, gamma_dot):
+        grad_v = np.array([[[0.0, gamma_dot], [0.0, 0.0]]])  # L_xy = d v_x / d y
+        return ptt_mode_rates(grad_v, tau_flat.reshape(1, len(modes), 2, 2), fluid).ravel()
+
+    return rate
+
+
+def test_ptt_shear_by_hand_and_ucm():
+    one = ptt_steady_shear(1.0, 1.0, 1.0, 0.1)  # Wi = 1, eps = 0.1
+    assert one.f == pytest.approx(1.150973, abs=1e-6)
+    assert one.f**3 - one.f**2 == pytest.approx(0.2, rel=1e-14)
+    assert one.viscosity == pytest.approx(0.868830, abs=1e-6)
+    rate, lam, eta = np.array([0.0, 0.3, 2.0, 50.0]), 0.5, 20.0
+    ucm = ptt_steady_shear(rate, lam, eta, 0.0)
+    np.testing.assert_array_equal(ucm.f, 1.0)
+    np.testing.assert_allclose(ucm.shear_stress, eta * rate, rtol=1e-15)
+    np.testing.assert_allclose(ucm.first_normal_stress_difference, 2 * eta * lam * rate**2, rtol=1e-15)
+    wi = np.array([0.0, 1e-6, 1e-2, 1.0, 1e2, 1e5])
+    f = ptt_f_in_shear(wi, 0.25)
+    assert np.all(np.abs(f**3 - f**2 - 0.5 * wi**2) <= 4e-16 * f**3)  # the cubic, to rounding
+    assert np.all(np.diff(f) > 0) and f[0] == 1.0
+    with pytest.raises(OrchestratorError, match="epsilon"):
+        ptt_f_in_shear(1.0, -0.1)
+
+
+@pytest.mark.parametrize("epsilon, weissenberg", [(0.1, 1.0), (0.02, 30.0), (0.5, 0.05), (0.25, 400.0)])
+def test_ptt_shear_solves_the_tensor_equations(epsilon, weissenberg):
+    """The steady 2-D law f tau - lambda (L tau + tau L^T) = eta (L + L^T), f = 1 + (eps lambda / eta) tr tau,
+    solved for (tau_xx, tau_xy, tau_yy) by scipy's root finder from the UCM stresses."""
+    from scipy.optimize import root
+
+    lam, eta = 0.2, 50.0
+    rate = weissenberg / lam
+    grad_v = np.array([[0.0, rate], [0.0, 0.0]])
+
+    def residual(p):
+        tau = modulus * np.array([[p[0], p[1]], [p[1], p[2]]])
+        f = 1.0 + epsilon * lam / eta * np.trace(tau)
+        r = f * tau - lam * (grad_v @ tau + tau @ grad_v.T) - eta * (grad_v + grad_v.T)
+        return np.array([r[0, 0], r[0, 1], r[1, 1]]) / modulus
+
+    modulus = eta / lam  # G, Pa: the stresses in units of G
+    guess = [2 * weissenberg**2 / (1 + weissenberg), weissenberg / (1 + weissenberg), 0.0]
+    sol = root(residual, guess, method="hybr", options={"xtol": 1e-13})
+    assert sol.success, sol.message
+    sol.x *= modulus
+    closed = ptt_steady_shear(rate, lam, eta, epsilon)
+    assert sol.x[1] == pytest.approx(closed.shear_stress, rel=1e-10)
+    assert sol.x[0] - sol.x[2] == pytest.approx(closed.first_normal_stress_difference, rel=1e-10)
+    assert abs(sol.x[2]) < 1e-10 * abs(sol.x[0])
+
+
+def test_multimode_shear_is_where_the_engines_rate_law_settles():
+    """Table III's five modes at eps = 0.1 (and 0): the rate law of reference/sph_ptt.py integrated from rest under
+    a constant shear rate until steady (60 lambda_max) ends on the closed form."""
+    from scipy.integrate import solve_ivp
+
+    low = ptt_multimode_steady_shear(1e-6, TABLE_III, 0.1)
+    assert low.viscosity == pytest.approx(sum(m.viscosity for m in TABLE_III), rel=1e-9)
+    psi1 = 2 * sum(m.viscosity * m.relaxation_time for m in TABLE_III)  # first normal stress coefficient, Pa s^2
+    assert low.first_normal_stress_difference == pytest.approx(psi1 * 1e-12, rel=1e-9)
+    for epsilon, gamma_dot in ((0.1, 2.0), (0.0, 0.7)):
+        rate = homogeneous_shear_rates(TABLE_III, epsilon)
+        sol = solve_ivp(rate, (0.0, 60 * 5.0), np.zeros(4 * len(TABLE_III)), method="Radau", rtol=1e-10,
+                        atol=1e-8, args=(gamma_dot,))
+        tau = sol.y[:, -1].reshape(len(TABLE_III), 2, 2)
+        closed = ptt_multimode_steady_shear(gamma_dot, TABLE_III, epsilon)
+        assert tau[:, 0, 1].sum() == pytest.approx(closed.shear_stress, rel=1e-8)
+        assert (tau[:, 0, 0] - tau[:, 1, 1]).sum() == pytest.approx(closed.first_normal_stress_difference, rel=1e-8)
+        assert closed.viscosity == pytest.approx(closed.shear_stress / gamma_dot, rel=1e-14)
+        assert closed.f.shape == (len(TABLE_III),)
+
+
+# ------------------------------------------------------------------------------------- oscillatory shear
+def test_saos_settles_on_the_moduli():
+    omega, gamma_a = 3.0, 0.01
+    t = 300.0 + np.linspace(0, 2 * math.pi / omega, 50)  # 60 lambda_max after the start
+    stress = maxwell_saos_stress(t, gamma_a, omega, TABLE_III)
+    expected = gamma_a * (storage_modulus(omega, TABLE_III) * np.sin(omega * t)
+                          + loss_modulus(omega, TABLE_III) * np.cos(omega * t))
+    amplitude = gamma_a * math.hypot(storage_modulus(omega, TABLE_III), loss_modulus(omega, TABLE_III))
+    np.testing.assert_allclose(stress, expected, rtol=0, atol=1e-12 * amplitude)
+    assert maxwell_saos_stress(0.0, gamma_a, omega, TABLE_III) == 0.0
+
+
+@pytest.mark.parametrize("epsilon, gamma_a, tolerance", [(0.0, 2.0, 1e-9), (0.1, 1e-4, 5e-9)])
+def test_saos_startup_is_the_tensor_law_integrated(epsilon, gamma_a, tolerance):
+    """The start-up transient against reference/sph_ptt.py's rate law integrated from rest: exact for UCM at any
+    amplitude (gamma_A = 2), the small-amplitude limit for PTT (eps = 0.1, gamma_A = 1e-4)."""
+    from scipy.integrate import solve_ivp
+
+    modes, omega = (Mode(0.05, 10.0), Mode(1.0, 100.0), Mode(4.0, 30.0)), 2.0
+    rate = homogeneous_shear_rates(modes, epsilon)
+    times = np.linspace(0.0, 12.0, 97)
+    sol = solve_ivp(lambda s, x: rate(s, x, gamma_a * omega * math.cos(omega * s)), (0.0, 12.0),
+                    np.zeros(4 * len(modes)), method="DOP853", t_eval=times, rtol=1e-11, atol=1e-14)
+    numerical = sol.y.reshape(len(modes), 2, 2, -1)[:, 0, 1].sum(axis=0)
+    closed = maxwell_saos_stress(times, gamma_a, omega, modes)
+    amplitude = gamma_a * math.hypot(storage_modulus(omega, modes), loss_modulus(omega, modes))
+    np.testing.assert_allclose(closed, numerical, rtol=0, atol=tolerance * amplitude)
+    # the transient matters: early on the stress is far from the settled sine
+    settled = gamma_a * (storage_modulus(omega, modes) * np.sin(omega * times)
+                         + loss_modulus(omega, modes) * np.cos(omega * times))
+    assert np.max(np.abs(closed - settled)[times < 4.0]) > 0.1 * amplitude
