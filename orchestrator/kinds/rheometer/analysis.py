@@ -1,6 +1,6 @@
 """Rheometer runs: the moduli fitted by eq. 17 (oscillatory shear) or the steady viscosity and normal stresses,
 from the series and frames the sph executable writes (run.h5), against the multi-mode Maxwell forms (eqs. 18-19,
-reference/maxwell.py) and the steady PTT closed forms (reference/ptt_shear.py). SI units."""
+reference/maxwell.py) and the steady PTT closed forms (reference/viscoelastic_flows.py). SI units."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ import numpy as np
 
 from orchestrator.kinds.rheometer.physics import sample_numerics
 from orchestrator.reference.maxwell import Mode, loss_modulus, storage_modulus
-from orchestrator.reference.ptt_shear import steady_mode_stress
+from orchestrator.reference.viscoelastic_flows import ptt_steady_shear
 
 
 def maxwell_moduli(material, omega) -> tuple[np.ndarray, np.ndarray]:
@@ -104,12 +104,12 @@ def measure_rheometer(case, result) -> dict[str, float]:
         if frames and "mode_stress" in frames[-1][1]:
             stress = _volume_mean(frames[-1][1], frames[-1][1]["mode_stress"])  # (modes, D, D)
             for i, (mode, s) in enumerate(zip(case.material.modes, stress), 1):
-                xy, xx, _ = steady_mode_stress(mode.relaxation_time, mode.viscosity, case.material.epsilon,
-                                               shear.shear_rate)
+                exact = ptt_steady_shear(shear.shear_rate, mode.relaxation_time, mode.viscosity, case.material.epsilon)
                 measured[f"mode{i}_shear_viscosity"] = float(s[0, 1] / shear.shear_rate)
-                measured[f"mode{i}_shear_viscosity_expected"] = xy / shear.shear_rate
+                measured[f"mode{i}_shear_viscosity_expected"] = float(exact.viscosity)
                 measured[f"mode{i}_first_normal_stress_difference"] = float(s[0, 0] - s[1, 1])
-                measured[f"mode{i}_first_normal_stress_difference_expected"] = xx
+                measured[f"mode{i}_first_normal_stress_difference_expected"] = float(
+                    exact.first_normal_stress_difference)
                 measured[f"mode{i}_tau_yy_over_tau_xx"] = float(abs(s[1, 1]) / abs(s[0, 0]))
     if frames:
         measured["velocity_profile"] = profile_error(frames, case)[0]

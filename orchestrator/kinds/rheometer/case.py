@@ -146,8 +146,8 @@ class RheometerNumerics(Frozen):
     relaxation_factor: Positive = Field(0.2, le=1.0, description="dt <= factor x the shortest relaxation time, -")
     viscous_factor: Positive = Field(0.125, le=1.0, description="dt <= factor h^2 rho / eta_s (solvent), -")
     samples_per_cycle: int = Field(64, ge=16, le=10_000, description="shear-stress records per period, -")
-    frames_per_cycle: int = Field(4, ge=1, le=100, description="particle frames per period (steady: per 2 pi / "
-                                  "gamma_dot), -")
+    frames_per_cycle: int = Field(4, ge=1, le=100, description="particle frames per period (steady shear: 8 "
+                                  "frames over the run), -")
     rest_pressure_ratio: NonNegative = Field(10.0, description="pressure of the sample at its reference density "
                                              "over max(G_0, |G*|), - (physics.py: the lattice's stiffness against "
                                              "the tensor path's zero-energy mode)")

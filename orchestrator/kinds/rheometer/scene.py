@@ -26,7 +26,7 @@ def flow_case(case: RheometerCase) -> SphFlowCase:
     per = shear.time_scale
     duration = shear.duration_s
     series = per / numerics.samples_per_cycle if shear.oscillatory else duration / 200.0
-    frames = min(per / numerics.frames_per_cycle, duration)
+    frames = per / numerics.frames_per_cycle if shear.oscillatory else duration / 8.0
     data = {
         "case": {"kind": "sph_flow", "name": case.case.name, "engine": "sph",
                  "description": case.case.description or "rheometer sample"},
