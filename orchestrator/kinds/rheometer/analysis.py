@@ -154,6 +154,6 @@ def plot_stress(run: dict, case, path: Path) -> Path:
         ax.axvline(start, color="0.6", ls=":", lw=1)
     ax.set_xlabel("t [s]")
     ax.set_ylabel("tau_xy [Pa]")
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=8, loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=2, frameon=False)
     fig.savefig(path)
     return Path(path)
