@@ -91,3 +91,22 @@ def test_one_ucm_mode_gives_maxwell_moduli(tmp_path):
     assert m["storage_modulus"] == pytest.approx(500.0, rel=0.005)
     assert m["loss_modulus"] == pytest.approx(500.0, rel=0.005)
     assert m["velocity_profile"] < 0.01 and m["fit_residual"] < 0.01
+
+
+def test_a_calibrate_maxwell_fragment_pastes_into_a_rheometer_case(tmp_path):
+    """The fragment `calibrate maxwell --out` writes ([material], storage_plateau, [[material.modes]]) is the
+    rheometer's [material]: Table III fitted from noise-free moduli comes back as the case's modes."""
+    from orchestrator.reference.maxwell import TABLE_III, MaxwellFit
+    from orchestrator.workflows.calibrate_maxwell import write_fragment
+
+    fit = MaxwellFit(TABLE_III, 0.0, None, "both", {"storage": 0.0, "loss": 0.0})
+    fragment = write_fragment(fit, tmp_path / "fragment.toml", "synthetic")
+    head = UCM.read_text().split("[material]")[0]
+    tail = "\n[shear]\namplitude = 5.0e-4\nomega = 1.0\n"
+    case_file = tmp_path / "pasted.toml"
+    case_file.write_text(head + fragment.read_text() + tail)
+    case = load_case(case_file).model
+    assert [(m.relaxation_time, m.viscosity) for m in case.material.modes] == [
+        (m.relaxation_time, m.viscosity) for m in TABLE_III]
+    g = case.material.complex_modulus(1.0)
+    assert (g.real, g.imag) == (pytest.approx(3928.24, rel=1e-5), pytest.approx(1462.55, rel=1e-5))
