@@ -70,7 +70,8 @@ BAD = [
     (["material.modes=[]"], "material.modes"),
     (["material.eos='ideal'"], "material.eos = 'ideal'"),
     (["sample.particles=2"], "sample.particles"),
-    (["sample.dimension=3", "sample.lattice='hexagonal'"], "2D only"),
+    (["sample.dimension=3", "sample.lattice='hexagonal'"], "sample.lattice = 'hexagonal' is 2D only"),
+    (["shear={shear_rate=1.0, duration=2.0, cycles=3}"], "shear.cycles counts oscillation cycles"),
     (["expected=[{check='steady_ptt', quantity='shear_viscosity', tolerance=0.02}]"], "steady_ptt rows need"),
     (["expected=[{check='saos_maxwell', quantity='viscosity', tolerance=0.02}]"], "is not measured by check"),
 ]

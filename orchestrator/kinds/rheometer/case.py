@@ -44,6 +44,12 @@ class Sample(Frozen):
                                                     "rearranges and stirs the sample); hexagonal (2D): rows of `particles` spaced dx, an even "
                                                     "number of rows near L / (dx sqrt(3)/2), odd rows shifted dx/2")
 
+    @model_validator(mode="after")
+    def _lattice_of_dimension(self):
+        if self.lattice == "hexagonal" and self.dimension == 3:
+            raise ValueError("sample.lattice = 'hexagonal' is 2D only; use 'square' in 3D (or leave it out)")
+        return self
+
     @property
     def arrangement(self) -> str:
         """The lattice used: `lattice`, or hexagonal in 2D and square in 3D."""
@@ -112,6 +118,10 @@ class Shear(Frozen):
                 raise ValueError(f"shear.{key} is missing; a {'steady' if steady else 'oscillatory'} shear needs it")
         if steady and self.shear_rate == 0.0:
             raise ValueError("shear.shear_rate = 0: give a non-zero shear rate, 1/s")
+        given = [key for key in ("cycles", "startup_cycles") if key in self.model_fields_set]
+        if steady and given:
+            raise ValueError(f"shear.{given[0]} counts oscillation cycles; a steady shear runs shear.duration: "
+                             "remove it")
         return self
 
     @property
