@@ -53,7 +53,7 @@ def balance(time: np.ndarray, flows: dict, stored: np.ndarray | None = None) -> 
     between the planes, m^3/s, at the same times) the share of V_AG still filling the scene (-)."""
     t_end = time[-1]
     window = time >= t_end - STEADY_FRACTION * (t_end - time[0])
-    mean = {k: float(np.nanmean(v[window])) for k, v in flows.items() if k in ("V_AG", "V_IB", "V_loss")}
+    mean = {k: float(np.nanmean(v[window])) for k, v in flows.items() if k in ("V_AG", "V_IB", "V_loss", "V_in")}
     out = dict(mean)
     ag, ib, loss = mean.get("V_AG", math.nan), mean.get("V_IB", math.nan), mean.get("V_loss", 0.0)
     out["residual"] = ag - ib - loss
@@ -80,7 +80,8 @@ def filling_times(time: np.ndarray, flows: dict) -> dict[str, float]:
     out = {}
     if "V_holes" in flows:
         out["t_gap"] = first_time(time, flows["V_holes"], small)
-        out["t_holes"] = first_time(time, flows["V_holes"] - 0.9 * flows["V_AG"], 0.0) if "V_AG" in flows else math.nan
+        full = (flows["V_holes"] >= 0.9 * flows["V_AG"]) & (flows["V_holes"] > small) if "V_AG" in flows else None
+        out["t_holes"] = first_time(time, full.astype(float), 0.5) if full is not None else math.nan
     for key, name in (("t_front", "V_front"), ("t_mouth", "V_IB"), ("t_leak", "V_loss")):
         if name in flows:
             out[key] = first_time(time, flows[name], small)
@@ -110,7 +111,7 @@ def sensor_pressures(series: dict, time: np.ndarray) -> dict[str, float]:
 
 
 def measure_drill(case, result) -> dict[str, float]:
-    """Measured quantities of an ejector-drill run (SI units): V_AG, V_IB, V_loss (means over the last
+    """Measured quantities of an ejector-drill run (SI units): V_in (the inlet's), V_AG, V_IB, V_loss (means over the last
     STEADY_FRACTION, m^3/s), balance_residual (V_AG - V_IB - V_loss, m^3/s) and balance_share (of V_AG, -),
     p_A, p_B (gauge, Pa), t_gap, t_holes, t_front, t_mouth, t_leak, t_ejector_onset (s; NaN: did not happen),
     max_density_deviation (-). Empty when the run recorded fewer than two series records."""
@@ -121,7 +122,7 @@ def measure_drill(case, result) -> dict[str, float]:
     flows = flow_series(series, time)
     out = {}
     bal = balance(time, flows)
-    for key in ("V_AG", "V_IB", "V_loss"):
+    for key in ("V_in", "V_AG", "V_IB", "V_loss"):
         if key in bal:
             out[key] = bal[key]
     out["balance_residual"], out["balance_share"] = bal["residual"], bal["residual_share"]

@@ -62,8 +62,16 @@ def wall_meshes(case: EjectorDrillCase, layout: Layout) -> dict:
     return out
 
 
+def prefill_margin(case: EjectorDrillCase, ring) -> float:
+    """Distance (m) of the prefill from the channel's walls: the penalty's s (the walls push harder below it), or
+    less where the channel is narrower than dx + 2 s (then what leaves one spacing across)."""
+    s = case.physics.wall_penalty.s_over_dx * case.numerics.dx
+    return min(s, max(0.0, 0.5 * (ring.r_out - ring.r_in - case.numerics.dx)))
+
+
 def prefill_points(case: EjectorDrillCase, layout: Layout) -> np.ndarray:
-    """Lattice sites (n, 3) m in the inlet's channel from the inlet plane scene.prefill downstream."""
+    """Lattice sites (n, 3) m in the inlet's channel from the inlet plane scene.prefill downstream, at least the
+    penalty's zero-force distance s from the channel's walls."""
     dx, ring = case.numerics.dx, layout.channel
     if case.scene.prefill <= 0.0:
         return np.zeros((0, 3))
@@ -73,7 +81,8 @@ def prefill_points(case: EjectorDrillCase, layout: Layout) -> np.ndarray:
     lo = (-n * dx, -n * dx, z_top - np.ceil((z_top - z_bottom) / dx) * dx)
     points = lattice(lo, (n * dx, n * dx, z_top), dx)
     r = np.hypot(points[:, 0], points[:, 1])
-    return points[(r >= ring.r_in) & (r < ring.r_out) & (points[:, 2] >= z_bottom)]
+    gap = prefill_margin(case, ring)
+    return points[(r >= ring.r_in + gap) & (r <= ring.r_out - gap) & (points[:, 2] >= z_bottom)]
 
 
 def _flow_case(case: EjectorDrillCase, layout: Layout) -> SphFlowCase:

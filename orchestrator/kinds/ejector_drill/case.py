@@ -135,10 +135,11 @@ class EjectorDrillCase(Frozen):
             raise ValueError(f"scene.inlet_velocity = {self.scene.inlet_velocity} m/s is above fluid.max_speed = "
                              f"{self.fluid.max_speed} m/s")
         net, dx = self.network(), self.numerics.dx
-        gap = 0.5 * net.d_diff
-        if self.scene.area == "flow_exit" and gap < dx:
-            raise ValueError(f"numerics.dx = {dx:g} m does not fit in the annular gap's radial width d_diff / 2 = "
-                             f"{gap:g} m; allowed: dx <= {gap:g} m")
+        gap, what = (0.5 * net.d_diff, "the annular gap's radial width d_diff / 2") if self.scene.area == "flow_exit" \
+            else (0.5 * (net.d_bore - net.d_head_body), "the head clearance (d_bore - d_head_body) / 2")
+        if gap < dx * (1 - 1e-9):
+            raise ValueError(f"numerics.dx = {dx:g} m does not fit in {what} = {gap:g} m (the inlet's channel); "
+                             f"allowed: dx <= {gap:g} m")
         t_end = self.simulation.duration
         for key in ("frame_interval", "series_interval"):
             if getattr(self.output, key) > t_end:
