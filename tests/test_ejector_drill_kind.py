@@ -14,7 +14,7 @@ from orchestrator.kinds import build_scene, get_kind, kind_names
 from orchestrator.kinds.ejector_drill.analysis import balance, filling_times, flow_series
 from orchestrator.kinds.ejector_drill.comparison import comparison_rows, network_at_gap_flow
 from orchestrator.kinds.ejector_drill.build import prefill_margin
-from orchestrator.kinds.ejector_drill.sph import filled_flow_scene
+from orchestrator.kinds.ejector_drill.probe import end_particles, probe_scene
 from orchestrator.reference.drill_network import LITRE_PER_MIN, solve
 
 CASE = Path(__file__).resolve().parent.parent / "cases" / "ejector_drill_canini.toml"
@@ -52,9 +52,10 @@ def test_lattice_fills_the_regions_to_their_closed_form_volume(preset):
     case = load_case(CASE, preset=preset).model
     scene = build_scene(case)
     dx, layout = case.numerics.dx, scene.layout
-    filled = filled_flow_scene(scene)
+    filled = probe_scene(scene, limit=10 ** 9)
     # the lattice's count times dx^3 against the sum of the rings' and holes' closed forms (0.2-0.8 % here)
     assert filled.n_particles * dx ** 3 == pytest.approx(layout.fluid_volume(), rel=0.02)
+    assert probe_scene(scene).n_particles == min(end_particles(scene), filled.n_particles)
     ring = layout.channel
     assert ring.volume() == pytest.approx(math.pi * (ring.r_out ** 2 - ring.r_in ** 2) * (ring.z_hi - ring.z_lo))
     # the prefill: the channel's ring from the inlet plane down, s away from its walls, moving at v_in

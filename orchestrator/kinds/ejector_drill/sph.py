@@ -1,15 +1,12 @@
 """The sph executable runs ejector-drill scenes through sph_flow's adapter (the deck template, the particle and
-mesh files, the reader of out.h5); filled_flow_scene fills every fluid region (the densest state a run reaches),
-for timing probes (bench/ejector_drill_probe.py)."""
+mesh files, the reader of out.h5), with a timing probe (probe.py) for the long presets."""
 
 from __future__ import annotations
 
-import dataclasses
+import sys
 from pathlib import Path
 
-import numpy as np
-
-from orchestrator.kinds.sph_flow.scene import FLUID, lattice
+from orchestrator.kinds.ejector_drill.probe import write_probe
 from orchestrator.kinds.sph_flow.sph import SphFlow
 
 
@@ -30,20 +27,13 @@ class EjectorDrillSph(SphFlow):
         scene runs faster than the inflow."""
         return scene.case.planned_steps
 
+    def probe_command(self, engine, scene, workdir: Path, steps: int = 200):
+        """The probe deck (probe.py: the fluid regions filled with the run's end count) in workdir and the command
+        that runs it and prints the run's estimated wall time as a TIMING line."""
+        info = write_probe(scene, workdir, engine.threads, steps)
+        command = [sys.executable, "-m", "orchestrator.kinds.ejector_drill.probe", "--deck-dir", str(workdir),
+                   "--planned", str(info["planned_steps"]), str(info["start"]), str(info["end"]),
+                   "--sph", engine.executable or "sph"]
+        return command, engine.environment(scene.case.numerics.thread_wait)
 
-def filled_flow_scene(scene):
-    """The scene's SphScene with every fluid region of its layout filled on the lattice, at rest."""
-    case, layout = scene.case, scene.layout
-    dx, rho0 = case.numerics.dx, case.fluid.density
-    r = layout.r_max - case.geometry().workpiece_wall
-    k = int(np.ceil(r / dx))
-    z_lo = layout.z_lo + case.geometry().workpiece_wall
-    z_hi = max(p.center[2] for p in layout.outlets.values())
-    z_hi = max(z_hi, layout.inlet.center[2])
-    points = lattice((-k * dx, -k * dx, z_lo), (k * dx, k * dx, z_lo + np.ceil((z_hi - z_lo) / dx) * dx), dx)
-    points = points[layout.contains(points)]
-    n = len(points)
-    return dataclasses.replace(scene.flow, positions=points, velocities=np.zeros((n, 3)),
-                               masses=np.full(n, rho0 * dx ** 3), densities=np.full(n, rho0),
-                               kind=np.full(n, FLUID, dtype=np.int8), block=np.zeros(n, dtype=np.int32),
-                               material=np.zeros(n, dtype=np.int32))
+
