@@ -53,8 +53,9 @@ def test_lattice_fills_the_regions_to_their_closed_form_volume(preset):
     scene = build_scene(case)
     dx, layout = case.numerics.dx, scene.layout
     filled = probe_scene(scene, limit=10 ** 9)
-    # the lattice's count times dx^3 against the sum of the rings' and holes' closed forms (0.2-0.8 % here)
-    assert filled.n_particles * dx ** 3 == pytest.approx(layout.fluid_volume(), rel=0.02)
+    # the lattice's count times dx^3 against the sum of the rings' and holes' closed forms (0.2-2.4 % here: a
+    # 0.875 mm clearance is two to three spacings wide, sampled by a lattice not aligned with it)
+    assert filled.n_particles * dx ** 3 == pytest.approx(layout.fluid_volume(), rel=0.03)
     assert probe_scene(scene).n_particles == min(end_particles(scene), filled.n_particles)
     ring = layout.channel
     assert ring.volume() == pytest.approx(math.pi * (ring.r_out ** 2 - ring.r_in ** 2) * (ring.z_hi - ring.z_lo))

@@ -98,9 +98,10 @@ def _flow_case(case: EjectorDrillCase, layout: Layout) -> SphFlowCase:
     physics = Physics(terms=tuple(terms), artificial_viscosity=case.physics.artificial_viscosity,
                       wall_penalty=WallPenalty(range=pen.range_over_dx * dx, s=pen.s_over_dx * dx,
                                                psi=pen.pressure * dx * dx))
+    margin = prefill_margin(case, layout.channel)  # no inlet column inside the walls' push (as the prefill)
     inlet = Inlet(name=layout.inlet.name, center=layout.inlet.center, normal=layout.inlet.normal,
-                  radius=layout.inlet.radius, velocity=case.scene.inlet_velocity, profile="annular",
-                  inner_radius=layout.inlet_inner_radius, pressure="extrapolated")
+                  radius=layout.inlet.radius - margin, velocity=case.scene.inlet_velocity, profile="annular",
+                  inner_radius=layout.inlet_inner_radius + margin, pressure="extrapolated")
     pressures = {"mouth": case.scene.mouth_pressure, "leak": case.scene.leak_pressure}
     outlets = tuple(Outlet(name=p.name, center=p.center, normal=p.normal, radius=p.radius,
                            pressure=pressures[role]) for role, p in layout.outlets.items())

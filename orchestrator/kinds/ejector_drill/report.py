@@ -48,7 +48,7 @@ def analyze_drill_run(run_dir, run: dict, case, render: bool = True) -> dict:
           f"{bal.get('filling_share', math.nan) * 100:.3g} % of V_AG (d volume / dt from the frames)")
     if math.isfinite(bal.get("filling_share", math.nan)):
         print(f"residual minus storage: {(bal['residual_share'] - bal['filling_share']) * 100:.3g} % of V_AG (what the "
-              "planes and the frames, 0.1 ms apart, do not account for)")
+              f"planes and the frames, {case.output.frame_interval * 1e3:g} ms apart, do not account for)")
     closes = abs(bal["residual_share"]) <= 0.01
     print("the balance closes within 1 %" if closes else
           "the balance does not close within 1 %: the missing volume is the fluid still filling the scene "
