@@ -111,8 +111,8 @@ def sensor_pressures(series: dict, time: np.ndarray) -> dict[str, float]:
 
 
 def measure_drill(case, result) -> dict[str, float]:
-    """Measured quantities of an ejector-drill run (SI units): V_in (the inlet's), V_AG, V_IB, V_loss (means over the last
-    STEADY_FRACTION, m^3/s), balance_residual (V_AG - V_IB - V_loss, m^3/s) and balance_share (of V_AG, -),
+    """Measured quantities of an ejector-drill run (SI units): V_in (the inlet's), V_AG, V_IB, V_loss (means over
+    the last STEADY_FRACTION, m^3/s), balance_residual (V_AG - V_IB - V_loss, m^3/s) and balance_share (of V_AG, -),
     p_A, p_B (gauge, Pa), t_gap, t_holes, t_front, t_mouth, t_leak, t_ejector_onset (s; NaN: did not happen),
     max_density_deviation (-). Empty when the run recorded fewer than two series records."""
     time = np.asarray(result.time if result.time is not None else [], dtype=float)

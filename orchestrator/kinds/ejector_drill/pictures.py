@@ -49,7 +49,8 @@ def draw_section(frame: dict, t: float, walls: dict, dx: float, path: Path, size
                 plotter.add_mesh(cut, color="black", line_width=2)
         if points.n_points:
             clim = np.percentile(points[field], [2, 98])  # the particle pressures are noisy: the scale shows 96 %
-            plotter.add_mesh(points, scalars=field, clim=clim if clim[1] > clim[0] else None, point_size=5, render_points_as_spheres=True, cmap="viridis",
+            plotter.add_mesh(points, scalars=field, clim=clim if clim[1] > clim[0] else None, point_size=5,
+                             render_points_as_spheres=True, cmap="viridis",
                              scalar_bar_args={"title": field, "vertical": True, "position_x": 0.88,
                                               "position_y": 0.1, "height": 0.8, "width": 0.06})
         plotter.add_text(f"t = {t * 1e3:.2f} ms: section y = 0 through a hole; z (axis) to the right, "
