@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from orchestrator.kinds.ejector_drill.geometry import DrillGeometry
+from orchestrator.kinds.ejector_drill.case_geometry import DrillGeometry
 from orchestrator.reference.drill_network import DrillNetwork
 
 

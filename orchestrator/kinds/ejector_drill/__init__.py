@@ -1,2 +1,15 @@
-"""The ejector deep-hole drill of seed 000 (Canini et al.): its parametric geometry (geometry.py). Not yet a
-registered kind: the case model, scene and adapters are to come (docs/ejector_drill.md)."""
+"""The ejector deep-hole drill of seed 000 (Canini et al.): its parametric geometry (case_geometry.py), the case
+(case.py), the paper's two SPH scenes (layout.py, build.py) run by sph_flow's adapter (sph.py), and what is
+measured against the 1D hydraulic network (analysis.py, report.py). docs/ejector_drill.md."""
+
+from orchestrator.kinds.base import Kind
+
+KIND = Kind(
+    name="ejector_drill",
+    description="the ejector deep-hole drill's coolant flow (seed 000) on the sph executable, beside the 1D network",
+    case_model="orchestrator.kinds.ejector_drill.case:EjectorDrillCase",
+    build_scene="orchestrator.kinds.ejector_drill.build:build_drill_scene",
+    measure="orchestrator.kinds.ejector_drill.analysis:measure_drill",
+    analyze="orchestrator.kinds.ejector_drill.report:analyze_drill_run",
+    adapters={"sph": "orchestrator.kinds.ejector_drill.sph:EjectorDrillSph"},
+)

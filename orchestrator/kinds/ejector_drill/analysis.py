@@ -1,0 +1,135 @@
+"""What an ejector-drill SPH run measures (paper eqs. 1-2, Fig. 5): the flows V_AG, V_IB, V_loss and the holes'
+flow from the flow planes, the volume stored in the scene, the balance of eq. 2, the sensor pressures in bar, the
+filling times and the ejector onset. Flows in m^3/s, pressures in Pa (gauge: the outlets hold gauge pressures),
+times in s."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+#: The last fraction of the run over which steady values are averaged.
+STEADY_FRACTION = 0.2
+
+
+def flow_series(series: dict, time: np.ndarray) -> dict[str, np.ndarray]:
+    """V_AG, V_IB, V_loss, V_holes, V_front, V_in, V_mouth_out, V_leak_out (m^3/s) against time from the run's
+    series (flow_rate_<plane>, inflow_<inlet>, outflow_<outlet>); V_loss = rear + AG (the rear disc covers the gap,
+    whose flow it counts negative). Missing series are absent."""
+    def get(name):
+        return np.asarray(series[name], dtype=float) if name in series else None
+
+    out = {}
+    ag, rear, ib = get("flow_rate_AG"), get("flow_rate_rear"), get("flow_rate_IB")
+    if ag is not None:
+        out["V_AG"] = ag
+    if ib is not None:
+        out["V_IB"] = ib
+    if ag is not None and rear is not None:
+        out["V_loss"] = rear + ag
+    holes = [get(n) for n in sorted(series) if n.startswith("flow_rate_hole")]
+    if holes:
+        out["V_holes"] = np.sum(holes, axis=0)
+    for key, name in (("V_front", "flow_rate_front"), ("V_in", "inflow_gap_inlet"), ("V_in", "inflow_clearance_inlet"),
+                      ("V_mouth_out", "outflow_mouth"), ("V_leak_out", "outflow_leak")):
+        if get(name) is not None:
+            out[key] = get(name)
+    if "V_AG" not in out and "V_in" in out:  # the drill-head scene: the inlet is the gap's flow
+        out["V_AG"] = out["V_in"]
+    return out
+
+
+def stored_volume_rate(time: np.ndarray, volume: np.ndarray) -> np.ndarray:
+    """d(volume)/dt, m^3/s, by central differences (one-sided at the ends) of a volume series (m^3)."""
+    if len(time) < 2:
+        return np.zeros_like(volume)
+    return np.gradient(volume, time)
+
+
+def balance(time: np.ndarray, flows: dict, stored: np.ndarray | None = None) -> dict[str, float]:
+    """Eq. 2 over the steady window (the last STEADY_FRACTION of the run): V_AG, V_IB, V_loss (means, m^3/s),
+    residual = V_AG - V_IB - V_loss (m^3/s), its share of V_AG (-), and with `stored` (d volume/dt of the fluid
+    between the planes, m^3/s, at the same times) the share of V_AG still filling the scene (-)."""
+    t_end = time[-1]
+    window = time >= t_end - STEADY_FRACTION * (t_end - time[0])
+    mean = {k: float(np.nanmean(v[window])) for k, v in flows.items() if k in ("V_AG", "V_IB", "V_loss", "V_in")}
+    out = dict(mean)
+    ag, ib, loss = mean.get("V_AG", math.nan), mean.get("V_IB", math.nan), mean.get("V_loss", 0.0)
+    out["residual"] = ag - ib - loss
+    out["residual_share"] = out["residual"] / ag if ag else math.nan
+    if stored is not None:
+        out["filling_share"] = float(np.nanmean(stored[window])) / ag if ag else math.nan
+    return out
+
+
+def first_time(time: np.ndarray, values: np.ndarray, threshold: float) -> float:
+    """First time (s) the series reaches `threshold` (NaN if never)."""
+    hit = np.nonzero(np.asarray(values) >= threshold)[0]
+    return float(time[hit[0]]) if hit.size else math.nan
+
+
+def filling_times(time: np.ndarray, flows: dict) -> dict[str, float]:
+    """Times (s): t_gap (fluid first crosses the holes' planes: the gap is full down to the holes), t_holes (the
+    holes carry 90 % of V_AG: running full), t_front (fluid first reaches the plane ahead of the holes), t_mouth
+    (first flow into the chip mouth), t_leak (first flow into the tube/bore clearance). NaN when it did not happen;
+    thresholds are 1 % of the inflow's mean."""
+    v_in = flows.get("V_AG")
+    ref = float(np.nanmax(np.abs(v_in))) if v_in is not None and np.size(v_in) else 0.0
+    small = 0.01 * ref
+    out = {}
+    if "V_holes" in flows:
+        out["t_gap"] = first_time(time, flows["V_holes"], small)
+        full = (flows["V_holes"] >= 0.9 * flows["V_AG"]) & (flows["V_holes"] > small) if "V_AG" in flows else None
+        out["t_holes"] = first_time(time, full.astype(float), 0.5) if full is not None else math.nan
+    for key, name in (("t_front", "V_front"), ("t_mouth", "V_IB"), ("t_leak", "V_loss")):
+        if name in flows:
+            out[key] = first_time(time, flows[name], small)
+    return out
+
+
+def ejector_onset(time: np.ndarray, flows: dict, after: float) -> float:
+    """First time (s) after `after` (s) at which V_loss <= 0 (the ejector draws fluid from the cutting zone; NaN if
+    never, or without V_loss)."""
+    if "V_loss" not in flows or not math.isfinite(after):
+        return math.nan
+    hit = np.nonzero((time > after) & (flows["V_loss"] <= 0.0))[0]
+    return float(time[hit[0]]) if hit.size else math.nan
+
+
+def sensor_pressures(series: dict, time: np.ndarray) -> dict[str, float]:
+    """Mean gauge pressure (Pa) of each probe over the steady window (NaN where no fluid was near the probe)."""
+    t_end = time[-1]
+    window = time >= t_end - STEADY_FRACTION * (t_end - time[0])
+    out = {}
+    for name in sorted(series):
+        if name.startswith("pressure_probe_"):
+            values = np.asarray(series[name], dtype=float)[window]
+            out[name.removeprefix("pressure_probe_")] = float(np.nanmean(values)) if np.isfinite(values).any() \
+                else math.nan
+    return out
+
+
+def measure_drill(case, result) -> dict[str, float]:
+    """Measured quantities of an ejector-drill run (SI units): V_in (the inlet's), V_AG, V_IB, V_loss (means over
+    the last STEADY_FRACTION, m^3/s), balance_residual (V_AG - V_IB - V_loss, m^3/s) and balance_share (of V_AG, -),
+    p_A, p_B (gauge, Pa), t_gap, t_holes, t_front, t_mouth, t_leak, t_ejector_onset (s; NaN: did not happen),
+    max_density_deviation (-). Empty when the run recorded fewer than two series records."""
+    time = np.asarray(result.time if result.time is not None else [], dtype=float)
+    if time.size < 2:
+        return {}
+    series = {k: v.values for k, v in result.series.items()}
+    flows = flow_series(series, time)
+    out = {}
+    bal = balance(time, flows)
+    for key in ("V_in", "V_AG", "V_IB", "V_loss"):
+        if key in bal:
+            out[key] = bal[key]
+    out["balance_residual"], out["balance_share"] = bal["residual"], bal["residual_share"]
+    out.update({f"p_{k}": v for k, v in sensor_pressures(series, time).items()})
+    times = filling_times(time, flows)
+    out.update(times)
+    out["t_ejector_onset"] = ejector_onset(time, flows, times.get("t_leak", math.nan))
+    if "max_density_deviation" in series:
+        out["max_density_deviation"] = float(np.nanmax(series["max_density_deviation"]))
+    return out

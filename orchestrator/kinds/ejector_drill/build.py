@@ -1,0 +1,139 @@
+"""The SPH scene of an ejector-drill case: the drill's wall meshes (the adduction holes cut into the head with
+manifold3d's booleans, every part cut above the scene's buffers), fluid particles on the Cartesian lattice
+lo + (i + 1/2) dx inside the inlet's channel (the prefill), the inlet, the outlets, the flow planes and the sensor
+probes, as an sph_flow SphScene so that sph_flow's adapter writes the deck (kinds/sph_flow/sph.py). SI units.
+
+(This module is the kind's scene builder; it lives in layer 7 beside the layout because the geometry's meshes and
+the sph_flow adapter's scene type are both needed.)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from orchestrator.case.common import CaseMeta
+from orchestrator.kinds.ejector_drill.case import EjectorDrillCase
+from orchestrator.kinds.ejector_drill.layout import Layout, drill_layout
+from orchestrator.kinds.sph_flow.case import SphFlowCase
+from orchestrator.kinds.sph_flow.case_open import Inlet, Outlet
+from orchestrator.kinds.sph_flow.case_parts import Domain, Patch, Physics, Probe, SphOutput, WallPenalty
+from orchestrator.kinds.sph_flow.scene import FLUID, SphScene, WallMesh, lattice
+
+#: The parts that are walls (the passages are cut out of the head; the nozzles are at the feed, outside both
+#: scenes).
+WALL_PARTS = ("workpiece", "head", "outer_tube", "inner_tube")
+
+
+@dataclass(frozen=True)
+class DrillSphScene:
+    """What the sph executable runs for an ejector-drill case: `flow` (an sph_flow SphScene) and its layout."""
+
+    case: EjectorDrillCase
+    flow: SphScene
+    layout: Layout
+
+    @property
+    def n_particles(self) -> int:
+        """Particles in the input (the prefill; the inlet adds more at run time)."""
+        return self.flow.n_particles
+
+    @property
+    def timestep(self) -> float:
+        """The CFL step at rest, s."""
+        return self.flow.timestep
+
+
+def wall_meshes(case: EjectorDrillCase, layout: Layout) -> dict:
+    """name -> trimesh of the walls: the head with its adduction holes cut (manifold3d), every part cut at
+    layout.z_hi (the parts run on to the feed, 0.4 m away)."""
+    import trimesh
+
+    meshes = case.geometry().meshes({k: (p.file, p.scale) for k, p in case.parts.items()})
+    meshes["head"] = meshes["head"].difference(meshes["adduction_holes"], engine="manifold")
+    box = trimesh.creation.box(bounds=[[-layout.r_max - 1e-3, -layout.r_max - 1e-3, layout.z_lo - 1e-3],
+                                       [layout.r_max + 1e-3, layout.r_max + 1e-3, layout.z_hi]])
+    out = {}
+    for name in WALL_PARTS:
+        cut = meshes[name].intersection(box, engine="manifold")
+        if len(cut.faces):
+            out[name] = cut
+    return out
+
+
+def prefill_margin(case: EjectorDrillCase, ring) -> float:
+    """Distance (m) of the prefill from the channel's walls: the penalty's s (the walls push harder below it), or
+    less where the channel is narrower than dx + 2 s (then what leaves one spacing across)."""
+    s = case.physics.wall_penalty.s_over_dx * case.numerics.dx
+    return min(s, max(0.0, 0.5 * (ring.r_out - ring.r_in - case.numerics.dx)))
+
+
+def prefill_points(case: EjectorDrillCase, layout: Layout) -> np.ndarray:
+    """Lattice sites (n, 3) m in the inlet's channel from the inlet plane scene.prefill downstream, at least the
+    penalty's zero-force distance s from the channel's walls."""
+    dx, ring = case.numerics.dx, layout.channel
+    if case.scene.prefill <= 0.0:
+        return np.zeros((0, 3))
+    z_top = layout.inlet.center[2]
+    z_bottom = z_top - case.scene.prefill
+    n = int(np.ceil(ring.r_out / dx))
+    lo = (-n * dx, -n * dx, z_top - np.ceil((z_top - z_bottom) / dx) * dx)
+    points = lattice(lo, (n * dx, n * dx, z_top), dx)
+    r = np.hypot(points[:, 0], points[:, 1])
+    gap = prefill_margin(case, ring)
+    return points[(r >= ring.r_in + gap) & (r <= ring.r_out - gap) & (points[:, 2] >= z_bottom)]
+
+
+def _flow_case(case: EjectorDrillCase, layout: Layout) -> SphFlowCase:
+    """The sph_flow case the deck is written from: its parts validated one by one (the whole is assembled with
+    model_construct: its walls are the drill's meshes, which an sph_flow case file cannot name)."""
+    dx = case.numerics.dx
+    pen = case.physics.wall_penalty
+    terms = ["wall_penalty"]
+    if case.physics.morris_viscosity:
+        terms.insert(0, "morris_viscosity")
+    if case.physics.artificial_viscosity is not None:
+        terms.insert(0, "artificial_viscosity")
+    physics = Physics(terms=tuple(terms), artificial_viscosity=case.physics.artificial_viscosity,
+                      wall_penalty=WallPenalty(range=pen.range_over_dx * dx, s=pen.s_over_dx * dx,
+                                               psi=pen.pressure * dx * dx))
+    margin = prefill_margin(case, layout.channel)  # no inlet column inside the walls' push (as the prefill)
+    inlet = Inlet(name=layout.inlet.name, center=layout.inlet.center, normal=layout.inlet.normal,
+                  radius=layout.inlet.radius - margin, velocity=case.scene.inlet_velocity, profile="annular",
+                  inner_radius=layout.inlet_inner_radius + margin, pressure="extrapolated")
+    pressures = {"mouth": case.scene.mouth_pressure, "leak": case.scene.leak_pressure}
+    outlets = tuple(Outlet(name=p.name, center=p.center, normal=p.normal, radius=p.radius,
+                           pressure=pressures[role]) for role, p in layout.outlets.items())
+    probes = tuple(Probe(name=k, point=v) for k, v in layout.sensors.items() if layout.in_scene(v))
+    planes = tuple(Patch(name=p.name, center=p.center, normal=p.normal, radius=p.radius)
+                   for p in layout.planes.values())
+    output = SphOutput(frame_interval=case.output.frame_interval, series_interval=case.output.series_interval,
+                       probes=probes, flow_planes=planes)
+    r = layout.r_max
+    domain = Domain(dimension=3, lo=(-r, -r, layout.z_lo), hi=(r, r, layout.z_hi))
+    meta = CaseMeta.model_construct(kind="sph_flow", name=case.case.name, description=case.case.description,
+                                    engine="sph", seed=0)
+    return SphFlowCase.model_construct(case=meta, domain=domain, fluid=case.fluid, materials=(), physics=physics,
+                                       blocks=(), walls=(), inlets=(inlet,), outlets=outlets,
+                                       numerics=case.numerics, simulation=case.simulation, output=output,
+                                       expected=())
+
+
+def build_drill_scene(case: EjectorDrillCase) -> DrillSphScene:
+    """The scene of an ejector-drill case (see the module docstring)."""
+    layout = drill_layout(case)
+    flow_case = _flow_case(case, layout)
+    points = prefill_points(case, layout)
+    rho0, dx = case.fluid.density, case.numerics.dx
+    velocity = case.scene.inlet_velocity * np.asarray(layout.inlet.normal)
+    n = len(points)
+    meshes = {name: WallMesh(name, np.ascontiguousarray(m.vertices, dtype=float),
+                             np.ascontiguousarray(m.faces, dtype=np.int64))
+              for name, m in wall_meshes(case, layout).items()}
+    flow = SphScene(case=flow_case, positions=points, velocities=np.tile(velocity, (n, 1)),
+                    masses=np.full(n, rho0 * dx ** 3), densities=np.full(n, rho0),
+                    kind=np.full(n, FLUID, dtype=np.int8), block=np.zeros(n, dtype=np.int32), meshes=meshes,
+                    h=case.numerics.h, c0=case.c0, timestep=case.timestep_at_rest, physics=flow_case.physics.terms,
+                    material=np.zeros(n, dtype=np.int32), materials=())
+    return DrillSphScene(case=case, flow=flow, layout=layout)

@@ -1,0 +1,185 @@
+"""The ejector deep-hole drill case (kind "ejector_drill", seed 000: Canini, Gerken, Biermann & Eberhard): the drill's
+dimensions ([drill], defaults = the reconstruction in reference.drill_network.DrillNetwork and
+kinds/ejector_drill/case_geometry.DrillGeometry), user meshes for any part ([parts]), which of the paper's two SPH
+scenes to build ([scene]: the flow-exit area or the drill-head area), the fluid, the SPH numerics and what is
+recorded. SI units (m, kg, s, Pa, N); flows in m^3/s except where a key says l/min.
+
+The tool's rotation (n ~ 950 1/min) is not modelled: at the head's rim it moves the wall at 1.5 m/s against
+60 m/s in the gap, and its centrifugal head rho omega^2 r^2 / 2 ~ 0.5 kPa is 1e-4 of the expected 10-20 bar.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from pathlib import Path
+from typing import Literal
+
+from pydantic import Field, ValidationInfo, create_model, field_validator, model_validator
+
+from orchestrator.case.common import CaseMeta, Frozen, Positive, mesh_file
+from orchestrator.kinds.ejector_drill.case_geometry import DrillGeometry
+from orchestrator.kinds.sph_flow.case_parts import ArtificialViscosity, Finite, Fluid, SphNumerics, SphSimulation
+from orchestrator.reference.drill_network import DrillNetwork
+
+#: The geometry's parts a user mesh may replace (DrillGeometry.meshes).
+PARTS = ("workpiece", "head", "outer_tube", "inner_tube", "adduction_holes", "ejector_nozzles")
+#: The paper's two scenes (sect. 3.2).
+AREAS = ("flow_exit", "drill_head")
+#: DrillGeometry's own fields (the network's come from DrillNetwork).
+GEOMETRY_FIELDS = tuple(f.name for f in dataclasses.fields(DrillGeometry) if f.name != "network")
+
+
+def _drill_fields() -> dict:
+    """Every DrillNetwork field and DrillGeometry's own, with their types and defaults (one source of defaults)."""
+    out = {}
+    for f in dataclasses.fields(DrillNetwork):
+        kind = int if isinstance(f.default, int) else float
+        out[f.name] = (kind, Field(f.default, gt=0) if f.name not in ("p_ambient",) else Field(f.default))
+    for f in dataclasses.fields(DrillGeometry):
+        if f.name != "network":
+            out[f.name] = (type(f.default), Field(f.default, gt=0))
+    return out
+
+
+#: The [drill] table: dimensions (m), counts, coefficients and fluid properties of the 1D network and the geometry.
+Drill = create_model("Drill", __base__=Frozen, **_drill_fields())
+
+
+class PartMesh(Frozen):
+    """A user mesh replacing one part of the parametric geometry (watertight; STL, OBJ, PLY, OFF)."""
+
+    file: Path = Field(description="mesh file, relative to the case file")
+    scale: Positive = Field(1.0, description="factor to metres (1e-3 for a file in mm), -")
+
+    @field_validator("file")
+    @classmethod
+    def _exists(cls, value: Path, info: ValidationInfo) -> Path:
+        return mesh_file(value, (info.context or {}).get("base_dir", "."))
+
+
+class DrillScene(Frozen):
+    """Which part of the drill the SPH scene holds, where the fluid enters and where it leaves."""
+
+    area: Literal["flow_exit", "drill_head"] = Field(
+        description="flow_exit: annular gap -> adduction holes -> clearance to the bore (paper Fig. 2); drill_head: "
+                    "head clearance -> cutting zone -> chip mouth (Figs. 3-4)")
+    inlet_velocity: Positive = Field(description="plug inflow speed at the inlet, m/s")
+    inlet_distance: Positive = Field(
+        description="flow_exit: from the holes' axis up the annular gap to the inlet plane; drill_head: from the "
+                    "holes' axis forward to the inlet plane in the head clearance, m")
+    prefill: float = Field(0.0, ge=0, description="length of the inlet channel downstream of the inlet filled with "
+                                                  "fluid moving at inlet_velocity at t = 0, m")
+    mouth_depth: Positive = Field(5.0e-3, description="the chip-mouth outlet's distance behind the head face, m")
+    leak_margin: Positive = Field(3.0e-3, description="flow_exit: the leak outlet's distance behind the inlet "
+                                                      "plane in the tube/bore clearance, m")
+    mouth_pressure: Finite = Field(0.0, description="gauge pressure held at the chip-mouth outlet, Pa")
+    leak_pressure: Finite = Field(0.0, description="gauge pressure held at the leak outlet (flooded work area), Pa")
+    network_flow: Positive = Field(60.0, description="feed flow of the 1D network shown beside the SPH, l/min "
+                                                      "(the paper's standard rate; the range is 50-80)")
+
+
+class DrillPenalty(Frozen):
+    """The mesh walls' penalty force (eq. 14), scaled with the particle spacing."""
+
+    range_over_dx: Positive = Field(1.0, description="R / dx, -")
+    s_over_dx: Positive = Field(0.5, description="s / dx (zero-force distance, < R), -")
+    pressure: Positive = Field(description="psi / dx^2: the largest pressure a wall holds against one particle, Pa")
+
+    @model_validator(mode="after")
+    def _s_below_r(self):
+        if not self.s_over_dx < self.range_over_dx:
+            raise ValueError(f"s_over_dx = {self.s_over_dx} must be below range_over_dx = {self.range_over_dx}")
+        return self
+
+
+class DrillPhysics(Frozen):
+    """Optional terms beyond continuity, EOS and pressure gradient: the wall penalty is always on."""
+
+    morris_viscosity: bool = Field(True, description="the laminar viscous term (eq. 10) with fluid.viscosity")
+    artificial_viscosity: ArtificialViscosity | None = None
+    wall_penalty: DrillPenalty
+
+
+class DrillOutput(Frozen):
+    """Frames, series and the times of the sectional pictures."""
+
+    frame_interval: Positive = Field(description="time between particle frames, s")
+    series_interval: Positive = Field(description="time between series records (flow planes, probes), s")
+    picture_times: tuple[Positive, ...] = Field((), description="times of the sectional pictures, s (each a "
+                                                                "multiple of frame_interval)")
+
+
+class EjectorDrillCase(Frozen):
+    """A validated ejector-drill case in SI units."""
+
+    case: CaseMeta
+    drill: Drill = Field(default_factory=Drill)
+    parts: dict[Literal[PARTS], PartMesh] = Field(default_factory=dict)
+    scene: DrillScene
+    fluid: Fluid
+    physics: DrillPhysics
+    numerics: SphNumerics
+    simulation: SphSimulation
+    output: DrillOutput
+
+    @model_validator(mode="after")
+    def _consistent(self):
+        try:
+            self.geometry()
+        except ValueError as exc:
+            raise ValueError(f"drill: {exc}") from None
+        if self.physics.morris_viscosity != (self.fluid.viscosity is not None):
+            raise ValueError("fluid.viscosity is given exactly when physics.morris_viscosity = true")
+        if self.scene.inlet_velocity > self.fluid.max_speed:
+            raise ValueError(f"scene.inlet_velocity = {self.scene.inlet_velocity} m/s is above fluid.max_speed = "
+                             f"{self.fluid.max_speed} m/s")
+        net, dx = self.network(), self.numerics.dx
+        gap, what = (0.5 * net.d_diff, "the annular gap's radial width d_diff / 2") if self.scene.area == "flow_exit" \
+            else (0.5 * (net.d_bore - net.d_head_body), "the head clearance (d_bore - d_head_body) / 2")
+        if gap < dx * (1 - 1e-9):
+            raise ValueError(f"numerics.dx = {dx:g} m does not fit in {what} = {gap:g} m (the inlet's channel); "
+                             f"allowed: dx <= {gap:g} m")
+        t_end = self.simulation.duration
+        for key in ("frame_interval", "series_interval"):
+            if getattr(self.output, key) > t_end:
+                raise ValueError(f"output.{key} = {getattr(self.output, key)} s is longer than simulation.duration "
+                                 f"= {t_end} s")
+        for i, t in enumerate(self.output.picture_times):
+            k = t / self.output.frame_interval
+            if t > t_end * (1 + 1e-9) or abs(k - round(k)) > 1e-6 * max(1.0, k):
+                raise ValueError(f"output.picture_times[{i}] = {t} s is not a frame time (a multiple of "
+                                 f"output.frame_interval = {self.output.frame_interval} s up to simulation.duration)")
+        if self.scene.prefill > self.scene.inlet_distance:
+            raise ValueError(f"scene.prefill = {self.scene.prefill} m is longer than scene.inlet_distance = "
+                             f"{self.scene.inlet_distance} m")
+        return self
+
+    def network(self) -> DrillNetwork:
+        """The 1D network of these dimensions (reference.drill_network)."""
+        values = self.drill.model_dump()
+        return DrillNetwork(**{f.name: values[f.name] for f in dataclasses.fields(DrillNetwork)})
+
+    def geometry(self):
+        """The parametric geometry (case_geometry.DrillGeometry) of these dimensions."""
+        values = self.drill.model_dump()
+        return DrillGeometry(network=self.network(), **{k: values[k] for k in GEOMETRY_FIELDS})
+
+    @property
+    def c0(self) -> float:
+        """Reference sound speed, m/s (fluid.c0)."""
+        return self.fluid.c0
+
+    @property
+    def timestep_at_rest(self) -> float:
+        """The CFL step with the fluid at rest, cfl h / c0 (bounded by the viscous step), s."""
+        dt = self.numerics.adaptive["cfl"] * self.numerics.h / self.c0
+        if self.fluid.viscosity is not None:
+            dt = min(dt, self.numerics.adaptive["viscous"] * self.numerics.h ** 2 / self.fluid.viscosity)
+        return dt
+
+    @property
+    def planned_steps(self) -> int:
+        """Steps of the run at the CFL step with the inflow speed, cfl h / (c0 + v_in) (the engine's bound), -."""
+        dt = self.numerics.adaptive["cfl"] * self.numerics.h / (self.c0 + self.scene.inlet_velocity)
+        return math.ceil(self.simulation.duration / min(dt, self.timestep_at_rest))

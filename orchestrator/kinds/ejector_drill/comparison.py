@@ -1,0 +1,87 @@
+"""The ejector-drill SPH beside the 1D hydraulic network (reference/drill_network.py) and the paper: the control
+volume's stored fluid (eq. 2's missing volume while the scene fills), the network solved at the SPH's annular-gap
+flow and at the paper's standard rate, and the comparison table. Flows in l/min and pressures in bar (gauge) in
+the table; SI elsewhere."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.optimize import brentq
+
+from orchestrator.reference.drill_network import LITRE_PER_MIN, solve
+from orchestrator.reference.hydraulics import orifice_pressure_drop
+
+#: The paper's expectation (sect. 4): "Pressures in the range of p = 10 - 20 bar are expected in the overall system";
+#: flow rates 50-80 l/min.
+PAPER_BAR = (10.0, 20.0)
+PAPER_FLOW = (50.0, 80.0)
+FLOWS = ("V_total", "V_AG", "V_EN", "V_IB", "V_loss")
+SENSORS = ("A", "B", "C1", "C2")
+
+
+def control_volume_mask(layout, positions: np.ndarray) -> np.ndarray:
+    """Fluid between the inflow planes (AG and rear, or the inlet) and the chip mouth's plane IB (mask)."""
+    z_top = layout.planes["AG"].center[2] if "AG" in layout.planes else layout.inlet.center[2]
+    ib = layout.planes["IB"]
+    r = np.hypot(positions[:, 0], positions[:, 1])
+    return (positions[:, 2] < z_top) & ~((r < ib.radius) & (positions[:, 2] > ib.center[2]))
+
+
+def stored_volume(layout, frames, mass: float) -> tuple[np.ndarray, np.ndarray]:
+    """(frame times s, fluid volume m/rho in the control volume m^3) from run.h5 frames; mass: of one particle,
+    rho0 dx^3 (kg)."""
+    times, volumes = [], []
+    for key in sorted((k for k in frames if k != "attrs"), key=int):
+        frame = frames[key]
+        fluid = np.asarray(frame["kind"]) == 0
+        x = np.asarray(frame["positions"], dtype=float)[fluid]
+        rho = np.asarray(frame["densities"], dtype=float)[fluid]
+        times.append(float(frame["attrs"]["time"]))
+        inside = control_volume_mask(layout, x)
+        volumes.append(float(np.sum(mass / rho[inside])))
+    return np.asarray(times), np.asarray(volumes)
+
+
+def network_at_gap_flow(net, v_ag: float):
+    """The network solved at the feed flow whose V_AG equals v_ag (m^3/s, > 0), by brentq over 1-2000 l/min; None
+    when no feed in that range gives it."""
+    def miss(q):
+        return solve(net, q * LITRE_PER_MIN).V_AG - v_ag
+
+    try:
+        return solve(net, brentq(miss, 1.0, 2000.0, xtol=1e-6) * LITRE_PER_MIN)
+    except ValueError:
+        return None
+
+
+def network_gap_pressure(net, state, distance: float) -> float:
+    """Gauge pressure (bar) the network has in the annular gap `distance` m up from the head (the SPH's sensor B):
+    p_A plus the holes' orifice drop plus the gap's friction over that length."""
+    p = (state.p_A + orifice_pressure_drop(state.V_AG, net.hole_area, net.cd_hole, net.rho)
+         + net.annular_gap(distance).pressure_drop(state.V_AG, net.rho, net.mu))
+    return (p - net.p_ambient) / 1e5
+
+
+def comparison_rows(sph: dict, net, at_gap, at_standard, b_distance: float | None, standard_flow: float) -> list:
+    """Rows (quantity, unit, SPH, network at the SPH's V_AG, network at the standard flow, paper) with flows in
+    l/min and gauge pressures in bar; NaN where a value does not exist (outside the scene, or no network state)."""
+    rows = []
+    for name in FLOWS:
+        value = sph.get(name, math.nan)
+        rows.append((name, "l/min", value / LITRE_PER_MIN if math.isfinite(value) else math.nan,
+                     at_gap.litres_per_min(name) if at_gap else math.nan, at_standard.litres_per_min(name),
+                     f"{PAPER_FLOW[0]:g}-{PAPER_FLOW[1]:g}" if name == "V_total" else ""))
+    for s in SENSORS:
+        value = sph.get(f"p_{s}", math.nan)
+        rows.append((f"p_{s}", "bar", value / 1e5 if math.isfinite(value) else math.nan,
+                     at_gap.gauge_bar(f"p_{s}") if at_gap else math.nan, at_standard.gauge_bar(f"p_{s}"),
+                     f"{PAPER_BAR[0]:g}-{PAPER_BAR[1]:g} (system)"))
+    if b_distance is not None:
+        rows.append(("p_B at the SPH's B", "bar", sph.get("p_B", math.nan) / 1e5,
+                     network_gap_pressure(net, at_gap, b_distance) if at_gap else math.nan,
+                     network_gap_pressure(net, at_standard, b_distance), ""))
+    rows.append(("p_feed", "bar", math.nan, at_gap.gauge_bar("p_feed") if at_gap else math.nan,
+                 at_standard.gauge_bar("p_feed"), f"{PAPER_BAR[0]:g}-{PAPER_BAR[1]:g} (system)"))
+    return rows

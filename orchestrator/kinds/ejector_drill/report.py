@@ -1,0 +1,81 @@
+"""`orchestrator analyze` of an ejector-drill run: the flows and the balance of eq. 2 (with the volume still filling
+the control volume), the sensor pressures, the filling times and the ejector onset, the SPH beside the 1D network
+and the paper (table and bars.png), the flow and pressure series (series.png) and, with render, the sectional
+pictures at the case's picture times (pictures.py)."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from orchestrator.kinds.ejector_drill.analysis import (balance, filling_times, flow_series, sensor_pressures,
+                                                       stored_volume_rate)
+from orchestrator.kinds.ejector_drill.comparison import comparison_rows, network_at_gap_flow, stored_volume
+from orchestrator.kinds.ejector_drill.layout import drill_layout
+from orchestrator.kinds.ejector_drill.pictures import draw_sections
+from orchestrator.kinds.ejector_drill.plots import plot_comparison, plot_drill_series
+from orchestrator.reference.drill_network import LITRE_PER_MIN, solve
+
+
+def _fmt(value) -> str:
+    return f"{value:10.3g}" if isinstance(value, float) and math.isfinite(value) else f"{'-':>10}"
+
+
+def analyze_drill_run(run_dir, run: dict, case, render: bool = True) -> dict:
+    """Print the run's flows, balance, pressures, filling times and the comparison with the network and the paper;
+    write series.png, comparison.png and (render) section_<t>.png. Returns {name: path}."""
+    run_dir = Path(run_dir)
+    attrs = run["attrs"]
+    layout = drill_layout(case)
+    series = {k: v for k, v in run.get("series", {}).items() if k != "attrs"}
+    time = np.asarray(series.pop("time", []), dtype=float)
+    print(f"run {run_dir}: status {attrs['status']}, {attrs.get('n_particles')} particles at the start, "
+          f"{attrs.get('n_steps')} steps, mean dt {attrs.get('dt', float('nan')):.4g} s (paper: 1.403e-08 s), "
+          f"c0 {case.c0:g} m/s, CFL {case.numerics.adaptive['cfl']:g}, wall time {attrs.get('wall_time_s', 0):.1f} s")
+    if time.size < 2:
+        print("the run recorded fewer than two series records: nothing to analyse")
+        return {}
+    flows = flow_series(series, time)
+    frames = run.get("frames", {})
+    t_frames, volumes = stored_volume(layout, frames, case.fluid.density * case.numerics.dx ** 3)
+    stored = np.interp(time, t_frames, stored_volume_rate(t_frames, volumes)) if t_frames.size >= 2 else None
+    bal = balance(time, flows, stored)
+    print(f"\neq. 2 over the last 20 % of the run (l/min): V_AG {bal.get('V_AG', math.nan) / LITRE_PER_MIN:.4g}, "
+          f"V_IB {bal.get('V_IB', math.nan) / LITRE_PER_MIN:.4g}, V_loss {bal.get('V_loss', 0.0) / LITRE_PER_MIN:.4g}")
+    print(f"residual V_AG - V_IB - V_loss = {bal['residual_share'] * 100:.3g} % of V_AG; the control volume stores "
+          f"{bal.get('filling_share', math.nan) * 100:.3g} % of V_AG (d volume / dt from the frames)")
+    if math.isfinite(bal.get("filling_share", math.nan)):
+        print(f"residual minus storage: {(bal['residual_share'] - bal['filling_share']) * 100:.3g} % of V_AG (what the "
+              f"planes and the frames, {case.output.frame_interval * 1e3:g} ms apart, do not account for)")
+    closes = abs(bal["residual_share"]) <= 0.01
+    print("the balance closes within 1 %" if closes else
+          "the balance does not close within 1 %: the missing volume is the fluid still filling the scene "
+          "(the control volume's storage above), not yet a steady state")
+    times = filling_times(time, flows)
+    print("\nfilling times (s): " + ", ".join(f"{k} {v:.3g}" if math.isfinite(v) else f"{k} not reached"
+                                             for k, v in times.items()))
+    pressures = sensor_pressures(series, time)
+    net = case.network()
+    sph = {k: v for k, v in bal.items() if k.startswith("V_")}
+    sph.update({f"p_{k}": v for k, v in pressures.items()})
+    at_gap = network_at_gap_flow(net, sph["V_AG"]) if sph.get("V_AG", 0) > 0 else None
+    standard = solve(net, case.scene.network_flow * LITRE_PER_MIN)
+    b_distance = layout.sensors["B"][2] - case.geometry().head_length if layout.area == "flow_exit" else None
+    rows = comparison_rows(sph, net, at_gap, standard, b_distance, case.scene.network_flow)
+    feed = at_gap.litres_per_min("V_total") if at_gap else math.nan
+    print(f"\n{'quantity':<20}{'unit':>6}{'SPH':>10}{'net@V_AG':>10}{'net@' + format(case.scene.network_flow, 'g'):>10}"
+          f"  paper          (net@V_AG: the network at the feed {feed:.4g} l/min whose V_AG is the SPH's)")
+    for name, unit, a, b, c, paper in rows:
+        print(f"{name:<20}{unit:>6}{_fmt(a)}{_fmt(b)}{_fmt(c)}  {paper}")
+    v_in = case.scene.inlet_velocity
+    print(f"anchor: 1/2 rho v_in^2 = {0.5 * case.fluid.density * v_in ** 2 / 1e5:.3g} bar at v_in = {v_in:g} m/s; "
+          "sensors outside the scene (C1, C2 at the feed) are '-'")
+    outputs = {"series": plot_drill_series(time, flows, series, stored, run_dir / "series.png"),
+               "comparison": plot_comparison(rows, run_dir / "comparison.png")}
+    if render:
+        outputs.update(draw_sections(frames, case, layout, run_dir))
+    for name, path in outputs.items():
+        print(f"{name:<14} {path}")
+    return outputs

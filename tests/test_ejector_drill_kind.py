@@ -1,0 +1,137 @@
+"""The ejector_drill kind: the shipped case and its presets load, bad keys are named, the scene's fluid regions
+against their closed-form volumes, the balance arithmetic of eq. 2 and the comparison with the 1D network on
+synthetic series, and a tiny run on the sph executable."""
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from orchestrator.case.loader import load_case
+from orchestrator.errors import OrchestratorError
+from orchestrator.kinds import build_scene, get_kind, kind_names
+from orchestrator.kinds.ejector_drill.analysis import balance, filling_times, flow_series
+from orchestrator.kinds.ejector_drill.comparison import comparison_rows, network_at_gap_flow
+from orchestrator.kinds.ejector_drill.build import prefill_margin
+from orchestrator.kinds.ejector_drill.probe import end_particles, probe_scene
+from orchestrator.reference.drill_network import LITRE_PER_MIN, solve
+
+CASE = Path(__file__).resolve().parent.parent / "cases" / "ejector_drill_canini.toml"
+PRESETS = ("flow_exit", "flow_exit_quick", "drill_head", "drill_head_quick")
+
+
+def test_registered_with_the_sph_engine():
+    assert "ejector_drill" in kind_names() and get_kind("ejector_drill").engines() == ["sph"]
+
+
+@pytest.mark.parametrize("preset", PRESETS)
+def test_presets_load_with_the_papers_resolution(preset):
+    case = load_case(CASE, preset=preset).model
+    paper = {"flow_exit": (0.3e-3, 0.45e-3), "drill_head": (0.4e-3, 0.6e-3)}.get(preset)
+    if paper:
+        assert case.numerics.dx == pytest.approx(paper[0]) and case.numerics.h == pytest.approx(paper[1])
+    assert case.network().d_bore == 0.030 and case.network().d_diff == 1.0e-3
+
+
+@pytest.mark.parametrize("override, words", [
+    ("drill.d_hole_typo=1e-3", "d_hole_typo"),
+    ("drill.d_hole=0.02", "d_hole"),
+    ("scene.area='nozzles'", "scene.area"),
+    ("numerics.dx=0.6e-3", "numerics.dx"),
+    ("output.picture_times=[3.3e-4]", "picture_times"),
+])
+def test_bad_values_name_the_key(override, words):
+    with pytest.raises(OrchestratorError) as err:
+        load_case(CASE, preset="flow_exit_quick", overrides=[override])
+    assert words in str(err.value)
+
+
+@pytest.mark.parametrize("preset", ["flow_exit_quick", "drill_head_quick"])
+def test_lattice_fills_the_regions_to_their_closed_form_volume(preset):
+    case = load_case(CASE, preset=preset).model
+    scene = build_scene(case)
+    dx, layout = case.numerics.dx, scene.layout
+    filled = probe_scene(scene, limit=10 ** 9)
+    # the lattice's count times dx^3 against the sum of the rings' and holes' closed forms (0.2-2.4 % here: a
+    # 0.875 mm clearance is two to three spacings wide, sampled by a lattice not aligned with it)
+    assert filled.n_particles * dx ** 3 == pytest.approx(layout.fluid_volume(), rel=0.03)
+    assert probe_scene(scene).n_particles == min(end_particles(scene), filled.n_particles)
+    ring = layout.channel
+    assert ring.volume() == pytest.approx(math.pi * (ring.r_out ** 2 - ring.r_in ** 2) * (ring.z_hi - ring.z_lo))
+    # the prefill: the channel's ring from the inlet plane down, s away from its walls, moving at v_in
+    s = prefill_margin(case, ring)
+    expected = math.pi * ((ring.r_out - s) ** 2 - (ring.r_in + s) ** 2) * case.scene.prefill / dx ** 3
+    assert scene.n_particles == pytest.approx(expected, rel=0.35)
+    assert np.allclose(np.linalg.norm(scene.flow.velocities, axis=1), case.scene.inlet_velocity)
+    for mesh in scene.flow.meshes.values():
+        assert mesh.vertices[:, 2].max() <= layout.z_hi + 1e-8  # manifold3d rounds to float32
+
+
+def test_the_head_has_its_holes_cut():
+    case = load_case(CASE, preset="flow_exit_quick").model
+    scene = build_scene(case)
+    net, g = case.network(), case.geometry()
+    head = g.meshes()["head"]
+    holes = net.n_holes * 0.25 * math.pi * net.d_hole ** 2 * (net.d_head_body - net.d_outer_tube_id) / 2
+    import trimesh
+
+    cut = trimesh.Trimesh(scene.flow.meshes["head"].vertices, scene.flow.meshes["head"].faces)
+    assert cut.is_watertight
+    assert head.volume - cut.volume == pytest.approx(holes, rel=0.03)  # the hole cylinders' N-gon deficit
+
+
+def _synthetic(time):
+    ramp = np.clip(time / 1e-4, 0.0, 1.0)
+    v_ag = 1.0e-3 * ramp
+    return {"flow_rate_AG": v_ag, "flow_rate_rear": -v_ag + 0.1e-3 * ramp, "flow_rate_IB": 0.9e-3 * ramp,
+            "flow_rate_hole0": v_ag / 3, "flow_rate_hole1": v_ag / 3, "flow_rate_hole2": v_ag / 3,
+            "flow_rate_front": 0.9e-3 * ramp}
+
+
+def test_balance_of_eq2_on_synthetic_series():
+    time = np.linspace(0.0, 1e-3, 101)
+    flows = flow_series(_synthetic(time), time)
+    assert np.allclose(flows["V_loss"], 0.1e-3 * np.clip(time / 1e-4, 0, 1))  # rear + AG
+    bal = balance(time, flows, stored=np.zeros_like(time))
+    assert bal["V_AG"] == pytest.approx(1e-3) and bal["V_IB"] == pytest.approx(0.9e-3)
+    assert abs(bal["residual"]) < 1e-15 and bal["filling_share"] == 0.0
+    leaky = dict(flows, V_IB=flows["V_IB"] * 0.95)
+    assert balance(time, leaky)["residual_share"] == pytest.approx(0.045)
+    times = filling_times(time, flows)
+    assert times["t_gap"] == pytest.approx(1e-6, abs=1e-5) and times["t_holes"] == pytest.approx(time[1])
+
+
+def test_network_at_the_sph_gap_flow_and_the_table():
+    case = load_case(CASE, preset="flow_exit_quick").model
+    net = case.network()
+    v_ag = 60.0 * 30.63e-6  # the paper's 60 m/s over the gap
+    at_gap = network_at_gap_flow(net, v_ag)
+    assert at_gap.V_AG == pytest.approx(v_ag, rel=1e-6) and at_gap.V_total > v_ag
+    standard = solve(net, 60.0 * LITRE_PER_MIN)
+    sph = {"V_AG": v_ag, "V_IB": 0.8 * v_ag, "V_loss": 0.2 * v_ag, "p_A": 12e5, "p_B": 30e5}
+    rows = {r[0]: r for r in comparison_rows(sph, net, at_gap, standard, 0.013, 60.0)}
+    assert rows["V_AG"][2] == pytest.approx(v_ag / LITRE_PER_MIN) and rows["V_AG"][3] == pytest.approx(rows["V_AG"][2])
+    assert math.isnan(rows["V_total"][2]) and rows["V_total"][4] == pytest.approx(60.0)
+    assert rows["p_A"][2] == pytest.approx(12.0) and math.isnan(rows["p_C1"][2])
+    assert rows["p_B"][4] == pytest.approx(standard.gauge_bar("p_B"))
+    # the gap pressure 13 mm up from the head exceeds p_A by the holes' orifice drop at least
+    assert rows["p_B at the SPH's B"][4] > standard.gauge_bar("p_A") + 0.5 * 1000 * (
+        standard.V_AG / (net.cd_hole * net.hole_area)) ** 2 / 1e5 - 1e-9
+
+
+@pytest.mark.sph
+def test_tiny_flow_exit_run(tmp_path):
+    from orchestrator.run import run_case
+
+    loaded = load_case(CASE, preset="flow_exit_quick", overrides=["simulation.duration=5e-5", "numerics.threads=1",
+                                                                  "output.picture_times=[]",
+                                                                  "output.frame_interval=2.5e-5"])
+    summary = run_case(loaded, engine="sph", out_dir=tmp_path / "run", progress=False)
+    assert summary.status == "ok"
+    # the inlet's volume flow is v_in times its annulus, the gap less s = 0.05 mm at each wall (the engine scales
+    # the profile's columns to it; 1 % here)
+    margin = prefill_margin(loaded.model, build_scene(loaded.model).layout.channel)
+    assert margin == pytest.approx(0.05e-3)
+    area = math.pi * ((10e-3 - margin) ** 2 - (9.5e-3 + margin) ** 2)
+    assert summary.measured["V_in"] == pytest.approx(60.0 * area, rel=0.03)
