@@ -81,10 +81,6 @@ class PhaseClock:
         return out
 
 
-#: Runs planned longer than this many steps start with a timing probe (a few
-#: steps on a dense lattice) that estimates the whole run's wall time.
-PROBE_ABOVE_STEPS = 200_000
-
 
 def default_run_dir(case_name: str, engine: str, root: Path = Path("runs")) -> Path:
     """runs/<case>-<engine>-<UTC timestamp> (a new directory; humanize.stamped_dir)."""
@@ -221,7 +217,7 @@ def _run_engine(backend, scene, run_dir: Path, clock: PhaseClock, timeout_s, pro
                 raise OrchestratorError(f"cannot write the engine's input into {run_dir}: {os_problem(exc)}") from None
             command, env = backend.command(scene, run_dir)
         clock.lap("input")
-        if not resume and backend.adapter.probes and backend.planned_steps(scene) > PROBE_ABOVE_STEPS:
+        if not resume and backend.wants_probe(scene):
             _run_probe(backend, scene, run_dir, on_timing)
         clock.skip()  # the timing probe is the engine's time
         execution = execute(command, env, run_dir, timeout_s, progress, label=label, on_timing=on_timing)

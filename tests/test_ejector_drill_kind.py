@@ -135,3 +135,19 @@ def test_tiny_flow_exit_run(tmp_path):
     assert margin == pytest.approx(0.05e-3)
     area = math.pi * ((10e-3 - margin) ** 2 - (9.5e-3 + margin) ** 2)
     assert summary.measured["V_in"] == pytest.approx(60.0 * area, rel=0.03)
+
+
+@pytest.mark.parametrize("preset, probed", [("drill_head", True), ("drill_head_quick", False)])
+def test_the_paper_resolution_starts_with_a_timing_probe(preset, probed):
+    """A drill run's cost is particles x steps: the paper's drill-head scene (about 1.4e9 particle-steps) is probed
+    before it starts, its quick preset (about 4e8) is not; neither plans more steps than the step-count rule's."""
+    from orchestrator.kinds import bind
+    from orchestrator.kinds.base import PROBE_ABOVE_STEPS
+    from orchestrator.kinds.ejector_drill.sph import PROBE_ABOVE_PARTICLE_STEPS
+
+    case = load_case(CASE, preset=preset).model
+    scene = build_scene(case)
+    particle_steps = case.planned_steps * probe_scene(scene).n_particles
+    assert case.planned_steps < PROBE_ABOVE_STEPS
+    assert (particle_steps > PROBE_ABOVE_PARTICLE_STEPS) is probed
+    assert bind("ejector_drill", "sph", scene).wants_probe(scene) is probed

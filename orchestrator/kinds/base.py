@@ -20,6 +20,11 @@ from typing import Any, Callable
 from orchestrator.errors import OrchestratorError
 
 
+#: Runs planned longer than this many steps start with a timing probe (a few steps on a dense lattice) that estimates
+#: the whole run's wall time (Adapter.wants_probe).
+PROBE_ABOVE_STEPS = 200_000
+
+
 class Adapter(abc.ABC):
     """How one engine runs one kind: input files, command line, output parsing (stateless).
 
@@ -49,6 +54,11 @@ class Adapter(abc.ABC):
     def planned_steps(self, engine, scene) -> int:
         """Upper bound of the run's time steps (0: unknown, no timing probe)."""
         return 0
+
+    def wants_probe(self, engine, scene) -> bool:
+        """True when the run is long enough to start with a timing probe: by default, more than PROBE_ABOVE_STEPS
+        planned steps (an adapter whose cost lies in its particles rather than its steps says otherwise)."""
+        return self.planned_steps(engine, scene) > PROBE_ABOVE_STEPS
 
     def probe_command(self, engine, scene, workdir: Path, steps: int = 200) -> tuple[list[str], dict[str, str]]:
         """Command of a timing probe (a few steps on a dense lattice) in workdir; only asked when planned_steps is
@@ -153,6 +163,10 @@ class Bound:
     def planned_steps(self, scene) -> int:
         """See Adapter.planned_steps."""
         return self.adapter.planned_steps(self.engine, scene)
+
+    def wants_probe(self, scene) -> bool:
+        """See Adapter.wants_probe (False when the adapter has no probe)."""
+        return self.adapter.probes and self.adapter.wants_probe(self.engine, scene)
 
     def probe_command(self, scene, workdir: Path, steps: int = 200):
         """See Adapter.probe_command."""

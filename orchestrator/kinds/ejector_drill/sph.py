@@ -6,8 +6,13 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from orchestrator.kinds.ejector_drill.probe import write_probe
+from orchestrator.kinds.ejector_drill.probe import probe_scene, write_probe
 from orchestrator.kinds.sph_flow.sph import SphFlow
+
+
+#: Runs planned above this many particle-steps (the filled scene's particles x planned steps; about a quarter of an
+#: hour at 1e6 particle-steps/s) start with a timing probe that prints their estimated wall time.
+PROBE_ABOVE_PARTICLE_STEPS = 1.0e9
 
 
 class EjectorDrillSph(SphFlow):
@@ -26,6 +31,11 @@ class EjectorDrillSph(SphFlow):
         """Steps at the CFL bound with the inflow speed, cfl h / (c0 + v_in): an upper bound while nothing in the
         scene runs faster than the inflow."""
         return scene.case.planned_steps
+
+    def wants_probe(self, engine, scene) -> bool:
+        """True above PROBE_ABOVE_PARTICLE_STEPS: a drill run's cost lies in its particles (the scene fills from a
+        few hundred to the filled count, probe_scene) as much as in its steps."""
+        return scene.case.planned_steps * probe_scene(scene).n_particles > PROBE_ABOVE_PARTICLE_STEPS
 
     def probe_command(self, engine, scene, workdir: Path, steps: int = 200):
         """The probe deck (probe.py: the fluid regions filled with the run's end count) in workdir and the command
