@@ -49,4 +49,25 @@ void parallel_for(std::ptrdiff_t n, std::ptrdiff_t min_items, Body&& body) {
   }
 }
 
+// Inside a parallel region (par) or not: body(i) for i in [0, n) as a
+// worksharing loop of the enclosing region (static schedule, a barrier at
+// its end) when par, else as a plain loop.
+template <class Body>
+void for_each_index(bool par, std::ptrdiff_t n, Body&& body) {
+  if (par) {
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t i = 0; i < n; ++i) body(i);
+  } else {
+    for (std::ptrdiff_t i = 0; i < n; ++i) body(i);
+  }
+}
+
+// The wall time now into `at`: by the master thread inside a parallel region
+// (par; after the barrier of the previous worksharing loop), else directly.
+inline void stamp_time(bool par, double& at) {
+  if (!par) at = omp_get_wtime();
+#pragma omp master
+  if (par) at = omp_get_wtime();
+}
+
 }  // namespace sph

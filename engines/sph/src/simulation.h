@@ -22,7 +22,9 @@
 #include "boundary_particles.h"
 #include "box_policy.h"
 #include "cell_list.h"
+#include "constitutive_rates.h"
 #include "deck.h"
+#include "extra_stress.h"
 #include "integrator.h"
 #include "kernel.h"
 #include "material.h"
@@ -33,6 +35,7 @@
 #include "physics_terms.h"
 #include "stages.h"
 #include "step_maxima.h"
+#include "verlet_skin.h"
 #include "wall_penalty.h"
 
 namespace sph {
@@ -57,16 +60,7 @@ class Simulation {
   Simulation(const Deck& deck, Particles<D> particles, WallPenalty<D> walls = {})
       : deck_(deck), P_(std::move(particles)), kernel_(deck.h), walls_(std::move(walls)),
         pairs_(P_, list_, kernel_, model_, materials_, shepard_) {
-    int modes = 0;
-    for (const MaterialSpec& m : deck.material_list()) {
-      Material mat{{m.rho0, m.c0, m.gamma, m.background_pressure, m.quadratic_eos}, m.viscosity, m.rho0 * m.viscosity,
-                   std::max(0, Models::index(m.model)), {}};
-      Models::visit(mat.model, [&](auto model) {
-        if constexpr (stress_modes_v<decltype(model)> > 0) decltype(model)::configure(m, mat);
-      });
-      modes = std::max(modes, mat.modes.count);
-      materials_.add(mat);
-    }
+    const int modes = add_materials<Models>(deck, materials_);
     const double eta2 = 0.01 * deck.h * deck.h;
     model_.morris.mu = materials_[0].mu;
     model_.morris.eta2 = eta2;
@@ -147,35 +141,11 @@ class Simulation {
     if constexpr (has(term::artificial_viscosity)) P_.c[i] = eos.sound_speed(rho);
     P_.vol[i] = P_.mass[i] / P_.rho[i];
     P_.p_rho2[i] = P_.p[i] / (P_.rho[i] * P_.rho[i]);
-    if constexpr (tensor && Models::any_modes)  // sigma / rho^2 = (-p I + tau) / rho^2 for eq. T1
-      P_.sigma_rho2[i] = (extra_stress(i) - P_.p[i] * Mat<D>::Identity()) / (P_.rho[i] * P_.rho[i]);
-    else if constexpr (tensor)
-      P_.sigma_rho2[i] = (P_.tau[i] - P_.p[i] * Mat<D>::Identity()) / (P_.rho[i] * P_.rho[i]);
+    if constexpr (tensor) P_.sigma_rho2[i] = stress_over_rho2<Models>(P_, i);  // eq. T1
   }
 
-  // The extra stress of particle i, Pa: its tau (single-stress models), the sum
-  // of its mode stresses and the solvent stress 2 eta_s D (PTT, materials/ptt.h eq. 3).
-  Mat<D> extra_stress(std::size_t i) const {
-    Mat<D> tau = Mat<D>::Zero();
-    if constexpr (Models::any_single_stress) tau += P_.tau[i];
-    if constexpr (Models::any_modes) {
-      tau += P_.tau_solvent[i];
-      const ModeStress<D>& s = P_.mode_stress.value[i];
-      for (int k = 0; k < s.cols(); ++k) tau += Eigen::Map<const Mat<D>>(s.col(k).data());
-    }
-    return tau;
-  }
-  // Volume average of the fluid's extra stress, Pa (sigma_xy of a Lees-Edwards cell is its (0, 1) entry).
-  Mat<D> mean_extra_stress() const {
-    Mat<D> sum = Mat<D>::Zero();
-    double volume = 0.0;
-    for (std::size_t i = 0; i < P_.size(); ++i)
-      if (P_.moves(i)) {
-        const double vol = P_.mass[i] / P_.rho[i];
-        sum += vol * extra_stress(i), volume += vol;
-      }
-    return volume > 0.0 ? Mat<D>(sum / volume) : sum;
-  }
+  // Volume average of the fluid's extra stress, Pa (extra_stress.h; sigma_xy of a Lees-Edwards cell is its (0, 1) entry).
+  Mat<D> mean_extra_stress() const { return sph::mean_extra_stress<Models>(P_); }
   const PeriodicImages<D>& images() const { return images_; }
   double time() const { return time_; }  // s, advanced by each step's dt
 
@@ -190,16 +160,16 @@ class Simulation {
     const std::ptrdiff_t n = P_.size();
     double t[4];
     auto body = [&](bool par) {
-      stamp(par, t[0]);
-      for_particles(par, n, [this](std::ptrdiff_t i) { start_rates_at(i); });
+      stamp_time(par, t[0]);
+      for_each_index(par, n, [this](std::ptrdiff_t i) { start_rates_at(i); });
       if constexpr (has(term::morris_viscosity)) {
         list_.for_blocks_coloured(par, [this](int k) { pairs_.no_slip_sums_of_block(k); });
-        for_particles(par, n, [this](std::ptrdiff_t i) { no_slip_velocity_at(i); });
+        for_each_index(par, n, [this](std::ptrdiff_t i) { no_slip_velocity_at(i); });
       }
-      stamp(par, t[1]);
+      stamp_time(par, t[1]);
       list_.for_blocks_coloured(par, [this](int k) { pairs_.rates_of_block(k); });
-      stamp(par, t[2]);
-      for_particles(par, n, [this](std::ptrdiff_t i) { close_rates_at(i); });
+      stamp_time(par, t[2]);
+      for_each_index(par, n, [this](std::ptrdiff_t i) { close_rates_at(i); });
     };
     if (go_parallel(n, parallel_min_heavy) && list_.blocks() > 1) {
 #pragma omp parallel
@@ -215,23 +185,6 @@ class Simulation {
   }
 
  private:
-  // The time now into `at` (by the master thread, after the barrier of the previous loop when parallel).
-  static void stamp(bool par, double& at) {
-    if (!par) at = omp_get_wtime();
-#pragma omp master
-    if (par) at = omp_get_wtime();
-  }
-  // body(i) for i < n: a worksharing loop of the enclosing region when par, else a plain loop.
-  template <class Body>
-  static void for_particles(bool par, std::ptrdiff_t n, Body&& body) {
-    if (par) {
-#pragma omp for schedule(static)
-      for (std::ptrdiff_t i = 0; i < n; ++i) body(i);
-    } else {
-      for (std::ptrdiff_t i = 0; i < n; ++i) body(i);
-    }
-  }
-
   // Gather, per particle: EOS and its sums set to zero (and, with Morris, its Shepard sums).
   void start_rates_at(std::ptrdiff_t i) {
     equation_of_state_at(i);
@@ -245,8 +198,8 @@ class Simulation {
   }
   // close_rates of particle a: body force and wall penalty of a fluid
   // particle; the velocity gradient G M^-1 (eq. T2) and the constitutive rate
-  // d tau/dt of its material; an outlet particle keeps the density it left
-  // with (a zero-gradient outlet).
+  // d tau/dt of its material (constitutive_rates.h); an outlet particle keeps
+  // the density it left with (a zero-gradient outlet).
   void close_rates_at(std::ptrdiff_t a) {
     if (P_.moves(a)) {
       if (body_force_on_) model_.body.add(P_.acc[a]);
@@ -255,22 +208,7 @@ class Simulation {
         images_.wrap(xa);  // between list builds positions may lie up to skin/2 outside the box
         P_.acc[a] += walls_.force(xa) / P_.mass[a];
       }
-      if constexpr (tensor) {
-        Mat<D>& L = P_.grad_v[a];
-        const Mat<D>& M = P_.shape[a];
-        const double scale = M.cwiseAbs().maxCoeff();
-        if (correct_gradient_ && std::abs(M.determinant()) > 1e-6 * std::pow(scale, D)) L = L * M.inverse();
-        const Material& mat = materials_[P_.material[a]];
-        Models::visit(mat.model, [&](auto model) {
-          using M = decltype(model);
-          if constexpr (stress_modes_v<M> > 0) {
-            M::mode_rates(mat, L, P_.mode_stress.value[a], P_.mode_stress.rate[a]);
-            P_.tau_solvent[a] = M::solvent_stress(mat, L);
-          } else if constexpr (Models::any_single_stress) {
-            model.stress_rate(mat, L, P_.tau[a], P_.dtau[a]);
-          }
-        });
-      }
+      if constexpr (tensor) close_constitutive_rates<Models>(P_, materials_, a, correct_gradient_);
     } else if (P_.kind[a] == Kind::outlet) {
       P_.drho[a] = 0.0;
     }
@@ -332,13 +270,8 @@ class Simulation {
       Vec<D> x = P_.x[i];
       if (P_.advects(i)) {  // fixed boundary particles stay
         x += half * P_.v[i];
-        if constexpr (sheared) {  // displacement beside the affine shear (eq. LE3)
-          Vec<D> moved = x - x_build_[i];
-          moved[0] -= strain * (x_build_[i][1] - y_mid);
-          if (check) moved2 = std::max(moved2, moved.squaredNorm());
-        } else if (check) {
-          moved2 = std::max(moved2, (x - x_build_[i]).squaredNorm());
-        }
+        if (check)  // verlet_skin.h (eq. LE3 under Lees-Edwards)
+          moved2 = std::max(moved2, displacement_since_build<D, sheared>(x, x_build_[i], strain, y_mid).squaredNorm());
         images_.wrap(x);
       }
       x_pred_[i] = x;
@@ -350,18 +283,7 @@ class Simulation {
     } else {
       for (std::ptrdiff_t i = 0; i < n; ++i) position(i, lo, hi, moved2);
     }
-    // Moved less than skin/2. Under Lees-Edwards (eq. LE3): with u_i the
-    // displacement of particle i beside the affine shear, x_i - x_i^b - s (y_i^b - y_mid) e_x
-    // (s the strain since the build), a pair vector (images included) is
-    // r = A r^b + u_a - u_b, A = I + s e_x e_y^T; an unlisted pair (|r^b| >= R,
-    // the list range) stays beyond the support 2h while 2 max |u| <= R / (1 + |s|) - 2h
-    // (y_mid, any constant, cancels in u_a - u_b; the mid-plane keeps |u| small in a
-    // cell sheared about its middle).
-    double allowed = 0.5 * skin_;
-    if constexpr (sheared) {
-      const double support = kernel_.support_radius();
-      allowed = std::max(0.0, 0.5 * ((support + skin_) / (1.0 + std::abs(strain)) - support));
-    }
+    const double allowed = allowed_displacement<sheared>(kernel_.support_radius(), skin_, strain);
     if (check && moved2 <= allowed * allowed) {
       parallel_for(n, parallel_min_light, [this, half](std::ptrdiff_t i) { predict_in_place(P_, i, half); });
       times_.predict += omp_get_wtime() - t_start;
@@ -386,7 +308,7 @@ class Simulation {
     const std::ptrdiff_t n = P_.size();
     maxima_ = sweep_maxima(P_, materials_, [this, dt](std::ptrdiff_t i) {
       correct_at(P_, i, dt);
-      if constexpr (tensor) post_correct_at(i);
+      if constexpr (tensor) post_correct_material<Models>(P_, materials_, i);
     });
     time_ += dt;
     if constexpr (!std::is_same_v<std::decay_t<Crossed>, NoCrossings>)
@@ -424,13 +346,6 @@ class Simulation {
   }
 
  private:
-  // post_correct of particle i: its material's return mapping and failure (models with stress).
-  void post_correct_at(std::ptrdiff_t i) {
-    if constexpr (!Models::any_single_stress) return;
-    if (!P_.advects(i)) return;
-    const Material& mat = materials_[P_.material[i]];
-    Models::visit(mat.model, [&](auto model) { model.post_correct(mat, P_.tau[i]); });
-  }
   // The maxima of the current state: the corrector's, or taken now.
   const StepMaxima& maxima() {
     if (!maxima_.valid) maxima_ = sweep_maxima(P_, materials_, [](std::ptrdiff_t) {});
