@@ -162,6 +162,15 @@ class NeighbourList {
     for (int k = 0; k < nb; ++k) biggest = std::max(biggest, lists_[k].size());
     for (int k = 0; k < nb; ++k)
       if (lists_[k].capacity() < biggest + biggest / 4) lists_[k].reserve(biggest + biggest / 2);
+    // The blocks of a colour are handed to the threads one at a time, most
+    // pairs first (ties: lower index): the last block a thread takes is a
+    // small one, so the threads finish a colour together (in index order the
+    // issue's block, slabs of 3 and 4 particle rows, can leave one thread 11
+    // rows against 9). Each block still runs on one thread: results do not change.
+    for (auto& c : colours_)
+      std::sort(c.begin(), c.end(), [this](int a, int b) {
+        return lists_[a].size() > lists_[b].size() || (lists_[a].size() == lists_[b].size() && a < b);
+      });
   }
 
   // body(k) for every block, colour after colour; the blocks of a colour on
