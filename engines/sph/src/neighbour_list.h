@@ -152,8 +152,10 @@ class NeighbourList {
       {
 #pragma omp for schedule(static)
         for (int k = 0; k < nb; ++k) build_block(k);
+        // Most pairs of the last build first (the list does not depend on the thread that builds it).
+        const bool planned = static_cast<int>(build_order_.size()) == nb;
 #pragma omp for schedule(dynamic, 1)
-        for (int k = 0; k < nb; ++k) list_block(k);
+        for (int j = 0; j < nb; ++j) list_block(planned ? build_order_[j] : j);
       }
     } else {
       for (int k = 0; k < nb; ++k) build_block(k);
@@ -229,6 +231,10 @@ class NeighbourList {
       });
     queue_.clear();
     for (const auto& c : colours_) queue_.insert(queue_.end(), c.begin(), c.end());
+    build_order_.assign(queue_.begin(), queue_.end());
+    std::sort(build_order_.begin(), build_order_.end(), [this](int a, int b) {
+      return lists_[a].size() > lists_[b].size() || (lists_[a].size() == lists_[b].size() && a < b);
+    });
     if (static_cast<int>(after_.size()) < nb) after_.resize(nb), colour_of_.resize(nb);
     for (int c = 0; c < 3; ++c)
       for (int k : colours_[c]) colour_of_[k] = c;
@@ -257,6 +263,7 @@ class NeighbourList {
   std::vector<std::vector<std::uint32_t>> others_;  // per block: a row's non-fluid neighbours while it is built
   std::array<std::vector<int>, 3> colours_;
   std::vector<int> queue_, colour_of_;                 // for_blocks_coloured's order; each block's colour
+  std::vector<int> build_order_;                       // every block, most pairs first (the next build's order)
   std::vector<std::array<int, 2>> after_;              // per block: neighbours of earlier colours it waits for
   mutable std::atomic<int> next_{0};                   // the next queue entry to take
   mutable std::unique_ptr<std::atomic<int>[]> done_;   // per block: done in this pass
