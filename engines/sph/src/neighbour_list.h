@@ -18,8 +18,9 @@
 // pair loop of block k writes only to blocks k and k+1.
 //
 // Colours: blocks of one colour write to disjoint particles; the pair loop
-// runs colour after colour, the blocks of one colour on the threads, each
-// block by one thread in index order. Every particle therefore receives its
+// runs colour after colour (on threads: a block starts when its neighbouring
+// blocks of earlier colours are done, see for_blocks_coloured), each block by
+// one thread in index order. Every particle therefore receives its
 // contributions in the same order whatever the number of threads: results
 // are bitwise independent of the thread count. Even/odd blocks; along a
 // periodic last axis with an odd count the last block gets a third colour;
@@ -179,8 +180,8 @@ class NeighbourList {
   // particle still receives the contributions of its two blocks in colour
   // order, as with a barrier between colours (bitwise the same results), but
   // a thread short of work in one colour goes on with the next (the 3D dam
-  // break has 3 or 4 blocks with fluid per colour: a barrier per colour made
-  // the 2-thread pair loop at most 1.67-1.80 x).
+  // break has 3 or 4 blocks with fluid per colour: with a barrier per colour
+  // its pair counts bound the 2-thread pair loop to 1.67-1.80 x).
   template <class Body>
   void for_blocks_coloured(bool parallel, Body&& body) const {
     if (!parallel) {
