@@ -10,7 +10,9 @@
 // A field integrates on the particles its Integrates says (fixed boundary
 // particles keep position and velocity but evolve density).
 #pragma once
+#include <algorithm>
 #include <cstddef>
+#include <limits>
 #include <type_traits>
 #include <vector>
 
@@ -32,49 +34,57 @@ inline void predict_in_place(Particles<D>& P, std::ptrdiff_t i, double half) {
   });
 }
 
-// Predictor fused with the reorder by cell: new index k from old index o,
-// x_pred the predicted (wrapped) position of o. Writes the start-of-step
-// copies (x0 shifted by the same wrap as the prediction) and the second
-// buffers of the persistent state; swap_next() then makes them current.
-// Under Lees-Edwards (Sheared) a particle remapped across the gradient faces
-// also takes the velocity jump (box_policy.h, eq. LE2) in its start-of-step
-// and predicted velocity.
+// Reorder by cell after the predictor ran in place on every particle
+// (predict_in_place): new index k takes old index o, whose wrapped predicted
+// position is x_pred. Writes the second buffers of the state and of the
+// start-of-step copies (x0 shifted by the same wrap as the prediction);
+// swap_next() then makes them current. Under Lees-Edwards (Sheared) a
+// particle remapped across the gradient faces also takes the velocity jump
+// (box_policy.h, eq. LE2) in its start-of-step and predicted velocity.
 template <int D, bool Sheared = false>
-inline void predict_reordered(Particles<D>& P, std::ptrdiff_t k, int o, const Vec<D>& x_pred, double half,
+inline void reorder_predicted(Particles<D>& P, std::ptrdiff_t k, int o, const Vec<D>& x_pred,
                               const PeriodicImages<D>* images = nullptr) {
-  const Vec<D> unwrapped = P.advects(o) ? Vec<D>(P.x[o] + half * P.v[o]) : P.x[o];
-  P.x0[k] = P.x[o] + (x_pred - unwrapped);
+  P.next_x0[k] = P.x0[o] + (x_pred - P.x[o]);
   P.next_x[k] = x_pred;
-  P.for_integrated([&](auto& f, Integrates who) {
-    f.start[k] = f.value[o];
+  P.for_integrated([&](auto& f, Integrates) {
+    f.next_start[k] = f.start[o];
+    f.next_value[k] = f.value[o];
     f.next_rate[k] = f.rate[o];
-    using T = typename std::decay_t<decltype(f.value)>::value_type;
-    f.next_value[k] = P.integrates(who, o) ? T(f.value[o] + half * f.rate[o]) : f.value[o];
   });
   P.for_carried([&](auto& a, auto& next) { next[k] = a[o]; });
   if constexpr (Sheared) {
-    const Vec<D> dv = images->velocity_change(x_pred - unwrapped);
-    P.vel.start[k] += dv, P.vel.next_value[k] += dv;
+    const Vec<D> dv = images->velocity_change(x_pred - P.x[o]);
+    P.vel.next_start[k] += dv, P.vel.next_value[k] += dv;
   }
 }
 
-// The predictor with binning and reordering by cell: the cells of the
-// predicted positions x_pred (bounding box lo, hi), the counting sort
-// (serial), then one pass that writes, for each new index k, the predicted
-// state of old index o (predict_reordered) into the second buffers, which
-// become the state. False if the particles spread over too many cells
-// (blow-up); then the start-of-step copies hold the state, for the last good frame.
+// Binning and reordering by cell of the predicted state (after
+// predict_in_place on every particle): the wrapped predicted positions into
+// x_pred (fixed boundary particles are not wrapped: they never move) with
+// their bounding box, their cells, the counting sort (serial), then one pass
+// that writes, for each new index k, the state of old index o
+// (reorder_predicted) into the second buffers, which become the state. False
+// if the particles spread over too many cells (blow-up); then the
+// start-of-step copies hold the state of the start of the step, for the last good frame.
 template <int D, bool Sheared = false>
-bool predict_rebinned(Particles<D>& P, CellList<D>& cells, const std::vector<Vec<D>>& x_pred, const double* lo,
-                      const double* hi, double half, const PeriodicImages<D>* images = nullptr) {
+bool rebin_predicted(Particles<D>& P, CellList<D>& cells, std::vector<Vec<D>>& x_pred, const PeriodicImages<D>& images) {
   const std::ptrdiff_t n = P.size();
-  if (!cells.lay_out(Eigen::Map<const Vec<D>>(lo), Eigen::Map<const Vec<D>>(hi), n)) {
-    parallel_for(n, parallel_min_light, [&](std::ptrdiff_t i) {
-      P.x0[i] = P.x[i];
-      P.for_integrated([i](auto& f, Integrates) { f.start[i] = f.value[i]; });
-    });
-    return false;
+  x_pred.resize(n);
+  double lo[D], hi[D];
+  for (int d = 0; d < D; ++d) lo[d] = std::numeric_limits<double>::infinity(), hi[d] = -lo[d];
+  auto position = [&](std::ptrdiff_t i, double* lo, double* hi) {
+    Vec<D> x = P.x[i];
+    if (P.advects(i)) images.wrap(x);
+    x_pred[i] = x;
+    for (int d = 0; d < D; ++d) lo[d] = std::min(lo[d], x[d]), hi[d] = std::max(hi[d], x[d]);
+  };
+  if (go_parallel(n, parallel_min_light)) {
+#pragma omp parallel for reduction(min : lo[:D]) reduction(max : hi[:D]) schedule(static)
+    for (std::ptrdiff_t i = 0; i < n; ++i) position(i, lo, hi);
+  } else {
+    for (std::ptrdiff_t i = 0; i < n; ++i) position(i, lo, hi);
   }
+  if (!cells.lay_out(Eigen::Map<const Vec<D>>(lo), Eigen::Map<const Vec<D>>(hi), n)) return false;
   parallel_for(n, parallel_min_light, [&](std::ptrdiff_t i) { cells.assign(i, x_pred[i]); });
   cells.sort_assigned();
   std::vector<int>& order = cells.items_for_reorder();
@@ -82,7 +92,7 @@ bool predict_rebinned(Particles<D>& P, CellList<D>& cells, const std::vector<Vec
   parallel_for(n, parallel_min_light, [&](std::ptrdiff_t k) {
     const int o = order[k];
     order[k] = static_cast<int>(k);
-    predict_reordered<D, Sheared>(P, k, o, x_pred[o], half, images);
+    reorder_predicted<D, Sheared>(P, k, o, x_pred[o], &images);
   });
   P.swap_next();
   cells.mark_sorted_in_place();

@@ -1,7 +1,11 @@
 // Every material model a deck may name, and model lists as compile-time sets.
 #pragma once
+#include <algorithm>
 #include <string>
 #include <type_traits>
+
+#include "deck.h"
+#include "material.h"
 
 #include "materials/newtonian.h"
 #include "materials/ptt.h"
@@ -43,5 +47,23 @@ struct ModelList {
 
 // The models a deck may name in `materials[].model` (one line per model).
 using MaterialModels = ModelList<Newtonian, Ptt>;
+
+// The deck's materials, in order, into `table` (each with its index in the
+// configuration's model list and its model's own parameters); returns the
+// largest number of stress modes among them (0: none).
+template <class Models>
+int add_materials(const Deck& deck, MaterialTable& table) {
+  int modes = 0;
+  for (const MaterialSpec& m : deck.material_list()) {
+    Material mat{{m.rho0, m.c0, m.gamma, m.background_pressure, m.quadratic_eos}, m.viscosity, m.rho0 * m.viscosity,
+                 std::max(0, Models::index(m.model)), {}};
+    Models::visit(mat.model, [&](auto model) {
+      if constexpr (stress_modes_v<decltype(model)> > 0) decltype(model)::configure(m, mat);
+    });
+    modes = std::max(modes, mat.modes.count);
+    table.add(mat);
+  }
+  return modes;
+}
 
 }  // namespace sph

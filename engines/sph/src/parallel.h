@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <cstdlib>
+#include <vector>
 
 namespace sph {
 
@@ -47,6 +48,56 @@ void parallel_for(std::ptrdiff_t n, std::ptrdiff_t min_items, Body&& body) {
   } else {
     for (std::ptrdiff_t i = 0; i < n; ++i) body(i);
   }
+}
+
+// Inside a parallel region (par) or not: body(i) for i in [0, n) as a
+// worksharing loop of the enclosing region (static schedule, a barrier at
+// its end) when par, else as a plain loop.
+template <class Body>
+void for_each_index(bool par, std::ptrdiff_t n, Body&& body) {
+  if (par) {
+#pragma omp for schedule(static)
+    for (std::ptrdiff_t i = 0; i < n; ++i) body(i);
+  } else {
+    for (std::ptrdiff_t i = 0; i < n; ++i) body(i);
+  }
+}
+
+// One thread's partial result of a reduction, alone on its cache line.
+template <class T>
+struct alignas(64) ThreadPartial {
+  T value;
+};
+
+// Inside a parallel region (par) or not: body(i, partial) for i in [0, n),
+// each thread updating its own partial (from `init`; static schedule), then,
+// after the loop's barrier, the partials combined in thread order by
+// combine(total, partial); every thread returns the total. For max, min and
+// logical and (exact in any order) the result does not depend on the thread
+// count. `partials` has a slot per thread (sized before the region); a
+// region may use it once (a thread still combining would see the next loop's partials).
+template <class T, class Body, class Combine>
+T reduce_each_index(bool par, std::ptrdiff_t n, std::vector<ThreadPartial<T>>& partials, const T& init, Body&& body,
+                    Combine&& combine) {
+  T total = init;
+  if (!par) {
+    for (std::ptrdiff_t i = 0; i < n; ++i) body(i, total);
+    return total;
+  }
+  T& mine = partials[omp_get_thread_num()].value;
+  mine = init;
+#pragma omp for schedule(static)
+  for (std::ptrdiff_t i = 0; i < n; ++i) body(i, mine);
+  for (int t = 0; t < omp_get_num_threads(); ++t) combine(total, partials[t].value);
+  return total;
+}
+
+// The wall time now into `at`: by the master thread inside a parallel region
+// (par; after the barrier of the previous worksharing loop), else directly.
+inline void stamp_time(bool par, double& at) {
+  if (!par) at = omp_get_wtime();
+#pragma omp master
+  if (par) at = omp_get_wtime();
 }
 
 }  // namespace sph

@@ -25,22 +25,22 @@ namespace sph {
 // Which particles integrate a field: all of them, or those that change position (not fixed boundary).
 enum class Integrates : std::uint8_t { all, advecting };
 
-// One integrated field: value, rate d value/dt, start-of-step copy, second buffers of value and rate.
+// One integrated field: value, rate d value/dt, start-of-step copy, second buffers of the three.
 template <class T>
 struct Field {
   explicit Field(const char* name) : output(name) {}
   const char* output;  // frame dataset name
-  std::vector<T> value, rate, start, next_value, next_rate;
+  std::vector<T> value, rate, start, next_value, next_rate, next_start;
   template <class F>
   void each_array(F&& f) {
-    f(value), f(rate), f(start), f(next_value), f(next_rate);
+    f(value), f(rate), f(start), f(next_value), f(next_rate), f(next_start);
   }
 };
 
 template <int D>
 struct Particles {
   // -- integrated (value, rate, start-of-step copy); names are the frame datasets
-  std::vector<Vec<D>> x, x0, next_x;  // position m (rate: v, integrator.h), its start copy and second buffer
+  std::vector<Vec<D>> x, x0, next_x, next_x0;  // position m (rate: v, integrator.h), its start copy, second buffers
   Field<Vec<D>> vel{"velocities"};   // velocity m/s, rate dv/dt m/s^2
   Field<double> dens{"densities"};    // density kg/m^3, rate drho/dt kg/m^3/s
   Field<Mat<D>> stress{"stress"};     // deviatoric stress tau Pa, rate Pa/s (only when has_stress), frames (n, D*D) row-major
@@ -119,7 +119,7 @@ struct Particles {
 
   // Capacity for n particles in every array, so later growth up to n does not allocate.
   void reserve(std::size_t n) {
-    for (auto* a : {&x, &x0, &next_x, &v_noslip, &scratch_vec_}) a->reserve(n);
+    for (auto* a : {&x, &x0, &next_x, &next_x0, &v_noslip, &scratch_vec_}) a->reserve(n);
     for (auto* a : {&p, &c, &vol, &p_rho2}) a->reserve(n);
     for_integrated([n](auto& f, Integrates) { f.each_array([n](auto& a) { a.reserve(n); }); });
     for_carried([n](auto& a, auto& next) { a.reserve(n), next.reserve(n); });
@@ -131,14 +131,16 @@ struct Particles {
   // Size the second buffers for the current particle count (no allocation within the reserved capacity).
   void size_next() {
     const std::size_t n = size();
-    next_x.resize(n);
-    for_integrated([n](auto& f, Integrates) { f.next_value.resize(n), f.next_rate.resize(n); });
+    next_x.resize(n), next_x0.resize(n);
+    for_integrated([n](auto& f, Integrates) { f.next_value.resize(n), f.next_rate.resize(n), f.next_start.resize(n); });
     for_carried([n](auto&, auto& next) { next.resize(n); });
   }
-  // The second buffers become the persistent state (after a pass filled them).
+  // The second buffers become the state and the start-of-step copies (after a pass filled them).
   void swap_next() {
-    x.swap(next_x);
-    for_integrated([](auto& f, Integrates) { f.value.swap(f.next_value), f.rate.swap(f.next_rate); });
+    x.swap(next_x), x0.swap(next_x0);
+    for_integrated([](auto& f, Integrates) {
+      f.value.swap(f.next_value), f.rate.swap(f.next_rate), f.start.swap(f.next_start);
+    });
     for_carried([](auto& a, auto& next) { a.swap(next); });
   }
 
@@ -198,7 +200,7 @@ struct Particles {
   Particles& assign(P&& o) {
 #define SPH_TAKE(m) m = std::forward<P>(o).m
     const std::size_t cap = std::max(o.reserved_, o.x.capacity());
-    SPH_TAKE(x), SPH_TAKE(x0), SPH_TAKE(next_x), SPH_TAKE(vel), SPH_TAKE(dens), SPH_TAKE(stress);
+    SPH_TAKE(x), SPH_TAKE(x0), SPH_TAKE(next_x), SPH_TAKE(next_x0), SPH_TAKE(vel), SPH_TAKE(dens), SPH_TAKE(stress);
     SPH_TAKE(has_stress), SPH_TAKE(mode_stress), SPH_TAKE(modes), SPH_TAKE(tau_solvent), SPH_TAKE(next_tau_solvent);
     SPH_TAKE(mass), SPH_TAKE(kind), SPH_TAKE(id), SPH_TAKE(material);
     SPH_TAKE(next_mass), SPH_TAKE(next_kind), SPH_TAKE(next_id), SPH_TAKE(next_material);

@@ -14,7 +14,6 @@
 #pragma once
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -22,7 +21,9 @@
 #include "boundary_particles.h"
 #include "box_policy.h"
 #include "cell_list.h"
+#include "constitutive_rates.h"
 #include "deck.h"
+#include "extra_stress.h"
 #include "integrator.h"
 #include "kernel.h"
 #include "material.h"
@@ -33,6 +34,7 @@
 #include "physics_terms.h"
 #include "stages.h"
 #include "step_maxima.h"
+#include "verlet_skin.h"
 #include "wall_penalty.h"
 
 namespace sph {
@@ -57,16 +59,7 @@ class Simulation {
   Simulation(const Deck& deck, Particles<D> particles, WallPenalty<D> walls = {})
       : deck_(deck), P_(std::move(particles)), kernel_(deck.h), walls_(std::move(walls)),
         pairs_(P_, list_, kernel_, model_, materials_, shepard_) {
-    int modes = 0;
-    for (const MaterialSpec& m : deck.material_list()) {
-      Material mat{{m.rho0, m.c0, m.gamma, m.background_pressure, m.quadratic_eos}, m.viscosity, m.rho0 * m.viscosity,
-                   std::max(0, Models::index(m.model)), {}};
-      Models::visit(mat.model, [&](auto model) {
-        if constexpr (stress_modes_v<decltype(model)> > 0) decltype(model)::configure(m, mat);
-      });
-      modes = std::max(modes, mat.modes.count);
-      materials_.add(mat);
-    }
+    const int modes = add_materials<Models>(deck, materials_);
     const double eta2 = 0.01 * deck.h * deck.h;
     model_.morris.mu = materials_[0].mu;
     model_.morris.eta2 = eta2;
@@ -147,35 +140,11 @@ class Simulation {
     if constexpr (has(term::artificial_viscosity)) P_.c[i] = eos.sound_speed(rho);
     P_.vol[i] = P_.mass[i] / P_.rho[i];
     P_.p_rho2[i] = P_.p[i] / (P_.rho[i] * P_.rho[i]);
-    if constexpr (tensor && Models::any_modes)  // sigma / rho^2 = (-p I + tau) / rho^2 for eq. T1
-      P_.sigma_rho2[i] = (extra_stress(i) - P_.p[i] * Mat<D>::Identity()) / (P_.rho[i] * P_.rho[i]);
-    else if constexpr (tensor)
-      P_.sigma_rho2[i] = (P_.tau[i] - P_.p[i] * Mat<D>::Identity()) / (P_.rho[i] * P_.rho[i]);
+    if constexpr (tensor) P_.sigma_rho2[i] = stress_over_rho2<Models>(P_, i);  // eq. T1
   }
 
-  // The extra stress of particle i, Pa: its tau (single-stress models), the sum
-  // of its mode stresses and the solvent stress 2 eta_s D (PTT, materials/ptt.h eq. 3).
-  Mat<D> extra_stress(std::size_t i) const {
-    Mat<D> tau = Mat<D>::Zero();
-    if constexpr (Models::any_single_stress) tau += P_.tau[i];
-    if constexpr (Models::any_modes) {
-      tau += P_.tau_solvent[i];
-      const ModeStress<D>& s = P_.mode_stress.value[i];
-      for (int k = 0; k < s.cols(); ++k) tau += Eigen::Map<const Mat<D>>(s.col(k).data());
-    }
-    return tau;
-  }
-  // Volume average of the fluid's extra stress, Pa (sigma_xy of a Lees-Edwards cell is its (0, 1) entry).
-  Mat<D> mean_extra_stress() const {
-    Mat<D> sum = Mat<D>::Zero();
-    double volume = 0.0;
-    for (std::size_t i = 0; i < P_.size(); ++i)
-      if (P_.moves(i)) {
-        const double vol = P_.mass[i] / P_.rho[i];
-        sum += vol * extra_stress(i), volume += vol;
-      }
-    return volume > 0.0 ? Mat<D>(sum / volume) : sum;
-  }
+  // Volume average of the fluid's extra stress, Pa (extra_stress.h; sigma_xy of a Lees-Edwards cell is its (0, 1) entry).
+  Mat<D> mean_extra_stress() const { return sph::mean_extra_stress<Models>(P_); }
   const PeriodicImages<D>& images() const { return images_; }
   double time() const { return time_; }  // s, advanced by each step's dt
 
@@ -187,49 +156,60 @@ class Simulation {
     maxima_.valid = false;  // acc changes
     if (list_stale_) build_list();
     ++times_.evaluations;
-    const std::ptrdiff_t n = P_.size();
     double t[4];
-    auto body = [&](bool par) {
-      stamp(par, t[0]);
-      for_particles(par, n, [this](std::ptrdiff_t i) { start_rates_at(i); });
-      if constexpr (has(term::morris_viscosity)) {
-        list_.for_blocks_coloured(par, [this](int k) { pairs_.no_slip_sums_of_block(k); });
-        for_particles(par, n, [this](std::ptrdiff_t i) { no_slip_velocity_at(i); });
-      }
-      stamp(par, t[1]);
-      list_.for_blocks_coloured(par, [this](int k) { pairs_.rates_of_block(k); });
-      stamp(par, t[2]);
-      for_particles(par, n, [this](std::ptrdiff_t i) { close_rates_at(i); });
-    };
-    if (go_parallel(n, parallel_min_heavy) && list_.blocks() > 1) {
+    run_region([&](bool par) {
+      stamp_time(par, t[0]);
+      evaluate_and_correct(par, false, 0.0, t);
+    });
+    bodies_.reduce(P_);
+    times_.eos += t[1] - t[0], times_.pairs += t[2] - t[1], times_.particle += omp_get_wtime() - t[2];
+  }
+
+ private:
+  // body(par) once, in a parallel region when the gather pays for it (and the list has blocks to share).
+  template <class Body>
+  void run_region(Body&& body) {
+    if (go_parallel(P_.size(), parallel_min_heavy) && list_.blocks() > 1) {
+      const std::size_t threads = omp_get_max_threads();
+      if (moved_partials_.size() < threads) moved_partials_.resize(threads), maxima_partials_.resize(threads);
 #pragma omp parallel
       body(true);
     } else {
       body(false);
     }
-    bodies_.reduce(P_);
-    t[3] = omp_get_wtime();
-    times_.eos += t[1] - t[0];
-    times_.pairs += t[2] - t[1];
-    times_.particle += t[3] - t[2];
   }
-
- private:
-  // The time now into `at` (by the master thread, after the barrier of the previous loop when parallel).
-  static void stamp(bool par, double& at) {
-    if (!par) at = omp_get_wtime();
-#pragma omp master
-    if (par) at = omp_get_wtime();
-  }
-  // body(i) for i < n: a worksharing loop of the enclosing region when par, else a plain loop.
-  template <class Body>
-  static void for_particles(bool par, std::ptrdiff_t n, Body&& body) {
-    if (par) {
-#pragma omp for schedule(static)
-      for (std::ptrdiff_t i = 0; i < n; ++i) body(i);
-    } else {
-      for (std::ptrdiff_t i = 0; i < n; ++i) body(i);
+  // The gather (its start pass unless `started`: EOS and zeroed sums), then
+  // close_rates; with dt > 0 fused per particle with the corrector,
+  // post_correct and the step maxima (into maxima_). The per-body reduction
+  // (NoBodies: none yet) would need its own pass between the two. Stamps
+  // t[1] (EOS, no-slip velocities done), t[2] (pairs done), t[3] (the end); t[0] is the caller's.
+  void evaluate_and_correct(bool par, bool started, double dt, double* t) {
+    const std::ptrdiff_t n = P_.size();
+    if (!started) for_each_index(par, n, [this](std::ptrdiff_t i) { start_rates_at(i); });
+    if constexpr (has(term::morris_viscosity)) {
+      list_.for_blocks_coloured(par, [this](int k) { pairs_.no_slip_sums_of_block(k); });
+      for_each_index(par, n, [this](std::ptrdiff_t i) { no_slip_velocity_at(i); });
     }
+    stamp_time(par, t[1]);
+    list_.for_blocks_coloured(par, [this](int k) { pairs_.rates_of_block(k); });
+    stamp_time(par, t[2]);
+    if (dt <= 0.0) {
+      for_each_index(par, n, [this](std::ptrdiff_t i) { close_rates_at(i); });
+      return;
+    }
+    StepMaxima m = reduce_each_index(
+        par, n, maxima_partials_, StepMaxima{},
+        [&](std::ptrdiff_t i, StepMaxima& part) {
+          close_rates_at(i);
+          correct_at(P_, i, dt);
+          if constexpr (tensor) post_correct_material<Models>(P_, materials_, i);
+          take_maxima(P_, materials_, i, part.worst_rho, part.v2, part.a2, part.finite);
+        },
+        combine_maxima);
+    m.valid = true;
+    if (!par) maxima_ = m, t[3] = omp_get_wtime();
+#pragma omp master
+    if (par) maxima_ = m, t[3] = omp_get_wtime();
   }
 
   // Gather, per particle: EOS and its sums set to zero (and, with Morris, its Shepard sums).
@@ -245,8 +225,8 @@ class Simulation {
   }
   // close_rates of particle a: body force and wall penalty of a fluid
   // particle; the velocity gradient G M^-1 (eq. T2) and the constitutive rate
-  // d tau/dt of its material; an outlet particle keeps the density it left
-  // with (a zero-gradient outlet).
+  // d tau/dt of its material (constitutive_rates.h); an outlet particle keeps
+  // the density it left with (a zero-gradient outlet).
   void close_rates_at(std::ptrdiff_t a) {
     if (P_.moves(a)) {
       if (body_force_on_) model_.body.add(P_.acc[a]);
@@ -255,22 +235,7 @@ class Simulation {
         images_.wrap(xa);  // between list builds positions may lie up to skin/2 outside the box
         P_.acc[a] += walls_.force(xa) / P_.mass[a];
       }
-      if constexpr (tensor) {
-        Mat<D>& L = P_.grad_v[a];
-        const Mat<D>& M = P_.shape[a];
-        const double scale = M.cwiseAbs().maxCoeff();
-        if (correct_gradient_ && std::abs(M.determinant()) > 1e-6 * std::pow(scale, D)) L = L * M.inverse();
-        const Material& mat = materials_[P_.material[a]];
-        Models::visit(mat.model, [&](auto model) {
-          using M = decltype(model);
-          if constexpr (stress_modes_v<M> > 0) {
-            M::mode_rates(mat, L, P_.mode_stress.value[a], P_.mode_stress.rate[a]);
-            P_.tau_solvent[a] = M::solvent_stress(mat, L);
-          } else if constexpr (Models::any_single_stress) {
-            model.stress_rate(mat, L, P_.tau[a], P_.dtau[a]);
-          }
-        });
-      }
+      if constexpr (tensor) close_constitutive_rates<Models>(P_, materials_, a, correct_gradient_);
     } else if (P_.kind[a] == Kind::outlet) {
       P_.drho[a] = 0.0;
     }
@@ -289,14 +254,7 @@ class Simulation {
   // Time step of eq. 13 extended by the viscous and force criteria, from the
   // rates just computed: min(cfl h/(c0 + v_max), viscous h^2/nu, force sqrt(h/a_max))
   // (largest c0 and nu over the materials).
-  double adaptive_dt() {
-    const StepMaxima& m = maxima();
-    const double h = deck_.h;
-    double dt = deck_.cfl * h / (materials_.c0_max() + std::sqrt(m.v2));
-    if constexpr (has(term::morris_viscosity)) dt = std::min(dt, deck_.viscous_factor * h * h / materials_.nu_max());
-    if (m.a2 > 0.0) dt = std::min(dt, deck_.force_factor * std::sqrt(h / std::sqrt(m.a2)));
-    return dt;
-  }
+  double adaptive_dt() { return adaptive_time_step(maxima(), deck_, materials_, has(term::morris_viscosity)); }
 
   // Forget the maxima the corrector took (call after adding, removing or
   // changing particles: indices change, the list is rebuilt before the next evaluation).
@@ -309,85 +267,58 @@ class Simulation {
     if (!rates_ready_) compute_rates();
   }
 
-  // Predictor (integrator.h): in place when no particle has moved skin/2
-  // since the list was built; otherwise, after a pass of predicted positions
-  // (wrapped, with their bounding box), binned and reordered by cell in the
-  // same pass (predict_rebinned) and the list rebuilt. Between builds positions
-  // are not wrapped (the list holds the images): up to skin/2 outside the box.
-  // False if the particles spread over too many cells (blow-up).
-  bool predict(double dt) {
-    const double t_start = omp_get_wtime();
+  // One full step (stages.h): one rate evaluation, at the half step. When
+  // the Verlet list stays valid (no particle moved skin/2 since its build,
+  // verlet_skin.h) the whole step is one parallel region: the predictor in
+  // place fused with the EOS and the zeroed sums of the gather, the pair
+  // loop, then close_rates fused with the corrector, post_correct and the
+  // step maxima (the stability check and the next adaptive step read them).
+  // Otherwise the predicted state is binned and reordered by cell
+  // (rebin_predicted) and the list rebuilt before the evaluation. Between
+  // builds positions are not wrapped (the list holds the images): up to
+  // skin/2 outside the box. Displacements are handed to `crossed` (x_old, dx,
+  // volume; x_old wrapped) for flow-rate planes. False if the predicted
+  // particles spread over too many cells (blow-up).
+  template <class Crossed>
+  bool step(double dt, Crossed&& crossed) {
+    ensure_rates();
     const double half = 0.5 * dt;
     const std::ptrdiff_t n = P_.size();
-    x_pred_.resize(n);
-    double lo[D], hi[D], moved2 = 0.0;
-    for (int d = 0; d < D; ++d) lo[d] = std::numeric_limits<double>::infinity(), hi[d] = -lo[d];
-    const bool check = !list_stale_;  // x_build_ matches the particles
+    const bool check = !list_stale_;  // x_build_ and the list match the particles
     double strain = 0.0, y_mid = 0.0;  // Lees-Edwards: strain since the build, mid-plane of the cell
     if constexpr (sheared) {
       images_.update(time_ + half);  // the images at the half step
       strain = images_.strain_since_build(), y_mid = 0.5 * (images_.box().lo[1] + images_.box().hi[1]);
     }
-    auto position = [this, half, check, strain, y_mid](std::ptrdiff_t i, double* lo, double* hi, double& moved2) {
-      Vec<D> x = P_.x[i];
-      if (P_.advects(i)) {  // fixed boundary particles stay
-        x += half * P_.v[i];
-        if constexpr (sheared) {  // displacement beside the affine shear (eq. LE3)
-          Vec<D> moved = x - x_build_[i];
-          moved[0] -= strain * (x_build_[i][1] - y_mid);
-          if (check) moved2 = std::max(moved2, moved.squaredNorm());
-        } else if (check) {
-          moved2 = std::max(moved2, (x - x_build_[i]).squaredNorm());
-        }
-        images_.wrap(x);
-      }
-      x_pred_[i] = x;
-      for (int d = 0; d < D; ++d) lo[d] = std::min(lo[d], x[d]), hi[d] = std::max(hi[d], x[d]);
+    const double allowed = allowed_displacement<sheared>(kernel_.support_radius(), skin_, strain);
+    rates_ready_ = true, maxima_.valid = false;
+    ++times_.evaluations;
+    double t[5];  // stamps: start, predicted, no-slip velocities, pairs, corrected
+    auto region = [&](bool par) {
+      stamp_time(par, t[0]);
+      const double moved = reduce_each_index(
+          par, n, moved_partials_, 0.0,
+          [&](std::ptrdiff_t i, double& m) {
+            predict_in_place(P_, i, half);
+            if (!check) return;  // rebuilt anyway (and shepard_ may not match the particles)
+            if (P_.advects(i)) m = std::max(m, displacement_since_build<D, sheared>(P_.x[i], x_build_[i], strain, y_mid).squaredNorm());
+            start_rates_at(i);
+          },
+          [](double& total, double part) { total = std::max(total, part); });
+      stamp_time(par, t[1]);
+      if (!check || moved > allowed * allowed) return;  // the same on every thread
+      evaluate_and_correct(par, true, dt, t + 1);  // sets maxima_ (valid)
     };
-    if (go_parallel(n, parallel_min_light)) {
-#pragma omp parallel for reduction(min : lo[:D]) reduction(max : hi[:D], moved2) schedule(static)
-      for (std::ptrdiff_t i = 0; i < n; ++i) position(i, lo, hi, moved2);
-    } else {
-      for (std::ptrdiff_t i = 0; i < n; ++i) position(i, lo, hi, moved2);
+    run_region(region);
+    times_.predict += t[1] - t[0];
+    if (!maxima_.valid) {  // the region stopped after the predictor: the list must be rebuilt
+      if (!rebin()) return false;
+      run_region([&](bool par) {
+        stamp_time(par, t[1]);
+        evaluate_and_correct(par, false, dt, t + 1);
+      });
     }
-    // Moved less than skin/2. Under Lees-Edwards (eq. LE3): with u_i the
-    // displacement of particle i beside the affine shear, x_i - x_i^b - s (y_i^b - y_mid) e_x
-    // (s the strain since the build), a pair vector (images included) is
-    // r = A r^b + u_a - u_b, A = I + s e_x e_y^T; an unlisted pair (|r^b| >= R,
-    // the list range) stays beyond the support 2h while 2 max |u| <= R / (1 + |s|) - 2h
-    // (y_mid, any constant, cancels in u_a - u_b; the mid-plane keeps |u| small in a
-    // cell sheared about its middle).
-    double allowed = 0.5 * skin_;
-    if constexpr (sheared) {
-      const double support = kernel_.support_radius();
-      allowed = std::max(0.0, 0.5 * ((support + skin_) / (1.0 + std::abs(strain)) - support));
-    }
-    if (check && moved2 <= allowed * allowed) {
-      parallel_for(n, parallel_min_light, [this, half](std::ptrdiff_t i) { predict_in_place(P_, i, half); });
-      times_.predict += omp_get_wtime() - t_start;
-      return true;
-    }
-    const double t_bin = omp_get_wtime();
-    times_.predict += t_bin - t_start;
-    if (!predict_rebinned<D, sheared>(P_, cells_, x_pred_, lo, hi, half, &images_)) return false;
-    build_list();
-    times_.neighbours += omp_get_wtime() - t_bin;
-    return true;
-  }
-
-  // Corrector with the mid-step rates (integrator.h), then post_correct; in
-  // the same pass, the maxima that the stability check and the next adaptive
-  // step read. Displacements are handed to `crossed` (x_old, dx, volume)
-  // before wrapping, for flow-rate planes. Positions are not wrapped here
-  // (see predict); x_old is handed wrapped.
-  template <class Crossed>
-  void correct(double dt, Crossed&& crossed) {
-    const double t_start = omp_get_wtime();
-    const std::ptrdiff_t n = P_.size();
-    maxima_ = sweep_maxima(P_, materials_, [this, dt](std::ptrdiff_t i) {
-      correct_at(P_, i, dt);
-      if constexpr (tensor) post_correct_at(i);
-    });
+    times_.eos += t[2] - t[1], times_.pairs += t[3] - t[2], times_.correct += t[4] - t[3];
     time_ += dt;
     if constexpr (!std::is_same_v<std::decay_t<Crossed>, NoCrossings>)
       for (std::ptrdiff_t i = 0; i < n; ++i)
@@ -396,17 +327,6 @@ class Simulation {
           images_.wrap(x_old);
           crossed(x_old, Vec<D>(dt * (P_.v0[i] + 0.5 * dt * P_.acc[i])), P_.mass[i] / P_.rho[i]);
         }
-    times_.correct += omp_get_wtime() - t_start;
-  }
-
-  // One full step: one rate evaluation, at the half step. False if the
-  // predicted particles spread over too many cells (blow-up).
-  template <class Crossed>
-  bool step(double dt, Crossed&& crossed) {
-    ensure_rates();
-    if (!predict(dt)) return false;
-    compute_rates();
-    correct(dt, crossed);
     return true;
   }
 
@@ -416,25 +336,23 @@ class Simulation {
   StabilityReport check_stability() { return stability_report(maxima(), deck_.max_density_deviation, materials_.c0_max()); }
 
   // max |rho/rho0 - 1| over the fluid particles (rho0 of each particle's material).
-  double max_density_deviation() const {
-    double worst = 0.0;
-    for (std::size_t i = 0; i < P_.size(); ++i)
-      if (P_.moves(i)) worst = std::max(worst, std::abs(P_.rho[i] / materials_.eos(P_.material[i]).rho0 - 1.0));
-    return worst;
-  }
+  double max_density_deviation() const { return sph::max_density_deviation(P_, materials_); }
 
  private:
-  // post_correct of particle i: its material's return mapping and failure (models with stress).
-  void post_correct_at(std::ptrdiff_t i) {
-    if constexpr (!Models::any_single_stress) return;
-    if (!P_.advects(i)) return;
-    const Material& mat = materials_[P_.material[i]];
-    Models::visit(mat.model, [&](auto model) { model.post_correct(mat, P_.tau[i]); });
-  }
   // The maxima of the current state: the corrector's, or taken now.
   const StepMaxima& maxima() {
     if (!maxima_.valid) maxima_ = sweep_maxima(P_, materials_, [](std::ptrdiff_t) {});
     return maxima_;
+  }
+
+  // After the predictor in place: bin and reorder the predicted state by
+  // cell (rebin_predicted), rebuild the list. False on a blow-up.
+  bool rebin() {
+    const double t_start = omp_get_wtime();
+    if (!rebin_predicted<D, sheared>(P_, cells_, x_pred_, images_)) return false;
+    build_list();
+    times_.neighbours += omp_get_wtime() - t_start;
+    return true;
   }
 
   // The Verlet list of the current (binned, sorted) positions.
@@ -464,7 +382,9 @@ class Simulation {
   bool correct_gradient_ = true;
   bool rates_ready_ = false;  // acc, drho hold the rates of the last evaluation
   StepMaxima maxima_;         // of the current state when valid
-  std::vector<Vec<D>> x_pred_;   // predicted positions by index before the reorder (scratch of predict)
+  std::vector<Vec<D>> x_pred_;   // wrapped predicted positions by index before the reorder (scratch of rebin)
+  std::vector<ThreadPartial<double>> moved_partials_;  // per thread: largest squared displacement (step)
+  std::vector<ThreadPartial<StepMaxima>> maxima_partials_;  // per thread: the corrector's maxima
   std::vector<Vec<D>> x_build_;  // positions at the last Verlet list build
   double skin_ = 0.0;
   double time_ = 0.0;  // s

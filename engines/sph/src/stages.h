@@ -27,13 +27,15 @@ struct StabilityReport {
 };
 
 // Wall time per stage of the steps so far (s), and neighbour-list builds.
+// In a step whose Verlet list stays valid, the predictor pass also does the
+// gather's EOS and zeroing, and close_rates runs fused with the corrector.
 struct StageTimes {
-  double predict = 0.0;     // predictor and displacement check
+  double predict = 0.0;     // predictor, displacement check (and EOS, zeroed sums when the list stays)
   double neighbours = 0.0;  // binning, reordering by cell, Verlet list build
-  double eos = 0.0;         // gather: EOS (eq. 6), zeroing the sums, no-slip velocities
+  double eos = 0.0;         // gather: EOS (eq. 6) and zeroed sums after a rebuild; no-slip velocities
   double pairs = 0.0;       // gather: the pair loop (eqs. 7, 9 or T1, 10-12, T2)
-  double particle = 0.0;    // close_rates: per-particle terms (body force, walls, constitutive rates)
-  double correct = 0.0;     // corrector, post_correct and step maxima
+  double particle = 0.0;    // close_rates alone (rates of the initial state; compute_rates)
+  double correct = 0.0;     // close_rates (body force, walls, constitutive rates), corrector, post_correct, maxima
   long builds = 0;          // Verlet list builds
   long evaluations = 0;     // rate evaluations
 };

@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <string>
 
+#include "deck.h"
 #include "material.h"
 #include "parallel.h"
 #include "particles.h"
@@ -32,6 +33,13 @@ inline void take_maxima(const Particles<D>& P, const MaterialTable& mats, std::p
   a2 = std::max(a2, P.acc[i].squaredNorm());
 }
 
+// The maxima of two sets of particles (exact in any order).
+inline void combine_maxima(StepMaxima& total, const StepMaxima& part) {
+  total.worst_rho = std::max(total.worst_rho, part.worst_rho);
+  total.v2 = std::max(total.v2, part.v2), total.a2 = std::max(total.a2, part.a2);
+  total.finite = total.finite && part.finite;
+}
+
 // update(i) for every particle, then its part of the maxima (one pass, on the threads).
 template <int D, class Update>
 StepMaxima sweep_maxima(const Particles<D>& P, const MaterialTable& mats, Update&& update) {
@@ -49,6 +57,26 @@ StepMaxima sweep_maxima(const Particles<D>& P, const MaterialTable& mats, Update
     for (std::ptrdiff_t i = 0; i < n; ++i) body(i, worst_rho, v2, a2, finite);
   }
   return {worst_rho, v2, a2, finite, true};
+}
+
+// Time step of eq. 13 extended by the viscous (with Morris viscosity) and
+// force criteria, s: min(cfl h/(c0 + v_max), viscous h^2/nu, force sqrt(h/a_max))
+// from the maxima m (largest c0 and nu over the materials).
+inline double adaptive_time_step(const StepMaxima& m, const Deck& deck, const MaterialTable& mats, bool viscous) {
+  const double h = deck.h;
+  double dt = deck.cfl * h / (mats.c0_max() + std::sqrt(m.v2));
+  if (viscous) dt = std::min(dt, deck.viscous_factor * h * h / mats.nu_max());
+  if (m.a2 > 0.0) dt = std::min(dt, deck.force_factor * std::sqrt(h / std::sqrt(m.a2)));
+  return dt;
+}
+
+// max |rho/rho0 - 1| over the fluid particles (rho0 of each particle's material).
+template <int D>
+double max_density_deviation(const Particles<D>& P, const MaterialTable& mats) {
+  double worst = 0.0;
+  for (std::size_t i = 0; i < P.size(); ++i)
+    if (P.moves(i)) worst = std::max(worst, std::abs(P.rho[i] / mats.eos(P.material[i]).rho0 - 1.0));
+  return worst;
 }
 
 // NaN anywhere, or a fluid particle whose density deviates from its rho0 by
