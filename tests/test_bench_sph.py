@@ -60,8 +60,9 @@ def test_summary_ratios():
 
 @needs_sph
 def test_repeats_keep_the_fastest_run(tmp_path):
-    rows = run_bench(tmp_path, steps_2d=5, steps_3d=1, threads=(1,), with_pysph=False, repeats=2, with_lammps=False)
-    assert [r.repeats for r in rows] == [2, 2]
+    rows = run_bench(tmp_path, steps_2d=5, steps_3d=1, threads=(1,), with_pysph=False, repeats=2, with_lammps=False,
+                     steps_shear=1)
+    assert [r.repeats for r in rows] == [2] * 5  # two dam breaks, three shear cells
     assert all(r.status == "ok" and r.steps in (5, 1) for r in rows)
 
 
@@ -71,9 +72,11 @@ def test_each_two_thread_run_once_per_wait():
 
 @needs_sph
 def test_smoke_run_of_ten_steps(tmp_path):
-    rows = run_bench(tmp_path, steps_2d=10, steps_3d=2, threads=(1,), with_pysph=False, with_lammps=False)
-    assert [r.scene for r in rows] == ["bench_dam_break_2d", "bench_dam_break_3d"]
-    two, three = rows
+    rows = run_bench(tmp_path, steps_2d=10, steps_3d=2, threads=(1,), with_pysph=False, with_lammps=False,
+                     steps_shear=2)
+    assert [r.scene for r in rows] == ["bench_dam_break_2d", "bench_dam_break_3d", "bench_shear_cell_newtonian",
+                                       "bench_shear_cell_ptt_1_mode", "bench_shear_cell_ptt_5_modes"]
+    two, three = rows[:2]
     assert two.status == "ok" and two.steps == 10 and two.fluid == 2278
     assert three.status == "ok" and three.steps == 2 and three.fluid == 16000
     assert 15 < two.neighbours < 25  # 2h = 2.6 dx in 2D: about pi 2.6^2 - 1 inside the column

@@ -112,6 +112,8 @@ def _names(case) -> list[str]:
     if case.case.kind == "sph_flow":
         return [i.name for group in (case.blocks, case.walls, case.inlets, case.outlets, case.output.probes,
                                      case.output.flow_planes) for i in group]
+    if case.case.kind == "rheometer":
+        return []  # a rheometer case names nothing that reaches the deck (its material and block are "sample")
     return [n for n in case.materials if n != "rigid"]
 
 

@@ -82,8 +82,8 @@ BAD_MATERIALS = [
     (["blocks.0.material='oil'"], "blocks[0].material = 'oil' (lower) is not a [[materials]] name"),
     (_materials("{name='heavy',model='newtonian',density=500.0,viscosity=1e-6}") +
      ["blocks.1.material='heavy'", "blocks.3.material='heavy'"], "materials[1].name = 'heavy' is used twice"),
-    (_materials("{name='light',model='ptt',density=500.0,viscosity=1e-6}"),
-     "unknown material model 'ptt'; allowed: newtonian"),
+    (_materials("{name='light',model='bingham',density=500.0,viscosity=1e-6}"),
+     "unknown material model 'bingham'; allowed: newtonian, ptt"),
     (_materials("{name='light',model='newtonian',viscosity=1e-6}"), "materials[1].density: required key is missing"),
     (_materials("{name='light',model='newtonian',density=500.0}"), "materials[1].viscosity (light) is missing"),
     (["fluid.density=1000.0"], "fluid.density is given with [[materials]]"),

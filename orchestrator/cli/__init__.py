@@ -20,7 +20,8 @@ from orchestrator.errors import OrchestratorError
 from orchestrator.signals import Interrupted
 
 # Modules under orchestrator.cli, in the order --help lists them; study registers study, status and report.
-COMMAND_MODULES = ("run", "analyze", "study", "verify", "calibrate", "compare", "bench", "doctor", "export")
+COMMAND_MODULES = ("run", "analyze", "study", "verify", "calibrate", "rheometry", "compare", "bench", "doctor",
+                   "export")
 
 
 def _parser() -> argparse.ArgumentParser:

@@ -77,3 +77,40 @@ def mean_neighbours(positions, kind, support: float, periodic_box=None) -> float
     fluid = positions[np.asarray(kind) == 0]
     counts = tree.query_ball_point(fluid, support, return_length=True)
     return float(np.mean(counts) - 1.0)
+
+
+#: The material models of the shear-cell rows: name -> (model, modes ((lambda s, eta Pa s), ...)).
+SHEAR_CELL_MODELS = {
+    "newtonian": ("newtonian", ()),
+    "ptt_1_mode": ("ptt", ((1.0, 10.0),)),
+    "ptt_5_modes": ("ptt", ((0.01, 2.0), (0.1, 2.0), (1.0, 2.0), (3.0, 2.0), (10.0, 2.0))),
+}
+
+
+def shear_cell_case(steps: int, threads: int, model: str = "newtonian", cells: int = 100,
+                    thread_wait: str = "passive") -> dict:
+    """A 2D Lees-Edwards cell of cells x cells particles (1 m, dx = 0.01 m, h = 1.3 dx) in steady shear 1/s, of
+    one fluid of zero-shear viscosity 10 Pa s: Newtonian (Morris, nu = 0.01 m^2/s) or PTT (SHEAR_CELL_MODELS,
+    epsilon 0.1); rho0 1000 kg/m^3, c0 10 m/s, fixed dt = 1.3e-4 s (0.1 h / c0). The same particles and step for
+    every model, so the rows compare the cost of the material model alone."""
+    kind, modes = SHEAR_CELL_MODELS[model]
+    size, dx = 1.0, 1.0 / cells
+    material = {"name": "fluid", "model": kind, "density": 1000.0, "sound_speed": 10.0}
+    if kind == "newtonian":
+        material["viscosity"] = 0.01
+    else:
+        material.update(epsilon=0.1, modes=[{"relaxation_time": lam, "viscosity": eta} for lam, eta in modes])
+    return {
+        "case": {"kind": "sph_flow", "name": f"bench_shear_cell_{model}", "engine": "sph",
+                 "description": f"2D Lees-Edwards cell, {cells} x {cells} particles, {model}"},
+        "domain": {"dimension": 2, "lo": [0.0, 0.0], "hi": [size, size], "periodic": [0, 1]},
+        "fluid": {"max_speed": 1.0},
+        "materials": [material],
+        "physics": {"terms": ["morris_viscosity"] if kind == "newtonian" else []},
+        "blocks": [{"name": "cell", "kind": "fluid", "material": "fluid", "lo": [0.0, 0.0], "hi": [size, size]}],
+        "lees_edwards": {"shear_rate": 1.0},
+        "numerics": {"dx": dx, "h_over_dx": 1.3, "dt": 0.1 * 1.3 * dx / 10.0, "max_steps": steps,
+                     "threads": threads, "thread_wait": thread_wait},
+        "simulation": {"duration": 10.0},
+        "output": {"frame_interval": 10.0},
+    }

@@ -15,6 +15,11 @@ h = 1.3 dx (Wendland C2, support 2h), c0 = 10 sqrt(2 g 2 m), alpha = 0.1,
 gravity. Our run goes through the sph_flow case and the sph adapter, with the
 same dx, h, kernel, fluid particle count and number of steps. Both codes
 evaluate the rates once per step (predict-evaluate-correct).
+
+The material models side by side: one 2D Lees-Edwards shear cell (100 x 100
+particles, steady shear) of a Newtonian fluid (Morris viscosity), a PTT
+fluid of 1 mode and of 5 modes (bench_scenes.shear_cell_case), the same
+particles and step, on the same thread counts.
 """
 
 from __future__ import annotations
@@ -41,7 +46,14 @@ from orchestrator.workflows import bench_lammps
 from orchestrator.workflows.base import Workflow
 from orchestrator.workflows.bench_lammps import report_lines
 from orchestrator.workflows.bench_lammps import summary as lammps_summary
-from orchestrator.workflows.bench_scenes import GRAVITY, BenchRow, dam_break_3d_case, mean_neighbours  # noqa: F401
+from orchestrator.workflows.bench_scenes import (  # noqa: F401
+    GRAVITY,
+    SHEAR_CELL_MODELS,
+    BenchRow,
+    dam_break_3d_case,
+    mean_neighbours,
+    shear_cell_case,
+)
 
 #: PySPH's dam_break_2d defaults (pysph 1.0b2): spacing, h/dx, column, tank, wall layers.
 PYSPH_DX, PYSPH_HDX = 0.03, 1.3
@@ -187,13 +199,14 @@ def _pysph_version() -> str:
 
 def run_bench(out_dir: Path | None = None, steps_2d: int = 2000, steps_3d: int = 200, threads=THREADS,
               with_pysph: bool | None = None, on_done=None, repeats: int = 1,
-              with_lammps: bool | None = None) -> list[BenchRow]:
+              with_lammps: bool | None = None, steps_shear: int = 300) -> list[BenchRow]:
     """Every timed run: 2D and 3D dam breaks on one thread and on each larger thread count with each
     wait (WAITS), then PySPH's 2D dam break if importable.
 
     repeats: each run is made this many times, the rounds one after the other (so a slow spell of a
     shared or virtual machine hits every configuration alike), and the fastest of each is kept, as
-    timeit does (its `repeats` field says of how many). with_pysph: None = when importable;
+    timeit does (its `repeats` field says of how many). steps_shear: steps of the shear-cell rows (Newtonian,
+    PTT 1 mode, PTT 5 modes). with_pysph: None = when importable;
     on_done(row) is called after each run. with_lammps: our 3D block (bench_lammps) always, LAMMPS on
     the block and the 3D dam break when True (None = when importable; False = neither, nor our block).
     """
@@ -208,6 +221,11 @@ def run_bench(out_dir: Path | None = None, steps_2d: int = 2000, steps_3d: int =
             for n, wait in _runs(threads):
                 case = make(steps, n, thread_wait=wait if n > 1 else "passive")
                 path = folder / f"dam_break_{name}_{n}t{'' if n == 1 else '_' + wait}"
+                configs.append(lambda case=case, path=path: run_ours(case, path))
+        for model in SHEAR_CELL_MODELS:
+            for n, wait in _runs(threads):
+                case = shear_cell_case(steps_shear, n, model, thread_wait=wait if n > 1 else "passive")
+                path = folder / f"shear_cell_{model}_{n}t{'' if n == 1 else '_' + wait}"
                 configs.append(lambda case=case, path=path: run_ours(case, path))
         if with_pysph:
             configs.append(lambda: run_pysph(steps_2d, folder / "pysph_dam_break_2d"))
@@ -269,6 +287,12 @@ def summary(rows: list[BenchRow]) -> dict:
         out["ratio_wall"] = ours.particle_steps_per_s / theirs.particle_steps_per_s
         out["ratio_wall_fluid"] = out["ratio_wall"] * fluid
 
+    newtonian = by.get(("bench_shear_cell_newtonian", 1, "-"))
+    for model in SHEAR_CELL_MODELS:
+        row = by.get((f"bench_shear_cell_{model}", 1, "-"))
+        if newtonian and row and model != "newtonian":
+            out[f"shear_cell_{model}_over_newtonian"] = row.particle_steps_per_s / newtonian.particle_steps_per_s
+
     out.update(lammps_summary(by))
     return out
 
@@ -301,6 +325,10 @@ def format_report(rows: list[BenchRow]) -> str:
         elif key.startswith("speedup"):
             lines.append(f"{key.removeprefix('speedup_2_threads_')}: 2 threads spinning briefly when idle (spin, "
                          f"for an otherwise idle machine) run {value:.2f} x as fast as 1")
+    for model in SHEAR_CELL_MODELS:
+        if f"shear_cell_{model}_over_newtonian" in s:
+            lines.append(f"shear cell, 1 thread: {model.replace('_', ' ')} runs {s[f'shear_cell_{model}_over_newtonian']:.2f} "
+                         "x the particle-steps/s of the Newtonian fluid (same particles and step)")
     if "ratio_per_core" in s:
         lines.append(f"2D dam break, 1 thread, sph / PySPH: {s['ratio_per_core']:.2f} per CPU second "
                      f"({s['ratio_per_core_fluid']:.2f} counting fluid particles only), {s['ratio_wall']:.2f} per "

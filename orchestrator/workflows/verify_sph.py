@@ -1,7 +1,8 @@
-"""`orchestrator verify sph`: the SPH verification scenes (the sph_flow cases in cases/verification/sph_*.toml) on
-the sph executable, in parallel; each scene's run.h5 is checked by kinds/sph_flow/checks.py against its closed form,
-series solution or measurement. One table (the rows of `verify dem`) and a PNG of every scene's profiles, pressures,
-fronts and wall forces.
+"""`orchestrator verify sph`: the SPH verification scenes (the sph_flow and rheometer cases in
+cases/verification/sph_*.toml) on the sph executable, in parallel; each scene's run.h5 is checked by
+kinds/sph_flow/checks.py or kinds/rheometer/checks.py against its closed form, series solution or measurement. A
+rheometer scene with a [sweep] runs once per frequency (shear.omega set to each). One table (the rows of
+`verify dem`) and a PNG of every scene's profiles, pressures, fronts, wall forces and stresses.
 """
 
 from __future__ import annotations
@@ -13,7 +14,8 @@ from pathlib import Path
 from orchestrator.case import load_case
 from orchestrator.engines import get_engine
 from orchestrator.errors import EngineNotFound, OrchestratorError
-from orchestrator.kinds.sph_flow.checks import evaluate
+from orchestrator.kinds.rheometer import checks as rheometer_checks
+from orchestrator.kinds.sph_flow.checks import evaluate as evaluate_flow
 from orchestrator.kinds.sph_flow.checks_base import ENGINE, UNITS, check_row
 from orchestrator.plots import save_pyplot_figure
 from orchestrator.run import run_case
@@ -29,6 +31,15 @@ class SphSceneRun(CheckedRun):
     """One SPH scene's run: status, check rows (verify.ROW_KEYS plus source and note) and what to plot."""
 
     plot: dict = field(default_factory=dict)  # title, xlabel, ylabel, lines: [(x, y, fmt, label)]
+
+
+#: The case kinds `verify sph` runs, and the checks of each.
+KIND_CHECKS = {"sph_flow": evaluate_flow, "rheometer": rheometer_checks.evaluate}
+
+
+def evaluate(case, run):
+    """The check rows and plots of a scene, by its kind (KIND_CHECKS)."""
+    return KIND_CHECKS[case.case.kind](case, run)
 
 
 # ---------------------------------------------------------------------------------------------------- runs
@@ -69,9 +80,26 @@ def run_scene(case_file: Path, out_dir: Path, overrides=(), timeout_s: float | N
 
 
 def scene_files(directory: Path | None = None) -> list[Path]:
-    """The SPH verification scenes (case kind sph_flow) in directory (default cases/verification)."""
+    """The SPH verification scenes (case kinds sph_flow and rheometer) in directory (default cases/verification),
+    sorted by name."""
 
-    return kind_files(directory, kind="sph_flow")
+    files = []
+    for kind in KIND_CHECKS:
+        try:
+            files += kind_files(directory, kind=kind)
+        except OrchestratorError:
+            if kind == "sph_flow":
+                raise
+    return sorted(files, key=lambda path: path.name)
+
+
+def scene_jobs(path: Path, overrides=(), preset: str | None = None) -> list[tuple[str, tuple[str, ...]]]:
+    """(run folder name, overrides) of each run of a scene: one, or one per [sweep] frequency of a rheometer scene
+    (shear.omega set to it)."""
+    sweep = getattr(load_case(path, preset=preset, overrides=overrides).model, "sweep", None)
+    if sweep is None:
+        return [(path.stem, tuple(overrides))]
+    return [(f"{path.stem}/omega_{w:g}", (*overrides, f"shear.omega={w!r}")) for w in sweep.frequencies]
 
 
 def run_verification(out_dir=None, cases_dir=None, overrides=(), workers: int | None = None,
@@ -87,10 +115,14 @@ def run_verification(out_dir=None, cases_dir=None, overrides=(), workers: int | 
 
     def prepare():
         load_scenes(files, overrides, preset)
+        for path in files:
+            for _, extra in scene_jobs(path, overrides, preset):
+                load_case(path, preset=preset, overrides=extra)
 
     def jobs(folder: Path):
         get_engine(ENGINE).check_available()  # after the folder: a bad --out is named first
-        return [(run_scene, (path, folder / path.stem, overrides, timeout_s, preset)) for path in files]
+        return [(run_scene, (path, folder / name, extra, timeout_s, preset)) for path in files
+                for name, extra in scene_jobs(path, overrides, preset)]
 
     return Workflow("verify-sph", jobs, prepare).run(out_dir, workers, on_done)[1]
 
@@ -104,7 +136,7 @@ def default_out_dir(root: Path = Path("runs")) -> Path:
 def unit_of(quantity: str) -> str:
     """SI unit of a row's quantity ('u_profile(t=0.1 s)' -> 'm/s')."""
     base = quantity.split("(")[0].split("[")[0]
-    return UNITS.get(base, "")
+    return UNITS.get(base, rheometer_checks.UNITS.get(base, ""))
 
 
 def plot_scenes(runs: list[SphSceneRun], path: Path) -> Path:

@@ -24,6 +24,7 @@ from orchestrator.case.limits import check_sph
 from orchestrator.kinds.sph_flow.case_materials import (Material, check_materials, largest_c0_and_viscosity,
                                                        run_materials)
 from orchestrator.kinds.sph_flow.case_open import Inlet, Outlet
+from orchestrator.kinds.sph_flow.case_shear import LeesEdwards, check_lees_edwards
 from orchestrator.kinds.sph_flow.case_parts import (  # noqa: F401  (the parts are part of this module's API)
     BOX_SIDES,
     LATTICE_TOLERANCE,
@@ -58,6 +59,8 @@ class SphFlowCase(Frozen):
     walls: tuple[Wall, ...] = ()
     inlets: tuple[Inlet, ...] = ()
     outlets: tuple[Outlet, ...] = ()
+    lees_edwards: LeesEdwards | None = Field(None, description="a sheared periodic cell (case_shear.py): steady "
+                                             "shear_rate 1/s, or oscillatory amplitude and omega rad/s")
     numerics: SphNumerics
     simulation: SphSimulation
     output: SphOutput
@@ -78,6 +81,7 @@ class SphFlowCase(Frozen):
         self._check_walls()
         self._check_patches()
         self._check_times()
+        check_lees_edwards(self)
 
         check_sph(self, *largest_c0_and_viscosity(run_materials(self)))
         return self

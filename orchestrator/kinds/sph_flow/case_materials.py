@@ -19,6 +19,28 @@ from [fluid] when the case has no [[materials]]). SI units (kg/m^3, m^2/s, m/s, 
 
 Across two materials the Morris term (eq. 10) takes the harmonic mean of their dynamic viscosities rho0 nu
 (engines/sph/src/material.h).
+
+A viscoelastic material is a multi-mode linear Phan-Thien-Tanner fluid (Nutto et al., seed 002, eqs. 1-9;
+engines/sph/src/materials/ptt.h), its modes in the key names `orchestrator calibrate maxwell` writes, so a fitted
+fragment's [[material.modes]] tables paste in as [[materials.modes]]:
+
+    [[materials]]
+    name = "mf20"
+    model = "ptt"
+    density = 1000.0              # kg/m^3
+    epsilon = 0.1                 # -, extensibility (0: Oldroyd-B / UCM)
+    solvent_viscosity = 0.0       # Pa s
+    eos = "quadratic"             # "tait" (eq. 6 of seed 000, default) or seed 002's p = c0^2 rho^2 / (2 rho0)
+
+    [[materials.modes]]
+    relaxation_time = 0.5         # lambda_i, s
+    viscosity = 738.0             # eta_i, Pa s (a dynamic viscosity)
+
+Conventions: per mode f_i tau_i + lambda_i tau_i^nabla = 2 eta_i D with D = (grad v + grad v^T)/2 (the paper's
+eq. 5 has no 1/2; with it eta_i stays a viscosity: lambda_i -> 0 gives tau_i = 2 eta_i D), and each mode has its
+own f_i = 1 + (lambda_i epsilon / eta_i) tr tau_i. The sph executable compiles PTT alone, with artificial
+viscosity, or in a Lees-Edwards cell: no Morris viscosity and no Newtonian material beside it, and a fixed
+numerics.dt (its adaptive step does not know the relaxation and viscous limits of the modes).
 """
 
 from __future__ import annotations
@@ -27,22 +49,39 @@ from dataclasses import dataclass
 
 from pydantic import Field, field_validator
 
-from orchestrator.case.common import Frozen, Name, Positive
+from orchestrator.case.common import Frozen, Name, NonNegative, Positive
 from orchestrator.kinds.sph_flow.case_parts import Finite
 
 #: Material models of the sph executable (engines/sph/src/material_models.h).
-MATERIAL_MODELS = ("newtonian",)
+MATERIAL_MODELS = ("newtonian", "ptt")
+
+#: Equations of state of the sph executable: Tait (seed 000 eq. 6) and seed 002's quadratic p = c0^2 rho^2/(2 rho0).
+EQUATIONS_OF_STATE = ("tait", "quadratic")
+
+#: Most PTT modes a material may have (engines/sph max_stress_modes).
+MAX_MODES = 8
+
+#: Keys only a ptt material takes.
+PTT_KEYS = ("modes", "epsilon", "solvent_viscosity")
 
 #: Keys of [fluid] that each [[materials]] table takes instead when the case has materials.
 MATERIAL_KEYS = ("density", "viscosity", "sound_speed", "gamma", "background_pressure")
 
 
+class PttMode(Frozen):
+    """One [[materials.modes]] table of a ptt material: a Maxwell mode (the keys `calibrate maxwell` writes)."""
+
+    relaxation_time: Positive = Field(description="relaxation time lambda_i, s")
+    viscosity: Positive = Field(description="mode viscosity eta_i, Pa s (G_i = eta_i / lambda_i)")
+
+
 class Material(Frozen):
-    """One [[materials]] table: a weakly compressible fluid with its own reference density, viscosity and Tait
-    EOS (eq. 6); blocks name it. Keys and units are those of [fluid]."""
+    """One [[materials]] table: a weakly compressible fluid with its own reference density, viscosity and
+    equation of state; blocks name it. Keys and units are those of [fluid]; a ptt material has modes instead of
+    a (Morris) viscosity."""
 
     name: Name = Field(description="identifier, named by blocks[].material")
-    model: str = Field(description="constitutive model: newtonian")
+    model: str = Field(description="constitutive model: newtonian or ptt")
     density: Positive = Field(description="reference density rho0, kg/m^3")
     viscosity: Positive | None = Field(
         None, description="kinematic viscosity nu, m^2/s; given exactly when physics.terms has morris_viscosity"
@@ -52,6 +91,19 @@ class Material(Frozen):
     )
     gamma: float = Field(7.0, ge=1, description="exponent of the Tait equation of state, -")
     background_pressure: Finite = Field(0.0, description="background pressure p_B of eq. 6, Pa")
+    eos: str = Field("tait", description="equation of state: tait (seed 000 eq. 6) or quadratic (seed 002 eq. 9, "
+                                         "p = c0^2 rho^2 / (2 rho0) + p_B; gamma is then not used)")
+    modes: tuple[PttMode, ...] = Field((), description="ptt: the Maxwell modes, 1 to 8 [[materials.modes]] tables")
+    epsilon: NonNegative | None = Field(None, description="ptt: extensibility parameter epsilon of f_i, - (0: "
+                                                          "Oldroyd-B / UCM; default 0)")
+    solvent_viscosity: NonNegative | None = Field(None, description="ptt: solvent viscosity eta_s, Pa s (default 0)")
+
+    @field_validator("eos")
+    @classmethod
+    def _known_eos(cls, value: str) -> str:
+        if value not in EQUATIONS_OF_STATE:
+            raise ValueError(f"unknown equation of state {value!r}; allowed: {', '.join(EQUATIONS_OF_STATE)}")
+        return value
 
     @field_validator("model")
     @classmethod
@@ -63,7 +115,8 @@ class Material(Frozen):
 
 @dataclass(frozen=True)
 class RunMaterial:
-    """A material as the run uses it: name, model, rho0 kg/m^3, c0 m/s, gamma -, p_B Pa, nu m^2/s (or None)."""
+    """A material as the run uses it: name, model, rho0 kg/m^3, c0 m/s, gamma -, p_B Pa, nu m^2/s (or None),
+    eos ('tait' or 'quadratic'); ptt: modes ((lambda_i s, eta_i Pa s), ...), epsilon -, eta_s Pa s."""
 
     name: str
     model: str
@@ -72,6 +125,25 @@ class RunMaterial:
     gamma: float
     background_pressure: float
     viscosity: float | None
+    eos: str = "tait"
+    modes: tuple[tuple[float, float], ...] = ()
+    epsilon: float = 0.0
+    solvent_viscosity: float = 0.0
+
+    def deck(self) -> dict:
+        """The material as the deck's JSON object (engines/sph/README.md, `materials`), SI units."""
+        item = {"name": self.name, "model": self.model, "rho0": float(self.rho0), "c0": float(self.c0)}
+        if self.eos != "tait":
+            item["eos"] = self.eos
+        else:
+            item["gamma"] = float(self.gamma)
+        item["background_pressure"] = float(self.background_pressure)
+        if self.viscosity is not None:
+            item["viscosity"] = float(self.viscosity)
+        if self.model == "ptt":
+            item.update(epsilon=float(self.epsilon), solvent_viscosity=float(self.solvent_viscosity),
+                        modes=[{"lambda": float(lam), "eta": float(eta)} for lam, eta in self.modes])
+        return item
 
     @property
     def mu(self) -> float:
@@ -86,7 +158,9 @@ def run_materials(case) -> tuple[RunMaterial, ...]:
         return (RunMaterial("fluid", "newtonian", f.density, f.c0, f.gamma, f.background_pressure, f.viscosity),)
     speed = 10.0 * case.fluid.max_speed
     return tuple(RunMaterial(m.name, m.model, m.density, m.sound_speed if m.sound_speed is not None else speed,
-                             m.gamma, m.background_pressure, m.viscosity) for m in case.materials)
+                             m.gamma, m.background_pressure, m.viscosity, m.eos,
+                             tuple((mode.relaxation_time, mode.viscosity) for mode in m.modes),
+                             m.epsilon or 0.0, m.solvent_viscosity or 0.0) for m in case.materials)
 
 
 def largest_c0_and_viscosity(materials) -> tuple[float, float | None]:
@@ -126,7 +200,14 @@ def check_materials(case) -> None:
         if m.name in names:
             raise ValueError(f"materials[{i}].name = {m.name!r} is used twice; names must be unique")
         names.add(m.name)
-        if morris and m.viscosity is None:
+        model = getattr(m, "model", "newtonian")
+        given = [key for key in PTT_KEYS if getattr(m, key, None) not in (None, ())]
+        if model == "ptt":
+            _check_ptt(case, i, m)
+        elif given:
+            raise ValueError(f"materials[{i}].{given[0]} ({m.name}) is a key of a ptt material; this one is "
+                             f"{model}: remove it or set model = \"ptt\"")
+        elif morris and m.viscosity is None:
             raise ValueError(f"materials[{i}].viscosity ({m.name}) is missing; physics.terms has 'morris_viscosity'")
         if m.viscosity is not None and not morris:
             raise ValueError(f"materials[{i}].viscosity ({m.name}) is given but 'morris_viscosity' is not in "
@@ -145,3 +226,29 @@ def check_materials(case) -> None:
         if inlet.material is not None and inlet.material not in names:
             raise ValueError(f"inlets[{i}].material = {inlet.material!r} is not a [[materials]] name; allowed: "
                              f"{', '.join(sorted(names))}")
+
+
+def _check_ptt(case, i: int, m: Material) -> None:
+    """A ptt material against what the sph executable compiles (engines/sph/src/configurations.h)."""
+    where = f"materials[{i}]"
+    if not m.modes:
+        raise ValueError(f"{where}.modes ({m.name}) is missing; a ptt material needs 1 to {MAX_MODES} "
+                         "[[materials.modes]] tables (relaxation_time s, viscosity Pa s)")
+    if len(m.modes) > MAX_MODES:
+        raise ValueError(f"{where}.modes ({m.name}) has {len(m.modes)} modes; allowed: 1 to {MAX_MODES}")
+    if m.viscosity is not None:
+        raise ValueError(f"{where}.viscosity ({m.name}) is not a key of a ptt material (its viscosities are the "
+                         "modes' and solvent_viscosity, Pa s); remove it")
+    if "morris_viscosity" in case.physics.terms:
+        raise ValueError(f"{where} ({m.name}) is a ptt material and physics.terms has 'morris_viscosity'; the sph "
+                         "executable runs PTT without the Morris term (its solvent_viscosity is the viscous part)")
+    others = [o.name for o in case.materials if o.model != "ptt"]
+    if others:
+        raise ValueError(f"{where} ({m.name}) is a ptt material beside the {others[0]!r} material of another "
+                         "model; the sph executable runs PTT materials only with each other")
+    if m.eos == "quadratic" and "gamma" in m.model_fields_set:
+        raise ValueError(f"{where}.gamma ({m.name}) is the Tait exponent; the quadratic eos does not use it: "
+                         "remove it")
+    if case.numerics.dt is None:
+        raise ValueError(f"numerics.dt is missing: a ptt material ({where}, {m.name}) needs a fixed time step "
+                         "(the adaptive step does not know the modes' relaxation and viscous limits)")

@@ -343,6 +343,7 @@ CHECK_QUANTITIES = {
     "hydrostatic": ("pressure_profile", "particle_pressure", "spurious_speed", "simulated_time"),
     "surge_front": ("surge_front_Z",),
     "penalty_column": ("eq14_wall_force", "min_distance_to_wall", "floor_force"),
+    "oldroyd_b_startup": ("centreline_velocity",),
     "penalty_incline": ("eq14_wall_force", "min_distance_to_wall", "slide_distance", "distance_to_plane",
                         "plane_force"),
 }

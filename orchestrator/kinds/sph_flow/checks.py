@@ -31,6 +31,7 @@ from orchestrator.kinds.sph_flow.checks_base import (
 )
 from orchestrator.kinds.sph_flow.checks_layers import check_two_layer_couette, check_two_layer_poiseuille
 from orchestrator.kinds.sph_flow.checks_open import check_annulus_laminar, check_hagen_poiseuille
+from orchestrator.kinds.sph_flow.checks_viscoelastic import check_oldroyd_b_startup
 from orchestrator.kinds.sph_flow.checks_walls import check_penalty_column, check_penalty_incline
 from orchestrator.reference.dam_break_data import SURGE_FRONT_DATA, dimensionless_front, dimensionless_time
 from orchestrator.reference.sph_flows import (
@@ -221,6 +222,7 @@ CHECKS = {
     "two_layer_couette": check_two_layer_couette,
     "hagen_poiseuille": check_hagen_poiseuille,
     "annulus_laminar": check_annulus_laminar,
+    "oldroyd_b_startup": check_oldroyd_b_startup,
 }
 
 

@@ -55,10 +55,8 @@ def deck_context(scene, threads: int = 1) -> dict:
     wall = physics.wall_penalty
     materials = None
     if case.materials:  # the deck's `materials` list replaces its top-level fluid keys
-        materials = [json.dumps({"name": m.name, "model": m.model, "rho0": float(m.rho0), "c0": float(m.c0),
-                                 "gamma": float(m.gamma), "background_pressure": float(m.background_pressure),
-                                 **({} if m.viscosity is None else {"viscosity": float(m.viscosity)})})
-                     for m in scene.materials]
+        materials = [json.dumps(m.deck()) for m in scene.materials]
+    le = case.lees_edwards
     return {
         "materials": materials,
         "dimension": case.dimension,
@@ -77,6 +75,7 @@ def deck_context(scene, threads: int = 1) -> dict:
         "meshes": [{"name": json.dumps(name), "group": json.dumps("/" + name)} for name in scene.meshes],
         "wall": None if wall is None else {"range": num(wall.range), "s": num(wall.s), "psi": num(wall.psi)},
         "periodic": periodic,
+        "lees_edwards": None if le is None else json.dumps(le.deck()),
         "inlets": [_patch_json(p, velocity=p.velocity, layers=p.layers, **p.deck_options()) for p in case.inlets],
         "outlets": [_patch_json(p, layers=p.layers, **p.deck_options()) for p in case.outlets],
         "dt": None if numerics.dt is None else num(numerics.dt),
@@ -144,6 +143,11 @@ SERIES_DESCRIPTIONS = {
     "wall_force_": "penalty force of the fluid on the wall mesh (eq. 14)",
     "kinetic_energy": "kinetic energy of the fluid",
     "max_density_deviation": "max |rho/rho0 - 1| over the fluid",
+    "shear_stress": "volume average over the fluid of the extra stress tau_xy (PTT materials; in a Lees-Edwards "
+                    "cell the sample's shear stress)",
+    "first_normal_stress_difference": "volume average over the fluid of tau_xx - tau_yy (PTT materials)",
+    "shear_strain": "Lees-Edwards strain gamma(t) of the cell",
+    "shear_rate": "Lees-Edwards shear rate gamma_dot(t) of the cell",
 }
 #: Root attributes of out.h5 copied into run.h5 (engine name -> run.h5 name).
 ENGINE_ATTRS = {"n_steps": "n_steps", "dt_mean": "dt", "t_final": "simulated_time", "wall_time_s": "engine_wall_time_s",
@@ -185,6 +189,9 @@ def read_sph_output(workdir: Path, scene=None) -> Result:
                 if not all(name in group for name in FRAME_ARRAYS):
                     break  # a frame cut off while it was written
                 arrays = {name: np.asarray(group[name][()]) for name in FRAME_ARRAYS}
+                if "mode_stress" in group:  # PTT runs: (n, modes, D, D) Pa, tau_i of every mode
+                    d = arrays["positions"].shape[1]
+                    arrays["mode_stress"] = np.asarray(group["mode_stress"][()]).reshape(len(arrays["ids"]), -1, d, d)
                 if material is not None:
                     arrays["material"] = _frame_material(material, arrays["ids"])
                 arrays["step"] = np.int64(group.attrs.get("step", -1))

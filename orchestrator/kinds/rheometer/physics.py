@@ -1,0 +1,69 @@
+"""Mass scaling, sound speed and time step of the rheometer's sample (SI units).
+
+The slowest modes of a paste relax in seconds while an explicit step of its viscous, elastic modes is a
+microsecond at the material's density. The moduli of a linear material in a quasi-static sample do not depend on
+its density, so the density is chosen per frequency:
+
+    criterion (numerics.quasi_static = N): the shear wave crosses the sample within 1/N of the period T = 2 pi/omega,
+        L / c_s = T / N  with  c_s = sqrt(|G*(omega)| / rho)   =>   rho = |G*(omega)| (T / (N L))^2
+
+(|G*| = sqrt(G'^2 + G''^2) of the modes and the solvent at omega, eqs. 18-19; steady shear takes omega = |gamma_dot|).
+Inertia then enters the sample's response as (omega L / c_s)^2 = (2 pi / N)^2 (0.1 at N = 20), and the moduli must
+not change when N grows (docs/rheometry.md shows N = 20, 40, 80).
+
+The sound speed is sound_speed_ratio times the fastest shear wave, sqrt(max(G_0, |G*|) / rho) with G_0 = sum G_i
+(the modes' instantaneous modulus), and at least 10 x the cell's edge speed (weakly compressible SPH). The step is
+the smallest of cfl h / c0, relaxation_factor x the shortest relaxation time (the explicit stress update) and,
+with a solvent, viscous_factor h^2 rho / eta_s.
+
+Rest pressure (numerics.rest_pressure_ratio = r): the pressure at the reference density is P0 = r max(G_0, |G*|)
+(the EOS is shifted by p_B so that p(rho0) = P0). The sph executable's tensor path (eqs. T1-T2) has a zero-energy
+mode: rows of particles moving alternately +u and -u along x leave the kernel-corrected velocity gradient, hence
+the stress, unchanged, and nothing in a PTT Lees-Edwards cell damps it. With P0 = 0 it grows from round-off and
+the UCM moduli of ucm_one_mode.toml come out 1.7 % off; a uniform pressure gives the particle lattice a shear
+stiffness of order P0 that holds the mode down (P0 = G_0: 0.1 %, 10 G_0: 0.01 %).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class SampleNumerics:
+    """What the criteria give: density rho kg/m^3, sound speed c0 m/s, time step dt s, the limit that sets dt,
+    the shear-wave speed c_s m/s at the shear's frequency and the largest speed of the cell's edges m/s."""
+
+    density: float
+    sound_speed: float
+    dt: float
+    dt_limit: str
+    shear_wave_speed: float
+    edge_speed: float
+    rest_pressure: float
+
+
+def sample_numerics(case) -> SampleNumerics:
+    """Density, sound speed and step of a rheometer case (the criteria of this module)."""
+    sample, material, shear, numerics = case.sample, case.material, case.shear, case.numerics
+    omega = shear.omega if shear.oscillatory else abs(shear.shear_rate)
+    modulus = abs(material.complex_modulus(omega))
+    period = 2.0 * math.pi / omega
+    rho = modulus * (period / (numerics.quasi_static * sample.size)) ** 2
+    wave = math.sqrt(modulus / rho)
+    fastest = math.sqrt(max(material.instantaneous_modulus, modulus) / rho)
+    edge = 0.5 * shear.peak_rate * sample.size
+    c0 = max(numerics.sound_speed_ratio * fastest, 10.0 * edge)
+    h = sample.h_over_dx * sample.dx
+    limits = {"cfl h / c0": numerics.cfl * h / c0,
+              "relaxation": numerics.relaxation_factor * min(m.relaxation_time for m in material.modes)}
+    if material.solvent_viscosity > 0.0:
+        limits["viscous (solvent)"] = numerics.viscous_factor * h * h * rho / material.solvent_viscosity
+    which = min(limits, key=limits.get)
+    dt = limits[which]
+    # a whole number of steps per record: the series then samples the cycles evenly
+    record = period / numerics.samples_per_cycle if shear.oscillatory else shear.duration / 200.0
+    dt = record / math.ceil(record / dt * (1.0 - 1e-12))
+    rest = numerics.rest_pressure_ratio * max(material.instantaneous_modulus, modulus)
+    return SampleNumerics(rho, c0, dt, which, wave, edge, rest)
