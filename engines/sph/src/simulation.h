@@ -48,6 +48,8 @@ class Simulation {
   static constexpr bool has(unsigned t) { return Model::has(t); }
   static constexpr bool tensor = Models::any_stress;  // momentum in the tensor form (eq. T1)
   static constexpr bool sheared = has(term::sheared);  // Lees-Edwards images (box_policy.h)
+  // No-slip velocities of boundary particles (Morris term; tensor path: eq. T2 and the wall stress, eq. W1).
+  static constexpr bool no_slip = has(term::morris_viscosity) || tensor;
 
   // Cells of half the list range (5^D stencil) test fewer far pairs than cells
   // of the full range (3^D), and two layers of them make a block of the list.
@@ -162,7 +164,7 @@ class Simulation {
     auto body = [&](bool par) {
       stamp_time(par, t[0]);
       for_each_index(par, n, [this](std::ptrdiff_t i) { start_rates_at(i); });
-      if constexpr (has(term::morris_viscosity)) {
+      if constexpr (no_slip) {
         list_.for_blocks_coloured(par, [this](int k) { pairs_.no_slip_sums_of_block(k); });
         for_each_index(par, n, [this](std::ptrdiff_t i) { no_slip_velocity_at(i); });
       }
@@ -190,10 +192,11 @@ class Simulation {
     equation_of_state_at(i);
     P_.acc[i].setZero();
     P_.drho[i] = 0.0;
-    if constexpr (has(term::morris_viscosity)) {
+    if constexpr (no_slip) {
       P_.v_noslip[i].setZero();  // the Shepard sum of the fluid velocities around a boundary particle
       shepard_[i] = 0.0;
     }
+    if constexpr (tensor) clear_wall_stress<Models>(P_, i);  // its sum of the fluid stresses (eq. W1)
     if constexpr (tensor) P_.grad_v[i].setZero(), P_.shape[i].setZero();
   }
   // close_rates of particle a: body force and wall penalty of a fluid
@@ -216,7 +219,12 @@ class Simulation {
 
  public:
   // No-slip velocity of a fixed boundary particle (boundary_particles.h).
-  void no_slip_velocity_at(std::ptrdiff_t b) { no_slip_velocity(P_, shepard_, b); }
+  // Tensor configurations: also its extra stress (eq. W1) and so its sigma / rho^2 (eq. T1).
+  void no_slip_velocity_at(std::ptrdiff_t b) {
+    no_slip_velocity(P_, shepard_, b);
+    if constexpr (tensor)
+      if (P_.kind[b] == Kind::boundary) wall_stress<Models>(P_, shepard_, b), equation_of_state_at(b);
+  }
   // A particle of mass m appears (sign +1) or disappears (-1) at x (boundary_particles.h).
   void boundary_density_event(const Vec<D>& x, double m, double sign) {
     Vec<D> xj = x;
