@@ -165,8 +165,10 @@ class Simulation {
       stamp_time(par, t[0]);
       for_each_index(par, n, [this](std::ptrdiff_t i) { start_rates_at(i); });
       if constexpr (no_slip) {
-        list_.for_blocks_coloured(par, [this](int k) { pairs_.no_slip_sums_of_block(k); });
-        for_each_index(par, n, [this](std::ptrdiff_t i) { no_slip_velocity_at(i); });
+        if (has(term::morris_viscosity) || non_fluid_) {  // tensor path: only with walls or buffers
+          list_.for_blocks_coloured(par, [this](int k) { pairs_.no_slip_sums_of_block(k); });
+          for_each_index(par, n, [this](std::ptrdiff_t i) { no_slip_velocity_at(i); });
+        }
       }
       stamp_time(par, t[1]);
       list_.for_blocks_coloured(par, [this](int k) { pairs_.rates_of_block(k); });
@@ -193,10 +195,12 @@ class Simulation {
     P_.acc[i].setZero();
     P_.drho[i] = 0.0;
     if constexpr (no_slip) {
-      P_.v_noslip[i].setZero();  // the Shepard sum of the fluid velocities around a boundary particle
-      shepard_[i] = 0.0;
+      if (has(term::morris_viscosity) || non_fluid_) {  // the no-slip pass runs (compute_rates)
+        P_.v_noslip[i].setZero();  // the Shepard sum of the fluid velocities around a boundary particle
+        shepard_[i] = 0.0;
+        if constexpr (tensor) clear_wall_stress<Models>(P_, i);  // its sum of the fluid stresses (eq. W1)
+      }
     }
-    if constexpr (tensor) clear_wall_stress<Models>(P_, i);  // its sum of the fluid stresses (eq. W1)
     if constexpr (tensor) P_.grad_v[i].setZero(), P_.shape[i].setZero();
   }
   // close_rates of particle a: body force and wall penalty of a fluid
@@ -366,6 +370,7 @@ class Simulation {
     list_.build(cells_, P_.x, P_.kind, kernel_.support_radius() + skin_, walls_together_);
     x_build_.assign(P_.x.begin(), P_.x.end());
     shepard_.resize(P_.size());
+    if constexpr (tensor) non_fluid_ = std::any_of(P_.kind.begin(), P_.kind.end(), [](Kind k) { return k != Kind::fluid; });
     list_stale_ = false;
     ++times_.builds;
   }
@@ -384,6 +389,7 @@ class Simulation {
   NoBodies bodies_;
   bool body_force_on_ = false, walls_on_ = false;
   bool walls_together_ = false;  // every fixed boundary particle has the same velocity
+  bool non_fluid_ = true;  // tensor path: a particle is not fluid (the no-slip pass runs), at the last list build
   bool correct_gradient_ = true;
   bool rates_ready_ = false;  // acc, drho hold the rates of the last evaluation
   StepMaxima maxima_;         // of the current state when valid
