@@ -115,7 +115,7 @@ def test_dam_break_check_compares_over_the_measured_range():
                                              "surge_front_Z[martin_moyce_1952_a2.25in]"}
 
 
-#: Checks that fail today, with the largest error accepted until they are fixed (none now).
+#: Checks that fail today, with the largest error accepted until they are fixed.
 KNOWN_FAILURES: dict[tuple[str, str], float] = {
     # 3D open boundaries at 6 (pipe) and 5 (annulus gap) particles: the boundary-particle walls let the flow slip
     # (full runs: pipe profile 2.4 %, gradient 5.8 % low; annulus profile 15 %, gradient 14 % low; issue 14)
@@ -123,10 +123,6 @@ KNOWN_FAILURES: dict[tuple[str, str], float] = {
     ("sph_pipe_hagen_poiseuille", "pressure_gradient"): 0.09,
     ("sph_annulus_laminar", "u_profile"): 0.2,
     ("sph_annulus_laminar", "pressure_gradient"): 0.2,
-    # Oldroyd-B start-up in a channel (Waters & King): the engine's tensor path has no wall shear stress from its
-    # boundary particles (their mode stresses stay 0) and a row zig-zag mode the stress does not see; the flow
-    # slips and accelerates past the series (quick run, t = 0.5 s: 148 % of the steady speed; full run 268 %)
-    ("sph_oldroyd_b_poiseuille", "centreline_velocity"): 2.0,
 }
 
 

@@ -42,6 +42,7 @@ using Configurations = std::tuple<                           //
     Configuration<config::N, config::morris | config::sheared>,               // Newtonian Lees-Edwards cell
     Configuration<config::P, 0>,                                              // PTT viscoelastic fluid (seed 002)
     Configuration<config::P, config::av>,                                     //   with artificial viscosity
-    Configuration<config::P, config::sheared>>;                               // PTT Lees-Edwards cell (rheometer)
+    Configuration<config::P, config::sheared>,                                // PTT Lees-Edwards cell (rheometer)
+    Configuration<config::P, config::morris>>;  // PTT whose solvent viscosity is the Morris term (walled channels)
 
 }  // namespace sph

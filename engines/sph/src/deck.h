@@ -103,6 +103,7 @@ class MaterialKeys {
   // Required exactly when the physics term `bit` (named `term`) is on; 0 otherwise.
   double positive_with_term(const std::string& key, unsigned bit, const std::string& term) const;
   const std::string& path() const { return path_; }
+  bool term_on(unsigned bit) const { return (terms_ & bit) != 0; }  // physics term `bit` is in the deck
 
  private:
   const nlohmann::json& j_;

@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "boundary_particles.h"
 #include "kernel.h"
 #include "material.h"
 #include "neighbour_list.h"
@@ -54,7 +55,8 @@ class PairLoop {
   }
 
   // Shepard sums of the fluid velocity around the fixed boundary particles
-  // (for their no-slip velocity), over the fluid-boundary pairs of block k.
+  // (for their no-slip velocity), over the fluid-boundary pairs of block k;
+  // tensor configurations: also of the fluid's extra stress (eq. W1).
   void no_slip_sums_of_block(int k) const {
     using List = NeighbourList<D>;
     const std::uint32_t* const e = list_.entries(k);
@@ -74,6 +76,7 @@ class PairLoop {
         const int wall = a_fluid ? b : a, fluid = a_fluid ? a : b;
         P_.v_noslip[wall] += w * P_.v[fluid];
         shepard_[wall] += w;
+        if constexpr (tensor) add_wall_stress<Models>(P_, wall, fluid, w);  // eq. W1 (boundary_particles.h)
       }
     }
   }
@@ -249,7 +252,7 @@ class PairLoop {
     const double inv_rho_a = 1.0 / rho_a, c_a = has(term::artificial_viscosity) ? c[a] : 0.0;
     const double* const mu_row = materials_.pair_mu_table() + mat[a] * materials_.size();
     Vec<D> vns_a = Vec<D>::Zero();
-    if constexpr (has(term::morris_viscosity)) vns_a = v_noslip[a];
+    if constexpr (has(term::morris_viscosity) || tensor) vns_a = v_noslip[a];
     Mat<D> S_a = Mat<D>::Zero(), G_a = Mat<D>::Zero(), M_a = Mat<D>::Zero();
     if constexpr (tensor) S_a = sigma_rho2[a];
     Vec<D> acc_a = Vec<D>::Zero();
@@ -272,8 +275,12 @@ class PairLoop {
       if constexpr (BMoves) drho[b] += rho_b * vol_a * Fvr;
       else drho[b] += m_a * Fvr;
       if constexpr (tensor) {
-        // Eq. T2 for both particles: -F V v_ab (x) r_ab and -F V r_ab (x) r_ab.
-        const Mat<D> vr_outer = v_ab * r.transpose(), rr_outer = r * r.transpose();
+        // Eq. T2 for both particles: -F V v_ab (x) r_ab and -F V r_ab (x) r_ab; a fixed
+        // boundary particle enters with its no-slip velocity (boundary_particles.h).
+        Vec<D> v_ab_grad = v_ab;
+        if constexpr (AMoves && !BMoves) v_ab_grad = va - v_noslip[b] - jump;
+        if constexpr (!AMoves && BMoves) v_ab_grad = vns_a - v[b] - jump;
+        const Mat<D> vr_outer = v_ab_grad * r.transpose(), rr_outer = r * r.transpose();
         G_a.noalias() -= (F * vol[b]) * vr_outer, M_a.noalias() -= (F * vol[b]) * rr_outer;
         grad_v[b].noalias() -= (F * vol_a) * vr_outer, shape[b].noalias() -= (F * vol_a) * rr_outer;
       }

@@ -1,16 +1,10 @@
 // The weakly compressible SPH solver for one dimension and one compiled
-// configuration (configurations.h: pair terms and material models).
-//
-// One step runs the stages of stages.h (predict, gather, close_rates, bodies,
-// correct, post_correct).
-//
-// The pair loop runs over a Verlet half list (neighbour_list.h) block colour
-// after block colour, so every particle receives its contributions in an
-// order that does not depend on the OpenMP schedule (bitwise identical
-// results on any thread count). Images across the box come from the image
-// policy (box_policy.h). Fixed boundary particles keep position and velocity
-// and evolve their density; inlet and outlet buffer particles do the same but
-// move at their velocity.
+// configuration (configurations.h). One step runs the stages of stages.h. The
+// pair loop visits a Verlet half list (neighbour_list.h) in block colours, so
+// every particle receives its contributions in an order that does not depend
+// on the OpenMP schedule (bitwise identical results on any thread count).
+// Images come from box_policy.h. Fixed boundary particles keep position and
+// velocity and evolve their density; inlet/outlet buffers move at their velocity.
 #pragma once
 #include <algorithm>
 #include <cmath>
@@ -47,6 +41,8 @@ class Simulation {
   static constexpr bool has(unsigned t) { return Model::has(t); }
   static constexpr bool tensor = Models::any_stress;  // momentum in the tensor form (eq. T1)
   static constexpr bool sheared = has(term::sheared);  // Lees-Edwards images (box_policy.h)
+  // No-slip velocities of boundary particles (Morris term; tensor path: eq. T2 and the wall stress, eq. W1).
+  static constexpr bool no_slip = has(term::morris_viscosity) || tensor;
 
   // Cells of half the list range (5^D stencil) test fewer far pairs than cells
   // of the full range (3^D), and two layers of them make a block of the list.
@@ -186,9 +182,11 @@ class Simulation {
   void evaluate_and_correct(bool par, bool started, double dt, double* t) {
     const std::ptrdiff_t n = P_.size();
     if (!started) for_each_index(par, n, [this](std::ptrdiff_t i) { start_rates_at(i); });
-    if constexpr (has(term::morris_viscosity)) {
-      list_.for_blocks_coloured(par, [this](int k) { pairs_.no_slip_sums_of_block(k); });
-      for_each_index(par, n, [this](std::ptrdiff_t i) { no_slip_velocity_at(i); });
+    if constexpr (no_slip) {
+      if (has(term::morris_viscosity) || non_fluid_) {  // tensor path: only with walls or buffers
+        list_.for_blocks_coloured(par, [this](int k) { pairs_.no_slip_sums_of_block(k); });
+        for_each_index(par, n, [this](std::ptrdiff_t i) { no_slip_velocity_at(i); });
+      }
     }
     stamp_time(par, t[1]);
     list_.for_blocks_coloured(par, [this](int k) { pairs_.rates_of_block(k); });
@@ -217,9 +215,12 @@ class Simulation {
     equation_of_state_at(i);
     P_.acc[i].setZero();
     P_.drho[i] = 0.0;
-    if constexpr (has(term::morris_viscosity)) {
-      P_.v_noslip[i].setZero();  // the Shepard sum of the fluid velocities around a boundary particle
-      shepard_[i] = 0.0;
+    if constexpr (no_slip) {
+      if (has(term::morris_viscosity) || non_fluid_) {  // the no-slip pass runs (compute_rates)
+        P_.v_noslip[i].setZero();  // the Shepard sum of the fluid velocities around a boundary particle
+        shepard_[i] = 0.0;
+        if constexpr (tensor) clear_wall_stress<Models>(P_, i);  // its sum of the fluid stresses (eq. W1)
+      }
     }
     if constexpr (tensor) P_.grad_v[i].setZero(), P_.shape[i].setZero();
   }
@@ -243,7 +244,12 @@ class Simulation {
 
  public:
   // No-slip velocity of a fixed boundary particle (boundary_particles.h).
-  void no_slip_velocity_at(std::ptrdiff_t b) { no_slip_velocity(P_, shepard_, b); }
+  // Tensor configurations: also its extra stress (eq. W1) and so its sigma / rho^2 (eq. T1).
+  void no_slip_velocity_at(std::ptrdiff_t b) {
+    no_slip_velocity(P_, shepard_, b);
+    if constexpr (tensor)
+      if (P_.kind[b] == Kind::boundary) wall_stress<Models>(P_, shepard_, b), equation_of_state_at(b);
+  }
   // A particle of mass m appears (sign +1) or disappears (-1) at x (boundary_particles.h).
   void boundary_density_event(const Vec<D>& x, double m, double sign) {
     Vec<D> xj = x;
@@ -267,18 +273,14 @@ class Simulation {
     if (!rates_ready_) compute_rates();
   }
 
-  // One full step (stages.h): one rate evaluation, at the half step. When
-  // the Verlet list stays valid (no particle moved skin/2 since its build,
-  // verlet_skin.h) the whole step is one parallel region: the predictor in
-  // place fused with the EOS and the zeroed sums of the gather, the pair
-  // loop, then close_rates fused with the corrector, post_correct and the
-  // step maxima (the stability check and the next adaptive step read them).
-  // Otherwise the predicted state is binned and reordered by cell
-  // (rebin_predicted) and the list rebuilt before the evaluation. Between
-  // builds positions are not wrapped (the list holds the images): up to
-  // skin/2 outside the box. Displacements are handed to `crossed` (x_old, dx,
-  // volume; x_old wrapped) for flow-rate planes. False if the predicted
-  // particles spread over too many cells (blow-up).
+  // One full step (stages.h), one rate evaluation at the half step. While the
+  // Verlet list stays valid (verlet_skin.h) the step is one parallel region:
+  // predictor fused with the EOS and zeroed sums, the pair loop, then
+  // close_rates fused with corrector, post_correct and step maxima. Otherwise
+  // the predicted state is rebinned (rebin_predicted) and the list rebuilt.
+  // Between builds positions stay unwrapped (up to skin/2 outside the box).
+  // Displacements go to `crossed` (x_old wrapped, dx, volume) for flow planes.
+  // False if the predicted particles spread over too many cells (blow-up).
   template <class Crossed>
   bool step(double dt, Crossed&& crossed) {
     ensure_rates();
@@ -361,6 +363,7 @@ class Simulation {
     list_.build(cells_, P_.x, P_.kind, kernel_.support_radius() + skin_, walls_together_);
     x_build_.assign(P_.x.begin(), P_.x.end());
     shepard_.resize(P_.size());
+    if constexpr (tensor) non_fluid_ = std::any_of(P_.kind.begin(), P_.kind.end(), [](Kind k) { return k != Kind::fluid; });
     list_stale_ = false;
     ++times_.builds;
   }
@@ -379,6 +382,7 @@ class Simulation {
   NoBodies bodies_;
   bool body_force_on_ = false, walls_on_ = false;
   bool walls_together_ = false;  // every fixed boundary particle has the same velocity
+  bool non_fluid_ = true;  // tensor path: a particle is not fluid (the no-slip pass runs), at the last list build
   bool correct_gradient_ = true;
   bool rates_ready_ = false;  // acc, drho hold the rates of the last evaluation
   StepMaxima maxima_;         // of the current state when valid

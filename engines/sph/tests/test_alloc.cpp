@@ -1,7 +1,7 @@
 // No allocation in the time loop: a counting operator new (this test
 // executable's global one) sees no allocation while a warmed-up simulation
 // steps, list rebuilds included, on 1 and 2 threads, on the scalar and on the
-// tensor path. (HDF5 output, outside Simulation::step, may allocate.)
+// tensor path (PTT + Morris on walls too). (HDF5 output, outside Simulation::step, may allocate.)
 #include <omp.h>
 
 #include <atomic>
@@ -68,6 +68,27 @@ long allocations_while_stepping(int threads, long& builds) {
   return allocations.load() - before;
 }
 
+// The same for a PTT fluid on walls whose solvent is the Morris term (no-slip velocities and
+// wall stresses, eq. W1, every evaluation).
+long walled_ptt_allocations(int threads, long& builds) {
+  omp_set_num_threads(threads);
+  constexpr unsigned terms = term::morris_viscosity | term::body_force;
+  Deck d = deck();
+  d.terms = terms;
+  MaterialSpec m;
+  m.name = "melt", m.model = "ptt", m.rho0 = 1000.0, m.c0 = 20.0, m.solvent_viscosity = 0.1, m.viscosity = 1e-4;
+  m.mode_lambda = {1e-3}, m.mode_eta = {0.1};
+  d.materials = {m};
+  Simulation<2, terms, ModelList<Ptt>> sim(d, block());
+  for (int s = 0; s < 40; ++s) CHECK(sim.step(2e-6, NoCrossings{}));
+  const long before = allocations.load(), builds_before = sim.stage_times().builds;
+  armed = true;
+  for (int s = 0; s < 200; ++s) CHECK(sim.step(2e-6, NoCrossings{}));
+  armed = false;
+  builds = sim.stage_times().builds - builds_before;
+  return allocations.load() - before;
+}
+
 // The same for two PTT modes in a Lees-Edwards cell, particles crossing the sheared faces.
 long sheared_ptt_allocations(int threads, long& builds) {
   omp_set_num_threads(threads);
@@ -107,6 +128,10 @@ TEST(no_allocation_while_stepping) {
     std::fprintf(stderr, "  PTT in a Lees-Edwards cell, %d thread(s): %ld allocations in 200 steps (%ld list builds)\n",
                  threads, sheared, builds);
     CHECK(sheared == 0 && builds > 0);
+    const long walled = walled_ptt_allocations(threads, builds);
+    std::fprintf(stderr, "  PTT + Morris on walls, %d thread(s): %ld allocations in 200 steps (%ld list builds)\n",
+                 threads, walled, builds);
+    CHECK(walled == 0 && builds > 0);
   }
   omp_set_num_threads(saved);
 }

@@ -1,6 +1,7 @@
 // The tensor-stress path (eq. T1) and the velocity gradient (eq. T2): with
 // sigma = -p I the tensor momentum reproduces the scalar one to round-off,
-// and the kernel-corrected gradient of a linear velocity field is exact.
+// and the kernel-corrected gradient of a linear velocity field is exact
+// (beyond the reach of the walls, whose particles enter with their no-slip velocity).
 #include <cmath>
 
 #include "check.h"
@@ -69,16 +70,22 @@ TEST(corrected_velocity_gradient_of_a_linear_field_is_exact) {
     sim.compute_rates();
     const auto& P = sim.particles();
     double worst = 0.0, worst_inside = 0.0;
+    const double support2 = 4.0 * deck().h * deck().h;
     for (std::size_t i = 0; i < P.size(); ++i) {
       if (!P.moves(i)) continue;
       const double err = (P.grad_v[i] - G).norm() / G.norm();
-      worst = std::max(worst, err);
+      // Boundary particles enter eq. T2 with their no-slip velocity (mirrored through the
+      // wall, boundary_particles.h), not the linear field: exact away from them.
+      bool near_wall = false;
+      for (std::size_t j = 0; j < P.size(); ++j)
+        near_wall = near_wall || (P.kind[j] == Kind::boundary && (P.x[j] - P.x[i]).squaredNorm() < support2);
+      if (!near_wall) worst = std::max(worst, err);
       const bool inside = P.x[i][0] > 3e-3 && P.x[i][0] < 10e-3 && P.x[i][1] < 8e-3;  // full support of fluid and wall
       if (inside) worst_inside = std::max(worst_inside, err);
     }
     std::fprintf(stderr, "  grad v (%s): worst relative error %.3g, inside %.3g\n", corrected ? "corrected" : "plain",
                  worst, worst_inside);
-    if (corrected) CHECK(worst < 1e-10);          // every fluid particle, free surface included
+    if (corrected) CHECK(worst < 1e-10);  // every fluid particle beyond the walls' reach, free surface included
     else CHECK(worst_inside < 0.5 && worst > 1e-3);  // plain SPH: approximate only
   }
 }

@@ -39,8 +39,9 @@ fragment's [[material.modes]] tables paste in as [[materials.modes]]:
 Conventions: per mode f_i tau_i + lambda_i tau_i^nabla = 2 eta_i D with D = (grad v + grad v^T)/2 (the paper's
 eq. 5 has no 1/2; with it eta_i stays a viscosity: lambda_i -> 0 gives tau_i = 2 eta_i D), and each mode has its
 own f_i = 1 + (lambda_i epsilon / eta_i) tr tau_i. The sph executable compiles PTT alone, with artificial
-viscosity, or in a Lees-Edwards cell: no Morris viscosity and no Newtonian material beside it, and a fixed
-numerics.dt (its adaptive step does not know the relaxation and viscous limits of the modes).
+viscosity, in a Lees-Edwards cell, or with 'morris_viscosity' (one material; the Morris term then carries the
+solvent viscosity, which damps the row zig-zag mode of walled channels): no Newtonian material beside it, and a
+fixed numerics.dt (its adaptive step does not know the relaxation and viscous limits of the modes).
 """
 
 from __future__ import annotations
@@ -240,8 +241,16 @@ def _check_ptt(case, i: int, m: Material) -> None:
         raise ValueError(f"{where}.viscosity ({m.name}) is not a key of a ptt material (its viscosities are the "
                          "modes' and solvent_viscosity, Pa s); remove it")
     if "morris_viscosity" in case.physics.terms:
-        raise ValueError(f"{where} ({m.name}) is a ptt material and physics.terms has 'morris_viscosity'; the sph "
-                         "executable runs PTT without the Morris term (its solvent_viscosity is the viscous part)")
+        if not (m.solvent_viscosity or 0.0) > 0.0:
+            raise ValueError(f"{where}.solvent_viscosity ({m.name}) must be > 0 with 'morris_viscosity' in "
+                             "physics.terms: the Morris term carries a ptt material's solvent viscosity")
+        if case.lees_edwards is not None:
+            raise ValueError(f"{where} ({m.name}) is a ptt material in a lees_edwards cell: the sph executable "
+                             "runs it without 'morris_viscosity' (its solvent_viscosity is the viscous part)")
+        if len(case.materials) > 1:
+            raise ValueError(f"{where} ({m.name}): 'morris_viscosity' with a ptt material needs it to be the only "
+                             "[[materials]] table; the sph executable compiles PTT with the Morris term for one "
+                             "material")
     others = [o.name for o in case.materials if o.model != "ptt"]
     if others:
         raise ValueError(f"{where} ({m.name}) is a ptt material beside the {others[0]!r} material of another "

@@ -15,13 +15,20 @@
 // So the rate integrated by the predictor-corrector (integrator.h) is
 //   d tau_i/dt = L tau_i + tau_i L^T + (2 eta_i D - f_i tau_i) / lambda_i.   (eq. R1)
 // The solvent stress 2 eta_s D uses the velocity gradient of the last rate
-// evaluation (explicit, a half step behind).
+// evaluation (explicit, a half step behind). With the deck's `morris_viscosity`
+// term the solvent viscosity is the Morris pair term instead (eq. 10 with
+// mu = eta_s, boundary particles at their no-slip velocity) and 2 eta_s D is
+// not added: the Laplacian form is built on pair velocity differences, so it
+// damps the row zig-zag mode that the (kernel-corrected) velocity gradient of
+// eq. T2 does not see (the treatment of the Newtonian solvent in SPH
+// viscoelastic channel flows, e.g. Ellero & Tanner 2005, Fang et al. 2006).
 #pragma once
 #include <string>
 #include <vector>
 
 #include "deck.h"
 #include "material.h"
+#include "physics_terms.h"
 #include "vec.h"
 
 namespace sph {
@@ -35,6 +42,12 @@ struct Ptt {
   static void parse(const MaterialKeys& k, MaterialSpec& m) {
     m.epsilon = k.non_negative_or("epsilon", 0.0);
     m.solvent_viscosity = k.non_negative_or("solvent_viscosity", 0.0);
+    if (k.term_on(term::morris_viscosity)) {  // the solvent viscosity is the Morris term (kinematic, m^2/s)
+      if (!(m.solvent_viscosity > 0.0))
+        throw InputError("physics term 'morris_viscosity' is on but '" + k.path() +
+                         ".solvent_viscosity' is not > 0 (with a ptt material the Morris term is its solvent)");
+      m.viscosity = m.solvent_viscosity / m.rho0;
+    }
     for (const MaterialKeys& mode : k.objects("modes", 1, max_stress_modes, {"lambda", "eta"})) {
       m.mode_lambda.push_back(mode.positive("lambda"));
       m.mode_eta.push_back(mode.positive("eta"));
@@ -44,7 +57,8 @@ struct Ptt {
     ModeParameters& p = mat.modes;
     p.count = static_cast<int>(spec.mode_lambda.size());
     for (int i = 0; i < p.count; ++i) p.lambda[i] = spec.mode_lambda[i], p.eta[i] = spec.mode_eta[i];
-    p.epsilon = spec.epsilon, p.eta_s = spec.solvent_viscosity;
+    p.epsilon = spec.epsilon;
+    p.eta_s = spec.viscosity > 0.0 ? 0.0 : spec.solvent_viscosity;  // 0: the solvent is the Morris term
   }
 
   // Eq. R1 for every mode of the material (columns beyond its count keep a zero rate).
