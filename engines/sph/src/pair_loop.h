@@ -54,12 +54,16 @@ class PairLoop {
   }
 
   // Shepard sums of the fluid velocity around the fixed boundary particles
-  // (for their no-slip velocity), over the fluid-boundary pairs of block k.
+  // (for their no-slip velocity), over the fluid-boundary pairs of block k;
+  // with wall points (Particles::has_wall_points), also of the fluid
+  // positions relative to the boundary particle b, x_fluid - x_b (periodic
+  // images included).
   void no_slip_sums_of_block(int k) const {
     using List = NeighbourList<D>;
     const std::uint32_t* const e = list_.entries(k);
     const Vec<D>* const shifts = list_.shifts();
     const Vec<D>* const x = P_.x.data();
+    const bool positions = P_.has_wall_points;
     for (int a = list_.block_begin(k); a < list_.block_end(k); ++a) {
       const auto& row = list_.row(a);
       const bool a_fluid = P_.moves(a), a_wall = P_.kind[a] == Kind::boundary;
@@ -74,6 +78,7 @@ class PairLoop {
         const int wall = a_fluid ? b : a, fluid = a_fluid ? a : b;
         P_.v_noslip[wall] += w * P_.v[fluid];
         shepard_[wall] += w;
+        if (positions) P_.x_noslip[wall] += w * (a_fluid ? r : Vec<D>(-r));
       }
     }
   }
