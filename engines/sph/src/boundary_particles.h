@@ -28,8 +28,8 @@ namespace sph {
 // with x~_b the Shepard-weighted mean position of the same fluid particles
 // (x_noslip holds its sum relative to x_b; it is zeroed here after use, so
 // it is zero between evaluations), v_w = v_b, and x_w - x_b kept as
-// Particles::wall_offset. v~_b is the velocity at
-// x~_b for a linear field, so this is exact for a linear profile; the ratio
+// Particles::wall_offset. v~_b is the velocity at x~_b for a linear field,
+// so this is exact for a linear profile; the ratio
 // is taken as the limit when d_f <= d_b / max_wall_extrapolation (d_f <= 0
 // included: the fluid's mean on or behind the wall surface). A boundary
 // particle on the wall surface (d_b = 0) takes v_w; a NaN wall point means
@@ -57,7 +57,7 @@ void no_slip_velocity(Particles<D>& P, const std::vector<double>& shepard, std::
   const double weight = shepard[b];
   if (P.has_wall_points) {
     const Vec<D>& offset = P.wall_offset[b];  // x_w - x_b
-    const Vec<D> mean_offset = P.x_noslip[b];        // sum w (x_f - x_b)
+    const Vec<D> mean_offset = P.x_noslip[b];  // sum w (x_f - x_b)
     P.x_noslip[b].setZero();
     if (weight > 0.0 && !std::isnan(offset[0])) {
       const double d_b = offset.norm();

@@ -11,8 +11,8 @@
 #pragma once
 #include <algorithm>
 #include <cstddef>
-#include <limits>
 #include <cstdint>
+#include <limits>
 #include <type_traits>
 #include <utility>
 #include <vector>
