@@ -61,6 +61,10 @@ def test_the_cases_reach_the_deck_and_build_cylinders():
     ("velocity = 0.02 ", "velocity = 0.03 ", "peaks at 0.06 m/s"),
     ('pressure = "extrapolated"', 'pressure = "fixed"', "pressure"),
     ("radius = 0.008, inner_radius = 0.003}", "radius = 0.008, inner_radius = 0.009}", "must be below radius"),
+    ('radius = 0.003, wall = "outer"}', 'radius = 0.003, wall = "inner"}', "wall = 'inner' needs an inner face"),
+    ("radius = 0.008, inner_radius = 0.003}", 'radius = 0.008, inner_radius = 0.003, wall = "both"}',
+     r"blocks\[0\].cylinder.wall is given for a fluid block"),
+    ('wall = "outer"}', 'wall = "out"}', "wall"),
 ])
 def test_bad_open_boundary_keys_are_named(tmp_path, old, new, message):
     text = ANNULUS.read_text()
@@ -69,6 +73,40 @@ def test_bad_open_boundary_keys_are_named(tmp_path, old, new, message):
     bad.write_text(text.replace(old, new, 1))
     with pytest.raises(CaseError, match=message):
         load_case(bad)
+
+
+def test_cylinder_walls_give_each_boundary_site_its_nearest_point_of_the_true_wall(tmp_path):
+    """cylinder.wall: a boundary site's wall_point lies on the wetted face, along its radial direction, at its axial
+    position; the particle file carries it only when a block asks for it."""
+    import h5py
+
+    from orchestrator.kinds.sph_flow.case_cylinder import BlockCylinder
+    from orchestrator.kinds.sph_flow.sph import write_particles
+
+    scene = build_scene(load_case(ANNULUS).model)
+    wall, boundary = scene.wall_point, scene.kind == 1
+    assert np.all(np.isnan(wall[~boundary])) and not np.any(np.isnan(wall[boundary]))
+    r_site = np.hypot(scene.positions[:, 1], scene.positions[:, 2])[boundary]
+    r_wall = np.hypot(wall[boundary, 1], wall[boundary, 2])
+    np.testing.assert_allclose(r_wall, np.where(r_site >= 0.008, 0.008, 0.003), rtol=1e-12)
+    assert np.array_equal(wall[boundary, 0], scene.positions[boundary, 0])  # the same axial position
+    radial = scene.positions[boundary, 1:] / r_site[:, None]
+    np.testing.assert_allclose(wall[boundary, 1:] / r_wall[:, None], radial, atol=1e-12)  # along the radius
+    write_particles(scene, tmp_path / "p.h5")
+    with h5py.File(tmp_path / "p.h5") as h5:
+        np.testing.assert_array_equal(h5["wall_point"][:], wall)
+    channel = build_scene(load_case(CASES.parent.parent / "tests" / "data" / "sph_channel_3d.toml").model)
+    assert channel.wall_point is None
+    write_particles(channel, tmp_path / "c.h5")
+    with h5py.File(tmp_path / "c.h5") as h5:
+        assert "wall_point" not in h5  # no block names a wall: the engine keeps Adami's mirror, bitwise as before
+    # a tube wetted on both sides: each site's nearer face; a site on the axis has no direction (NaN)
+    tube = BlockCylinder(axis=2, center=(1.0, 2.0, 0.0), radius=0.005, inner_radius=0.002, wall="both")
+    points = np.array([[1.0, 2.0025, 0.3], [1.0045, 2.0, -0.1], [1.0, 2.0, 0.0]])
+    np.testing.assert_allclose(tube.wall_points(points)[:2], [[1.0, 2.002, 0.3], [1.005, 2.0, -0.1]], rtol=1e-15)
+    assert np.all(np.isnan(tube.wall_points(points)[2]))
+    core = BlockCylinder(axis=0, center=(0.0, 0.0, 0.0), radius=0.003, wall="outer")
+    np.testing.assert_allclose(core.wall_points([[0.5, 0.0012, -0.0016]]), [[0.5, 0.0018, -0.0024]], rtol=1e-14)
 
 
 def _synthetic_run(case, perturb=0.0, gradient_error=0.0, lost=0):

@@ -117,11 +117,13 @@ def test_dam_break_check_compares_over_the_measured_range():
 
 #: Checks that fail today, with the largest error accepted until they are fixed.
 KNOWN_FAILURES: dict[tuple[str, str], float] = {
-    # 3D open boundaries at 6 (pipe) and 5 (annulus gap) particles: the boundary-particle walls let the flow slip
-    # (full runs: pipe profile 2.4 %, gradient 5.8 % low; annulus profile 15 %, gradient 14 % low; issue 14)
+    # 3D open boundaries at 6 (pipe) and 5 (annulus gap) particles, walls with wall points on the true cylinders
+    # (issue 14; full runs: pipe profile 2.5 %, gradient 7.8 % low; annulus profile 7.0 %, gradient 14.7 % low;
+    # quick: 2.4 %, 3.9 %, 4.7 %, 11.7 %): the Morris term's lattice sum (0.97 of the Laplacian at h = 1.3 dx)
+    # and the O(dx^2) slip of the linear extrapolation (0.025-0.06 dx) remain
     ("sph_pipe_hagen_poiseuille", "u_profile"): 0.04,
     ("sph_pipe_hagen_poiseuille", "pressure_gradient"): 0.09,
-    ("sph_annulus_laminar", "u_profile"): 0.2,
+    ("sph_annulus_laminar", "u_profile"): 0.1,
     ("sph_annulus_laminar", "pressure_gradient"): 0.2,
 }
 

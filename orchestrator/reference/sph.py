@@ -328,6 +328,9 @@ def from_scene(scene) -> tuple[SphState, SphModel]:
     case = scene.case
     if case.inlets or case.outlets:
         raise ValueError("the reference SPH does not model inlets and outlets")
+    if scene.wall_point is not None:
+        raise ValueError("the reference SPH does not model wall points (a block's cylinder.wall): its walls mirror "
+                         "the velocity on the lattice")
     physics = case.physics
     walls = None
     if physics.wall_penalty is not None:

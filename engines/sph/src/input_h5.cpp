@@ -66,6 +66,12 @@ ParticleInput read_particles(const std::string& path, int dimension) {
   p.kind = read<std::int8_t>(f, path, "kind", H5T_NATIVE_INT8, n, 0);
   // Optional: each particle's index into the deck's materials (0 for all when absent).
   if (H5Lexists(f, "material", H5P_DEFAULT) > 0) p.material = read<std::int32_t>(f, path, "material", H5T_NATIVE_INT32, n, 0);
+  // Optional: the nearest point of the true wall of each boundary particle (NaN: none).
+  if (H5Lexists(f, "wall_point", H5P_DEFAULT) > 0) {
+    p.wall_point = read<double>(f, path, "wall_point", H5T_NATIVE_DOUBLE, n, dimension);
+    for (double x : p.wall_point)
+      if (std::isinf(x)) fail("dataset 'wall_point' in '" + path + "' holds an infinite value (NaN rows mean none)");
+  }
   p.n = n;
   all_finite(p.positions, path, "positions");
   all_finite(p.velocities, path, "velocities");

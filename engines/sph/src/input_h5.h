@@ -8,13 +8,16 @@ namespace sph {
 
 // Rows of the particle file: positions (n,D) m, velocities (n,D) m/s,
 // masses (n) kg, densities (n) kg/m^3, kind (n) 0 fluid / 1 boundary,
-// optionally material (n) integer index into the deck's `materials` (default 0).
+// optionally material (n) integer index into the deck's `materials` (default 0)
+// and wall_point (n,D) m: the nearest point of the true wall surface of a fixed
+// boundary particle (NaN row: none; ignored for fluid; boundary_particles.h).
 struct ParticleInput {
   std::size_t n = 0;
   int dimension = 0;
   std::vector<double> positions, velocities, masses, densities;  // row-major
   std::vector<std::int8_t> kind;
   std::vector<std::int32_t> material;  // optional dataset `material` (n): index into the deck's materials
+  std::vector<double> wall_point;      // optional dataset `wall_point` (n,D) m, row-major; NaN rows: none
 };
 
 // A mesh group: vertices (nv,D) m, faces (nf,D) vertex indices (triangles in 3D, segments in 2D).

@@ -56,12 +56,15 @@ class PairLoop {
 
   // Shepard sums of the fluid velocity around the fixed boundary particles
   // (for their no-slip velocity), over the fluid-boundary pairs of block k;
-  // tensor configurations: also of the fluid's extra stress (eq. W1).
+  // tensor configurations: also of the fluid's extra stress (eq. W1); with
+  // wall points (Particles::has_wall_points), also of the fluid positions
+  // relative to the boundary particle b, x_fluid - x_b (periodic images included).
   void no_slip_sums_of_block(int k) const {
     using List = NeighbourList<D>;
     const std::uint32_t* const e = list_.entries(k);
     const Vec<D>* const shifts = list_.shifts();
     const Vec<D>* const x = P_.x.data();
+    const bool positions = P_.has_wall_points;
     for (int a = list_.block_begin(k); a < list_.block_end(k); ++a) {
       const auto& row = list_.row(a);
       const bool a_fluid = P_.moves(a), a_wall = P_.kind[a] == Kind::boundary;
@@ -77,6 +80,7 @@ class PairLoop {
         P_.v_noslip[wall] += w * P_.v[fluid];
         shepard_[wall] += w;
         if constexpr (tensor) add_wall_stress<Models>(P_, wall, fluid, w);  // eq. W1 (boundary_particles.h)
+        if (positions) P_.x_noslip[wall] += w * (a_fluid ? r : Vec<D>(-r));
       }
     }
   }

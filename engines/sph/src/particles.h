@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -57,10 +58,13 @@ struct Particles {
   std::vector<std::int64_t> next_id;
   std::vector<std::uint8_t> next_material;
   std::vector<Mat<D>> tau_solvent, next_tau_solvent;  // solvent stress 2 eta_s D Pa of the last evaluation (modes > 0)
+  bool has_wall_points = false;                       // the input gave `wall_point` (boundary_particles.h)
+  std::vector<Vec<D>> wall_offset, next_wall_offset;  // m: wall point - position (boundary; wrap-proof); NaN: none
   // -- derived each evaluation
   std::vector<double> p, c;          // pressure Pa, sound speed m/s
   std::vector<double> vol, p_rho2;   // m/rho m^D, p/rho^2 (saves divisions in the pair loop)
   std::vector<Vec<D>> v_noslip;      // velocity seen by the viscous term: v for fluid, mirrored for boundary
+  std::vector<Vec<D>> x_noslip;      // Shepard sum of the fluid positions around a boundary particle (has_wall_points)
   std::vector<Mat<D>> grad_v;        // velocity gradient (tensor()): row i, column j is d v_i / d x_j
   std::vector<Mat<D>> shape;         // kernel-correction sum, then its inverse (tensor())
   std::vector<Mat<D>> sigma_rho2;    // (-p I + tau) / rho^2 (tensor())
@@ -94,6 +98,7 @@ struct Particles {
   void for_carried(F&& f) {
     f(mass, next_mass), f(kind, next_kind), f(id, next_id), f(material, next_material);
     if (modes) f(tau_solvent, next_tau_solvent);
+    if (has_wall_points) f(wall_offset, next_wall_offset);
   }
 
   std::size_t size() const { return x.size(); }
@@ -109,10 +114,14 @@ struct Particles {
       const auto z = zero<typename std::decay_t<decltype(f.value)>::value_type>(modes);
       f.value.resize(n, z), f.rate.resize(n, z), f.start.resize(n, z);
     });
-    const std::size_t had = tau_solvent.size();
+    const std::size_t had = tau_solvent.size(), had_walls = wall_offset.size();
     for_carried([n](auto& a, auto&) { a.resize(n); });
     if (modes)
       for (std::size_t i = had; i < n; ++i) tau_solvent[i].setZero();  // fresh entries hold no stress
+    if (has_wall_points) {
+      for (std::size_t i = had_walls; i < n; ++i) wall_offset[i].setConstant(std::numeric_limits<double>::quiet_NaN());
+      x_noslip.resize(n, Vec<D>::Zero());
+    }
     if (tensor())
       for (auto* a : {&grad_v, &shape, &sigma_rho2}) a->resize(n, Mat<D>::Zero());
   }
@@ -121,6 +130,7 @@ struct Particles {
   void reserve(std::size_t n) {
     for (auto* a : {&x, &x0, &next_x, &next_x0, &v_noslip, &scratch_vec_}) a->reserve(n);
     for (auto* a : {&p, &c, &vol, &p_rho2}) a->reserve(n);
+    if (has_wall_points) x_noslip.reserve(n);
     for_integrated([n](auto& f, Integrates) { f.each_array([n](auto& a) { a.reserve(n); }); });
     for_carried([n](auto& a, auto& next) { a.reserve(n), next.reserve(n); });
     if (tensor())
@@ -202,6 +212,7 @@ struct Particles {
     const std::size_t cap = std::max(o.reserved_, o.x.capacity());
     SPH_TAKE(x), SPH_TAKE(x0), SPH_TAKE(next_x), SPH_TAKE(next_x0), SPH_TAKE(vel), SPH_TAKE(dens), SPH_TAKE(stress);
     SPH_TAKE(has_stress), SPH_TAKE(mode_stress), SPH_TAKE(modes), SPH_TAKE(tau_solvent), SPH_TAKE(next_tau_solvent);
+    SPH_TAKE(has_wall_points), SPH_TAKE(wall_offset), SPH_TAKE(next_wall_offset), SPH_TAKE(x_noslip);
     SPH_TAKE(mass), SPH_TAKE(kind), SPH_TAKE(id), SPH_TAKE(material);
     SPH_TAKE(next_mass), SPH_TAKE(next_kind), SPH_TAKE(next_id), SPH_TAKE(next_material);
     SPH_TAKE(p), SPH_TAKE(c), SPH_TAKE(vol), SPH_TAKE(p_rho2), SPH_TAKE(v_noslip);

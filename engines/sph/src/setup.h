@@ -16,6 +16,7 @@ namespace sph {
 template <int D>
 Particles<D> make_particles(const Deck& deck, const ParticleInput& in, std::size_t extra = 0) {
   Particles<D> P;
+  P.has_wall_points = !in.wall_point.empty();
   P.reserve(in.n + extra);
   P.resize(in.n);
   const std::vector<MaterialSpec> materials = deck.material_list();
@@ -29,6 +30,8 @@ Particles<D> make_particles(const Deck& deck, const ParticleInput& in, std::size
       P.x[i][d] = in.positions[i * D + d];
       P.v[i][d] = in.velocities[i * D + d];
     }
+    if (P.has_wall_points)  // kept relative to the particle: wrapping into a periodic box moves both
+      for (int d = 0; d < D; ++d) P.wall_offset[i][d] = in.wall_point[i * D + d] - P.x[i][d];
     P.mass[i] = in.masses[i];
     P.rho[i] = in.densities[i];
     P.kind[i] = static_cast<Kind>(in.kind[i]);

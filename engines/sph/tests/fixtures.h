@@ -88,4 +88,13 @@ inline Deck shear_deck(int n, double L, double rho0, double c0, double gamma_dot
   return d;
 }
 
+// Give every boundary particle of P a wall point on the plane y = y_wall m
+// (boundary_particles.h: the no-slip extrapolated to that plane).
+inline void wall_points_at(Particles<2>& P, double y_wall) {
+  P.has_wall_points = true;
+  P.resize(P.size());
+  for (std::size_t i = 0; i < P.size(); ++i)
+    if (P.kind[i] == Kind::boundary) P.wall_offset[i] = Vec<2>(0.0, y_wall - P.x[i][1]);
+}
+
 }  // namespace fixtures

@@ -48,17 +48,19 @@ Deck deck() {
   return d;
 }
 
-Particles<2> block() {
+Particles<2> block(bool wall_points = false) {
   fixtures::Block b;
   b.columns = 40, b.rows = 30, b.seed = 3, b.jitter = 0.1, b.speed = 1.0, b.reserve = true;
-  return fixtures::block(b);
+  Particles<2> P = fixtures::block(b);
+  if (wall_points) fixtures::wall_points_at(P, -0.4e-3);  // the no-slip extrapolated to a wall off the lattice
+  return P;
 }
 
 // Allocations during `steps` steps after `warm_up` steps, and the list builds among them.
 template <class Sim>
-long allocations_while_stepping(int threads, long& builds) {
+long allocations_while_stepping(int threads, long& builds, bool wall_points = false) {
   omp_set_num_threads(threads);
-  Sim sim(deck(), block());
+  Sim sim(deck(), block(wall_points));
   for (int s = 0; s < 40; ++s) CHECK(sim.step(2e-6, NoCrossings{}));
   const long before = allocations.load(), builds_before = sim.stage_times().builds;
   armed = true;
@@ -120,6 +122,10 @@ TEST(no_allocation_while_stepping) {
     const long scalar = allocations_while_stepping<Simulation<2, kTerms>>(threads, builds);
     std::fprintf(stderr, "  scalar path, %d thread(s): %ld allocations in 200 steps (%ld list builds)\n", threads, scalar, builds);
     CHECK(scalar == 0 && builds > 0);
+    const long walls = allocations_while_stepping<Simulation<2, kTerms>>(threads, builds, true);
+    std::fprintf(stderr, "  scalar path with wall points, %d thread(s): %ld allocations in 200 steps (%ld list builds)\n",
+                 threads, walls, builds);
+    CHECK(walls == 0 && builds > 0);
     const long tensor =
         allocations_while_stepping<Simulation<2, kTerms, ModelList<Newtonian, StressCarrying>>>(threads, builds);
     std::fprintf(stderr, "  tensor path, %d thread(s): %ld allocations in 200 steps (%ld list builds)\n", threads, tensor, builds);

@@ -156,6 +156,9 @@ class SphFlowCase(Frozen):
             if speed > self.fluid.max_speed:
                 raise ValueError(f"blocks[{i}].velocity has speed {speed:g} m/s, above fluid.max_speed = "
                                  f"{self.fluid.max_speed} m/s")
+            if b.cylinder is not None and b.cylinder.wall is not None and b.kind != "boundary":
+                raise ValueError(f"blocks[{i}].cylinder.wall is given for a {b.kind} block ({b.name}); only a "
+                                 "boundary block has a wall face (remove the key)")
             if b.hydrostatic_surface is not None and self.physics.body_force is None:
                 raise ValueError(f"blocks[{i}].hydrostatic_surface needs a body force (physics.body_force)")
             if b.hydrostatic_surface is not None and _norm(self.physics.body_force) == 0.0:

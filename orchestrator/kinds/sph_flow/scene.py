@@ -47,6 +47,7 @@ class SphScene:
     physics: tuple[str, ...] = ()  # the terms the engine compiles in (physics.terms): what the deck switches on
     material: np.ndarray | None = None  # (n,) int32 index into materials of each particle
     materials: tuple[RunMaterial, ...] = ()  # the run's materials (one, "fluid", without [[materials]])
+    wall_point: np.ndarray | None = None  # (n, D) m: a boundary particle's nearest point of the true wall (NaN: none)
 
     @property
     def dimension(self) -> int:
@@ -106,12 +107,19 @@ def _particles(case: SphFlowCase, materials: tuple[RunMaterial, ...]):
                                       materials[k].c0, materials[k].gamma)
         else:
             rho = np.full(len(points), rho0)
+        if block.cylinder is not None and block.cylinder.wall is not None:
+            wall_point = block.cylinder.wall_points(points)
+        else:
+            wall_point = np.full(points.shape, np.nan)
         rows.append((points, np.tile(velocity, (len(points), 1)), rho,
                      np.full(len(points), FLUID if block.kind == "fluid" else BOUNDARY, dtype=np.int8),
                      np.full(len(points), index, dtype=np.int32), np.full(len(points), rho0 * dx**d),
-                     np.full(len(points), k, dtype=np.int32)))
-    positions, velocities, densities, kind, block, masses, material = (np.concatenate(parts) for parts in zip(*rows))
-    return positions, velocities, masses, densities, kind, block, material
+                     np.full(len(points), k, dtype=np.int32), wall_point))
+    positions, velocities, densities, kind, block, masses, material, wall_point = (
+        np.concatenate(parts) for parts in zip(*rows))
+    if not any(b.cylinder is not None and b.cylinder.wall is not None for b in case.blocks):
+        wall_point = None  # the particle file has no wall_point: Adami's mirror everywhere, as before
+    return positions, velocities, masses, densities, kind, block, material, wall_point
 
 
 def wall_mesh(wall: Wall, dimension: int) -> WallMesh:
@@ -169,10 +177,11 @@ def build_sph_flow(case: SphFlowCase) -> SphScene:
     """Particles, wall meshes, h, c0 (the largest of the materials') and the time step of an SPH flow case."""
     materials = run_materials(case)
     c0 = max(m.c0 for m in materials)
-    positions, velocities, masses, densities, kind, block, material = _particles(case, materials)
+    positions, velocities, masses, densities, kind, block, material, wall_point = _particles(case, materials)
     meshes = {wall.name: wall_mesh(wall, case.dimension) for wall in case.walls}
     h = case.numerics.h
     dt = sph_timestep(case, *largest_c0_and_viscosity(materials))  # fixed, or the adaptive step at rest
     return SphScene(case=case, positions=positions, velocities=velocities, masses=masses, densities=densities,
                     kind=kind, block=block, meshes=meshes, h=h, c0=c0, timestep=dt,
-                    physics=tuple(case.physics.terms), material=material, materials=materials)
+                    physics=tuple(case.physics.terms), material=material, materials=materials,
+                    wall_point=wall_point)

@@ -108,8 +108,9 @@ def _patch_json(patch, **extra) -> str:
 
 def write_particles(scene, path: Path) -> None:
     """The particle input file: positions (n,D) m, velocities (n,D) m/s, masses (n) kg, densities (n)
-    kg/m^3, kind (n) int8 (0 fluid, 1 fixed boundary) and, with [[materials]], material (n) int32 (index
-    into the deck's materials)."""
+    kg/m^3, kind (n) int8 (0 fluid, 1 fixed boundary), with [[materials]] material (n) int32 (index into the
+    deck's materials) and, when a block names a cylinder wall, wall_point (n,D) m (a boundary particle's nearest
+    point of the true wall; NaN rows: none)."""
     import h5py
 
     with h5py.File(path, "w") as h5:
@@ -120,6 +121,8 @@ def write_particles(scene, path: Path) -> None:
         h5["kind"] = np.asarray(scene.kind, dtype=np.int8)
         if scene.case.materials:
             h5["material"] = np.asarray(scene.material, dtype=np.int32)
+        if scene.wall_point is not None:
+            h5["wall_point"] = np.asarray(scene.wall_point, dtype=np.float64)
 
 
 def write_meshes(scene, path: Path) -> None:
