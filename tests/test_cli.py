@@ -46,8 +46,8 @@ def test_export_and_analyze_need_a_run(tmp_path):
         assert "Traceback" not in proc.stderr
 
 
-COMMANDS = ("run", "analyze", "study", "status", "report", "verify", "calibrate", "compare", "bench", "doctor",
-            "export")
+COMMANDS = ("run", "analyze", "study", "status", "report", "verify", "calibrate", "rheometry", "compare", "bench",
+            "doctor", "export")
 
 
 def test_help_lists_every_command():
