@@ -56,18 +56,24 @@ Particles<2> block(bool wall_points = false) {
   return P;
 }
 
-// Allocations during `steps` steps after `warm_up` steps, and the list builds among them.
+// Allocations during 200 steps of dt after `warm_up` steps of sim, and the list builds among them.
+template <class Sim>
+long allocations_after_warm_up(Sim& sim, int warm_up, double dt, long& builds) {
+  for (int s = 0; s < warm_up; ++s) CHECK(sim.step(dt, NoCrossings{}));
+  const long before = allocations.load(), builds_before = sim.stage_times().builds;
+  armed = true;
+  for (int s = 0; s < 200; ++s) CHECK(sim.step(dt, NoCrossings{}));
+  armed = false;
+  builds = sim.stage_times().builds - builds_before;
+  return allocations.load() - before;
+}
+
+// The scalar path on the block (optionally with wall points).
 template <class Sim>
 long allocations_while_stepping(int threads, long& builds, bool wall_points = false) {
   omp_set_num_threads(threads);
   Sim sim(deck(), block(wall_points));
-  for (int s = 0; s < 40; ++s) CHECK(sim.step(2e-6, NoCrossings{}));
-  const long before = allocations.load(), builds_before = sim.stage_times().builds;
-  armed = true;
-  for (int s = 0; s < 200; ++s) CHECK(sim.step(2e-6, NoCrossings{}));
-  armed = false;
-  builds = sim.stage_times().builds - builds_before;
-  return allocations.load() - before;
+  return allocations_after_warm_up(sim, 40, 2e-6, builds);
 }
 
 // The same for a PTT fluid on walls whose solvent is the Morris term (no-slip velocities and
@@ -82,13 +88,7 @@ long walled_ptt_allocations(int threads, long& builds) {
   m.mode_lambda = {1e-3}, m.mode_eta = {0.1};
   d.materials = {m};
   Simulation<2, terms, ModelList<Ptt>> sim(d, block());
-  for (int s = 0; s < 40; ++s) CHECK(sim.step(2e-6, NoCrossings{}));
-  const long before = allocations.load(), builds_before = sim.stage_times().builds;
-  armed = true;
-  for (int s = 0; s < 200; ++s) CHECK(sim.step(2e-6, NoCrossings{}));
-  armed = false;
-  builds = sim.stage_times().builds - builds_before;
-  return allocations.load() - before;
+  return allocations_after_warm_up(sim, 40, 2e-6, builds);
 }
 
 // The same for two PTT modes in a Lees-Edwards cell, particles crossing the sheared faces.
@@ -104,13 +104,7 @@ long sheared_ptt_allocations(int threads, long& builds) {
   Simulation<2, term::sheared, ModelList<Ptt>> sim(d, start);
   // Warm up over a strain of 1 (the sheared lattice's pair count cycles with the strain; the
   // lists keep room for 1.25 x the largest count seen so far).
-  for (int s = 0; s < 500; ++s) CHECK(sim.step(2e-3, NoCrossings{}));
-  const long before = allocations.load(), builds_before = sim.stage_times().builds;
-  armed = true;
-  for (int s = 0; s < 200; ++s) CHECK(sim.step(2e-3, NoCrossings{}));
-  armed = false;
-  builds = sim.stage_times().builds - builds_before;
-  return allocations.load() - before;
+  return allocations_after_warm_up(sim, 500, 2e-3, builds);
 }
 
 }  // namespace
