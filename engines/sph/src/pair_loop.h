@@ -14,6 +14,7 @@
 // grad_a W_ab = F r_ab with F of eq. 8; grad_b W_ba = -F r_ab. Pairs of the
 // skin, beyond 2h, add exact zeros (the kernel factor is clamped to 0).
 #pragma once
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -52,16 +53,25 @@ class PairLoop {
   __attribute__((target("avx2"), noinline)) void rates_of_block_avx2(int k) const { rows_of_block(k); }
   __attribute__((noinline)) void rates_of_block_default(int k) const { rows_of_block(k); }
 
+  // Whether every particle has the same mass (set at each list build: masses
+  // change only when particles come or go, which rebuilds the list). Pass A
+  // then gathers no mass: its chunk holds that mass in every slot.
+  void set_uniform_mass() {
+    uniform_mass_ = !P_.mass.empty() && std::all_of(P_.mass.begin(), P_.mass.end(), [&](double m) { return m == P_.mass[0]; });
+  }
+
   inline __attribute__((always_inline)) void rows_of_block(int k) const {
     const std::uint32_t* const e = list_.entries(k);
+    Chunk c;  // pass B's arrays, on the stack of the calling thread
+    if (uniform_mass_) std::fill(c.m, c.m + chunk, P_.mass[0]);
     for (int a = list_.block_begin(k); a < list_.block_end(k); ++a) {
       const auto& row = list_.row(a);
       if (P_.moves(a)) {
-        pair_row<true, true>(a, e + row.begin, e + row.mid);
-        pair_row<true, false>(a, e + row.mid, e + row.end);
+        pair_row<true, true>(c, a, e + row.begin, e + row.mid);
+        pair_row<true, false>(c, a, e + row.mid, e + row.end);
       } else {
-        pair_row<false, true>(a, e + row.begin, e + row.mid);
-        pair_row<false, false>(a, e + row.mid, e + row.end);
+        pair_row<false, true>(c, a, e + row.begin, e + row.mid);
+        pair_row<false, false>(c, a, e + row.mid, e + row.end);
       }
     }
   }
@@ -111,19 +121,24 @@ class PairLoop {
   //      in 3D, whose terms are exact zeros); branch-free;
   //   B. the per-pair coefficients of eqs. 7, 9-12 (kernel, sqrt, divisions)
   //      over those arrays: no gathers, no sums, so the compiler vectorises it;
+  //      B also multiplies the coefficients along r_ab by r_ab (the products
+  //      C would form: the same roundings);
   //   C. the sums into a and the scatter to b, pair after pair in list order.
   // Every accumulator receives the same contributions in the same order as
   // a single fused loop would give it (bitwise the same results).
+  struct Chunk;
   template <bool AMoves, bool BMoves>
-  inline __attribute__((always_inline)) void pair_row(int a, const std::uint32_t* e, const std::uint32_t* end) const {
+  inline __attribute__((always_inline)) void pair_row(Chunk& c, int a, const std::uint32_t* e,
+                                                      const std::uint32_t* end) const {
     if constexpr (tensor) {
+      (void)c;
       pair_terms<AMoves, BMoves>(a, e, end);
     } else {
       Vec<D> acc_a = Vec<D>::Zero();
       double drho_a = 0.0;
       for (const std::uint32_t* stop = e; e != end; e = stop) {
         stop = end - e > chunk ? e + chunk : end;
-        scalar_chunk<AMoves, BMoves>(a, e, stop, acc_a, drho_a);
+        scalar_chunk<AMoves, BMoves>(c, a, e, stop, acc_a, drho_a);
       }
       P_.acc[a] += acc_a;
       P_.drho[a] += drho_a;
@@ -131,12 +146,13 @@ class PairLoop {
   }
 
   static constexpr int chunk = 128;
-  // Pass B's inputs and outputs for one chunk (on the stack of the calling thread).
+  // Pass B's inputs and outputs for one chunk (f_a, f_b: the terms along
+  // r_ab of a and of b, m/s^2).
   struct Chunk {
     int b[chunk], code[chunk];
     double r[D][chunk], r2[chunk], vr[chunk];
     double m[chunk], rho[chunk], vol[chunk], p_rho2[chunk], c[chunk], mu[chunk];
-    double drho_a[chunk], drho_b[chunk], radial_a[chunk], radial_b[chunk], visc_a[chunk], visc_b[chunk];
+    double drho_a[chunk], drho_b[chunk], f_a[D][chunk], f_b[D][chunk], visc_a[chunk], visc_b[chunk];
   };
 
   // Owner a's values for pass B.
@@ -159,7 +175,8 @@ class PairLoop {
         double radial = -(o.p_rho2 + k.p_rho2[j]) * F;  // eq. 9, along r_ab
         if constexpr (has(term::artificial_viscosity))  // eqs. 11-12
           radial -= model.artificial.pi(k.r2[j], k.vr[j], o.rho, k.rho[j], o.c, k.c[j]) * F;
-        k.radial_a[j] = k.m[j] * radial, k.radial_b[j] = o.m * radial;
+        const double radial_a = k.m[j] * radial, radial_b = o.m * radial;
+        for (int d = 0; d < D; ++d) k.f_a[d][j] = radial_a * k.r[d][j], k.f_b[d][j] = radial_b * k.r[d][j];
         if constexpr (has(term::morris_viscosity)) {
           // Eq. 10: 2 mu_ab (r_ab . grad W)/(r_ab^2 + 0.01 h^2) m/(rho_a rho_b).
           double s;
@@ -171,10 +188,11 @@ class PairLoop {
     }
   }
   template <bool AMoves, bool BMoves>
-  inline __attribute__((always_inline)) void scalar_chunk(int a, const std::uint32_t* e, const std::uint32_t* stop,
-                                                          Vec<D>& acc_a, double& drho_a) const {
+  inline __attribute__((always_inline)) void scalar_chunk(Chunk& k, int a, const std::uint32_t* e,
+                                                          const std::uint32_t* stop, Vec<D>& acc_a,
+                                                          double& drho_a) const {
     using List = NeighbourList<D>;
-    Chunk k;
+    const bool gather_mass = !uniform_mass_;
     const Vec<D>* const x = P_.x.data();
     const Vec<D>* const v = P_.v.data();
     const Vec<D>* const shifts = list_.shifts();
@@ -192,7 +210,8 @@ class PairLoop {
       const double r2 = r.squaredNorm();
       k.b[n] = b, k.r2[n] = r2, k.vr[n] = v_ab.dot(r);
       for (int d = 0; d < D; ++d) k.r[d][n] = r[d];
-      k.m[n] = P_.mass[b], k.rho[n] = P_.rho[b], k.vol[n] = P_.vol[b], k.p_rho2[n] = P_.p_rho2[b];
+      if (gather_mass) k.m[n] = P_.mass[b];
+      k.rho[n] = P_.rho[b], k.vol[n] = P_.vol[b], k.p_rho2[n] = P_.p_rho2[b];
       if constexpr (has(term::artificial_viscosity)) k.c[n] = P_.c[b];
       if constexpr (has(term::several_materials)) k.mu[n] = mu_row[P_.material[b]];
       n += r2 < support2;
@@ -214,10 +233,10 @@ class PairLoop {
       drho_a += k.drho_a[j];
       drho[b] += k.drho_b[j];
       if constexpr (AMoves || BMoves) {
-        Vec<D> r;
-        for (int d = 0; d < D; ++d) r[d] = k.r[d][j];
-        if constexpr (AMoves) acc_a.noalias() += k.radial_a[j] * r;
-        if constexpr (BMoves) acc[b].noalias() -= k.radial_b[j] * r;
+        Vec<D> f_a, f_b;
+        for (int d = 0; d < D; ++d) f_a[d] = k.f_a[d][j], f_b[d] = k.f_b[d][j];
+        if constexpr (AMoves) acc_a.noalias() += f_a;
+        if constexpr (BMoves) acc[b].noalias() -= f_b;
         if constexpr (has(term::morris_viscosity) && has(term::sheared)) {
           const Vec<D>& jump = jumps[k.code[j]];
           if constexpr (AMoves) acc_a.noalias() += k.visc_a[j] * (va - v_noslip[b] - jump);
@@ -334,6 +353,7 @@ class PairLoop {
   const Model& model_;
   const MaterialTable& materials_;
   std::vector<double>& shepard_;
+  bool uniform_mass_ = false;
 };
 
 }  // namespace sph

@@ -361,6 +361,7 @@ class Simulation {
   void build_list() {
     if constexpr (sheared) images_.rebase(), cells_.set_shear_offset(images_.build_offset());
     list_.build(cells_, P_.x, P_.kind, kernel_.support_radius() + skin_, walls_together_);
+    pairs_.set_uniform_mass();
     x_build_.assign(P_.x.begin(), P_.x.end());
     shepard_.resize(P_.size());
     if constexpr (tensor) non_fluid_ = std::any_of(P_.kind.begin(), P_.kind.end(), [](Kind k) { return k != Kind::fluid; });
