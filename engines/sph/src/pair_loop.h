@@ -57,7 +57,8 @@ class PairLoop {
   // change only when particles come or go, which rebuilds the list). Pass A
   // then gathers no mass: its chunk holds that mass in every slot.
   void set_uniform_mass() {
-    uniform_mass_ = !P_.mass.empty() && std::all_of(P_.mass.begin(), P_.mass.end(), [&](double m) { return m == P_.mass[0]; });
+    const auto& m = P_.mass;
+    uniform_mass_ = !m.empty() && std::all_of(m.begin(), m.end(), [&](double mi) { return mi == m[0]; });
   }
 
   inline __attribute__((always_inline)) void rows_of_block(int k) const {
