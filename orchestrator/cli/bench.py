@@ -1,4 +1,4 @@
-"""orchestrator bench sph: particle-steps per second of the sph executable (and PySPH) on dam breaks."""
+"""orchestrator bench sph: particle-steps per second of the sph executable and its peers (PySPH, LAMMPS SPH)."""
 
 from __future__ import annotations
 
@@ -13,16 +13,25 @@ from orchestrator.workflows.bench_sph import format_report, json_report, run_ben
 def add_parser(sub) -> None:
     bench = sub.add_parser(
         "bench", help="speed of an engine: particle-steps per second on standard scenes",
-        description="bench sph: time the sph executable on a 2D dam break (PySPH's dam_break_2d: dx = 0.03 m, "
-        "h = 1.3 dx, 2278 fluid particles) and a 3D dam break (25 360 particles), each on 1 thread and on 2 threads "
-        "(idle threads spinning briefly, numerics.thread_wait = spin, and sleeping at once, passive), and, "
-        "when PySPH is importable ('make pysph'), the same 2D dam break in PySPH on one core. Prints particle-steps "
-        "per second (over the loop's wall time and per CPU second), mean neighbours per fluid particle, the "
-        "2-thread speed-ups and the ratio to PySPH. Run it on an otherwise idle machine: spinning threads on "
-        "shared cores run many times slower.")
+        description="bench sph: particle-steps per second (particles x steps / wall s of the engine's time "
+        "loop, and per CPU second) of the sph executable on these scenes, each on 1 thread and on 2 threads "
+        "(idle threads spinning briefly, numerics.thread_wait = spin, and sleeping at once, passive): "
+        "a 2D dam break (PySPH's dam_break_2d: 2278 fluid particles in a walled tank, dx = 0.03 m, h = 1.3 dx, "
+        "--steps-2d steps); a 3D dam break (a slab periodic across the flow, 25 360 particles, dx = 0.02 m, "
+        "h = 1.3 dx, --steps-3d steps); the periodic 3D block of issue 13 (40 x 40 x 16 particles at dx = 1 mm, "
+        "h = 1.5 dx, Tait EOS c0 = 10 m/s, artificial viscosity alpha = 0.1, dt = 2 us, 2.5 x --steps-3d steps); "
+        "and the material models side by side, a 2D Lees-Edwards shear cell (100 x 100 particles, dx = 0.01 m, "
+        "shear rate 1/s, 300 steps) of a Newtonian fluid and of a PTT fluid with 1 and 5 modes. Peers on one "
+        "core when installed ('make peers' puts them in .venv; a missing peer is skipped with that hint): "
+        "PySPH on the 2D dam break, "
+        "LAMMPS SPH (pair_style sph/taitwater) on the 3D block and on the 3D dam break's particles. Prints a "
+        "row per run (the fastest of --repeat rounds) with wall and CPU s, particle-steps per second (M = 10^6 "
+        "per s) and mean neighbours within 2h per fluid particle, then the 2-thread speed-ups (wall-time "
+        "ratios), the PTT / Newtonian cost ratios and the ratios sph / peer per CPU second and per wall second. "
+        "Run it on an otherwise idle machine: spinning threads on shared cores run many times slower.")
     bench.add_argument("suite", choices=["sph"], help="which engine: sph")
     bench.add_argument("--steps-2d", type=int, default=2000, metavar="N", help="steps of the 2D runs (default 2000)")
-    bench.add_argument("--steps-3d", type=int, default=200, metavar="N", help="steps of the 3D runs (default 200)")
+    bench.add_argument("--steps-3d", type=int, default=200, metavar="N", help="steps of the 3D dam break (default 200; the 3D block runs 2.5 x as many)")
     bench.add_argument("--repeat", type=int, default=3, metavar="N",
                        help="make every run N times, round after round, and keep the fastest of each (default 3)")
     bench.add_argument("--no-pysph", action="store_true", help="skip PySPH even when it is installed")

@@ -181,7 +181,11 @@ class NeighbourList {
   // order, as with a barrier between colours (bitwise the same results), but
   // a thread short of work in one colour goes on with the next (the 3D dam
   // break has 3 or 4 blocks with fluid per colour: with a barrier per colour
-  // its pair counts bound the 2-thread pair loop to 1.67-1.80 x).
+  // its pair counts bound the 2-thread pair loop to 1.67-1.80 x). The queue
+  // and the done flags are reset by the master thread after the closing
+  // barrier, so a pass needs no barrier at its start; two passes on the
+  // threads must be separated by a barrier (a worksharing loop or the end of
+  // the region: so they are in Simulation).
   template <class Body>
   void for_blocks_coloured(bool parallel, Body&& body) const {
     if (!parallel) {
@@ -189,11 +193,6 @@ class NeighbourList {
         for (int k : colour) body(k);
       return;
     }
-#pragma omp single
-    {
-      next_.store(0, std::memory_order_relaxed);
-      for (int k = 0; k < blocks_; ++k) done_[k].store(0, std::memory_order_relaxed);
-    }  // its barrier publishes the reset
     const int total = static_cast<int>(queue_.size());
     for (int t; (t = next_.fetch_add(1, std::memory_order_relaxed)) < total;) {
       const int k = queue_[t];
@@ -204,6 +203,8 @@ class NeighbourList {
       done_[k].store(1, std::memory_order_release);
     }
 #pragma omp barrier
+#pragma omp master
+    reset_queue();  // published to the other threads by the barrier before the next pass
   }
 
   int blocks() const { return blocks_; }
@@ -247,6 +248,12 @@ class NeighbourList {
       if (above < nb && above != k && colour_of_[above] < colour_of_[k]) after_[k][1] = above;
     }
     if (done_capacity_ < nb) done_.reset(new std::atomic<int>[nb]), done_capacity_ = nb;
+    reset_queue();
+  }
+  // No block taken, none done (for the next pass of for_blocks_coloured).
+  void reset_queue() const {
+    next_.store(0, std::memory_order_relaxed);
+    for (int k = 0; k < blocks_; ++k) done_[k].store(0, std::memory_order_relaxed);
   }
   // Whether a (of block ka) owns its pair with b seen at shift `code`.
   bool owns(int a, int b, int code, int ka) const {

@@ -14,6 +14,7 @@
 // grad_a W_ab = F r_ab with F of eq. 8; grad_b W_ba = -F r_ab. Pairs of the
 // skin, beyond 2h, add exact zeros (the kernel factor is clamped to 0).
 #pragma once
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -39,17 +40,39 @@ class PairLoop {
       : P_(P), list_(list), kernel_(kernel), model_(model), materials_(materials), shepard_(shepard) {}
 
   // The pairs owned by the particles of block k: fluid or not, owner and
-  // neighbour, each combination its own branch-free loop.
+  // neighbour, each combination its own branch-free loop. Compiled twice,
+  // for SSE2 and for AVX2 without FMA, chosen at run time: the AVX2 copy
+  // vectorises pass B 4 wide and uses 3-operand (VEX) instructions
+  // everywhere, and every operation rounds as in the SSE2 copy (no FMA
+  // contraction), so results do not depend on the CPU.
   void rates_of_block(int k) const {
+    static const bool avx2 = __builtin_cpu_supports("avx2");
+    if (avx2) rates_of_block_avx2(k);
+    else rates_of_block_default(k);
+  }
+  __attribute__((target("avx2"), noinline)) void rates_of_block_avx2(int k) const { rows_of_block(k); }
+  __attribute__((noinline)) void rates_of_block_default(int k) const { rows_of_block(k); }
+
+  // Whether every particle has the same mass (set at each list build: masses
+  // change only when particles come or go, which rebuilds the list). Pass A
+  // then gathers no mass: its chunk holds that mass in every slot.
+  void set_uniform_mass() {
+    const auto& m = P_.mass;
+    uniform_mass_ = !m.empty() && std::all_of(m.begin(), m.end(), [&](double mi) { return mi == m[0]; });
+  }
+
+  inline __attribute__((always_inline)) void rows_of_block(int k) const {
     const std::uint32_t* const e = list_.entries(k);
+    Chunk c;  // pass B's arrays, on the stack of the calling thread
+    if (uniform_mass_) std::fill(c.m, c.m + chunk, P_.mass[0]);
     for (int a = list_.block_begin(k); a < list_.block_end(k); ++a) {
       const auto& row = list_.row(a);
       if (P_.moves(a)) {
-        pair_row<true, true>(a, e + row.begin, e + row.mid);
-        pair_row<true, false>(a, e + row.mid, e + row.end);
+        pair_row<true, true>(c, a, e + row.begin, e + row.mid);
+        pair_row<true, false>(c, a, e + row.mid, e + row.end);
       } else {
-        pair_row<false, true>(a, e + row.begin, e + row.mid);
-        pair_row<false, false>(a, e + row.mid, e + row.end);
+        pair_row<false, true>(c, a, e + row.begin, e + row.mid);
+        pair_row<false, false>(c, a, e + row.mid, e + row.end);
       }
     }
   }
@@ -99,19 +122,24 @@ class PairLoop {
   //      in 3D, whose terms are exact zeros); branch-free;
   //   B. the per-pair coefficients of eqs. 7, 9-12 (kernel, sqrt, divisions)
   //      over those arrays: no gathers, no sums, so the compiler vectorises it;
+  //      B also multiplies the coefficients along r_ab by r_ab (the products
+  //      C would form: the same roundings);
   //   C. the sums into a and the scatter to b, pair after pair in list order.
   // Every accumulator receives the same contributions in the same order as
   // a single fused loop would give it (bitwise the same results).
+  struct Chunk;
   template <bool AMoves, bool BMoves>
-  inline __attribute__((always_inline)) void pair_row(int a, const std::uint32_t* e, const std::uint32_t* end) const {
+  inline __attribute__((always_inline)) void pair_row(Chunk& c, int a, const std::uint32_t* e,
+                                                      const std::uint32_t* end) const {
     if constexpr (tensor) {
+      (void)c;
       pair_terms<AMoves, BMoves>(a, e, end);
     } else {
       Vec<D> acc_a = Vec<D>::Zero();
       double drho_a = 0.0;
       for (const std::uint32_t* stop = e; e != end; e = stop) {
         stop = end - e > chunk ? e + chunk : end;
-        scalar_chunk<AMoves, BMoves>(a, e, stop, acc_a, drho_a);
+        scalar_chunk<AMoves, BMoves>(c, a, e, stop, acc_a, drho_a);
       }
       P_.acc[a] += acc_a;
       P_.drho[a] += drho_a;
@@ -119,12 +147,13 @@ class PairLoop {
   }
 
   static constexpr int chunk = 128;
-  // Pass B's inputs and outputs for one chunk (on the stack of the calling thread).
+  // Pass B's inputs and outputs for one chunk (f_a, f_b: the terms along
+  // r_ab of a and of b, m/s^2).
   struct Chunk {
     int b[chunk], code[chunk];
-    double r[D][chunk], v_ab[D][chunk], r2[chunk], vr[chunk];
+    double r[D][chunk], r2[chunk], vr[chunk];
     double m[chunk], rho[chunk], vol[chunk], p_rho2[chunk], c[chunk], mu[chunk];
-    double drho_a[chunk], drho_b[chunk], radial_a[chunk], radial_b[chunk], visc_a[chunk], visc_b[chunk];
+    double drho_a[chunk], drho_b[chunk], f_a[D][chunk], f_b[D][chunk], visc_a[chunk], visc_b[chunk];
   };
 
   // Owner a's values for pass B.
@@ -147,7 +176,8 @@ class PairLoop {
         double radial = -(o.p_rho2 + k.p_rho2[j]) * F;  // eq. 9, along r_ab
         if constexpr (has(term::artificial_viscosity))  // eqs. 11-12
           radial -= model.artificial.pi(k.r2[j], k.vr[j], o.rho, k.rho[j], o.c, k.c[j]) * F;
-        k.radial_a[j] = k.m[j] * radial, k.radial_b[j] = o.m * radial;
+        const double radial_a = k.m[j] * radial, radial_b = o.m * radial;
+        for (int d = 0; d < D; ++d) k.f_a[d][j] = radial_a * k.r[d][j], k.f_b[d][j] = radial_b * k.r[d][j];
         if constexpr (has(term::morris_viscosity)) {
           // Eq. 10: 2 mu_ab (r_ab . grad W)/(r_ab^2 + 0.01 h^2) m/(rho_a rho_b).
           double s;
@@ -159,19 +189,11 @@ class PairLoop {
     }
   }
   template <bool AMoves, bool BMoves>
-  __attribute__((target("avx2"), noinline)) static void coefficients_avx2(Chunk& k, int n, const Owner& o, const Model& m) {
-    coefficients<AMoves, BMoves>(k, n, o, m);
-  }
-  template <bool AMoves, bool BMoves>
-  __attribute__((noinline)) static void coefficients_default(Chunk& k, int n, const Owner& o, const Model& m) {
-    coefficients<AMoves, BMoves>(k, n, o, m);
-  }
-
-  template <bool AMoves, bool BMoves>
-  inline __attribute__((always_inline)) void scalar_chunk(int a, const std::uint32_t* e, const std::uint32_t* stop,
-                                                          Vec<D>& acc_a, double& drho_a) const {
+  inline __attribute__((always_inline)) void scalar_chunk(Chunk& k, int a, const std::uint32_t* e,
+                                                          const std::uint32_t* stop, Vec<D>& acc_a,
+                                                          double& drho_a) const {
     using List = NeighbourList<D>;
-    Chunk k;
+    const bool gather_mass = !uniform_mass_;
     const Vec<D>* const x = P_.x.data();
     const Vec<D>* const v = P_.v.data();
     const Vec<D>* const shifts = list_.shifts();
@@ -188,8 +210,9 @@ class PairLoop {
       if constexpr (has(term::sheared)) v_ab -= jumps[*e & List::shift_mask], k.code[n] = *e & List::shift_mask;
       const double r2 = r.squaredNorm();
       k.b[n] = b, k.r2[n] = r2, k.vr[n] = v_ab.dot(r);
-      for (int d = 0; d < D; ++d) k.r[d][n] = r[d], k.v_ab[d][n] = v_ab[d];
-      k.m[n] = P_.mass[b], k.rho[n] = P_.rho[b], k.vol[n] = P_.vol[b], k.p_rho2[n] = P_.p_rho2[b];
+      for (int d = 0; d < D; ++d) k.r[d][n] = r[d];
+      if (gather_mass) k.m[n] = P_.mass[b];
+      k.rho[n] = P_.rho[b], k.vol[n] = P_.vol[b], k.p_rho2[n] = P_.p_rho2[b];
       if constexpr (has(term::artificial_viscosity)) k.c[n] = P_.c[b];
       if constexpr (has(term::several_materials)) k.mu[n] = mu_row[P_.material[b]];
       n += r2 < support2;
@@ -199,9 +222,7 @@ class PairLoop {
     // lane rounds as the scalar code does and results do not depend on the CPU).
     const Owner o{P_.mass[a], P_.rho[a], P_.vol[a], P_.p_rho2[a], 1.0 / P_.rho[a],
                   has(term::artificial_viscosity) ? P_.c[a] : 0.0, kernel_.inv_h, kernel_.grad_factor};
-    static const bool avx2 = __builtin_cpu_supports("avx2");
-    if (avx2) coefficients_avx2<AMoves, BMoves>(k, n, o, model_);
-    else coefficients_default<AMoves, BMoves>(k, n, o, model_);
+    coefficients<AMoves, BMoves>(k, n, o, model_);
     // C. sums into a, scatter to b, in list order.
     Vec<D>* const acc = P_.acc.data();
     double* const drho = P_.drho.data();
@@ -213,10 +234,10 @@ class PairLoop {
       drho_a += k.drho_a[j];
       drho[b] += k.drho_b[j];
       if constexpr (AMoves || BMoves) {
-        Vec<D> r;
-        for (int d = 0; d < D; ++d) r[d] = k.r[d][j];
-        if constexpr (AMoves) acc_a.noalias() += k.radial_a[j] * r;
-        if constexpr (BMoves) acc[b].noalias() -= k.radial_b[j] * r;
+        Vec<D> f_a, f_b;
+        for (int d = 0; d < D; ++d) f_a[d] = k.f_a[d][j], f_b[d] = k.f_b[d][j];
+        if constexpr (AMoves) acc_a.noalias() += f_a;
+        if constexpr (BMoves) acc[b].noalias() -= f_b;
         if constexpr (has(term::morris_viscosity) && has(term::sheared)) {
           const Vec<D>& jump = jumps[k.code[j]];
           if constexpr (AMoves) acc_a.noalias() += k.visc_a[j] * (va - v_noslip[b] - jump);
@@ -333,6 +354,7 @@ class PairLoop {
   const Model& model_;
   const MaterialTable& materials_;
   std::vector<double>& shepard_;
+  bool uniform_mass_ = false;
 };
 
 }  // namespace sph

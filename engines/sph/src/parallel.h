@@ -92,6 +92,31 @@ T reduce_each_index(bool par, std::ptrdiff_t n, std::vector<ThreadPartial<T>>& p
   return total;
 }
 
+// As reduce_each_index, but on the threads (par) without the loop's closing
+// barrier: each thread leaves its partial in `partials` and nothing is
+// combined; after the region (whose end is a barrier) the caller combines
+// partials [0, threads) in thread order (combine_partials). Not par: returns the total.
+template <class T, class Body>
+T partial_each_index(bool par, std::ptrdiff_t n, std::vector<ThreadPartial<T>>& partials, const T& init,
+                     Body&& body) {
+  T total = init;
+  if (!par) {
+    for (std::ptrdiff_t i = 0; i < n; ++i) body(i, total);
+    return total;
+  }
+  T& mine = partials[omp_get_thread_num()].value;
+  mine = init;
+#pragma omp for schedule(static) nowait
+  for (std::ptrdiff_t i = 0; i < n; ++i) body(i, mine);
+  return total;
+}
+template <class T, class Combine>
+T combine_partials(const std::vector<ThreadPartial<T>>& partials, int threads, const T& init, Combine&& combine) {
+  T total = init;
+  for (int t = 0; t < threads; ++t) combine(total, partials[t].value);
+  return total;
+}
+
 // The wall time now into `at`: by the master thread inside a parallel region
 // (par; after the barrier of the previous worksharing loop), else directly.
 inline void stamp_time(bool par, double& at) {

@@ -144,9 +144,8 @@ class Simulation {
   const PeriodicImages<D>& images() const { return images_; }
   double time() const { return time_; }  // s, advanced by each step's dt
 
-  // Rates of every particle at the current x, v, rho (the Verlet list must
-  // hold them): the gather and close_rates stages in one parallel region,
-  // then the per-body reduction.
+  // Rates of every particle at the current x, v, rho (the Verlet list must hold them): the gather
+  // and close_rates stages in one parallel region, then the per-body reduction.
   void compute_rates() {
     rates_ready_ = true;
     maxima_.valid = false;  // acc changes
@@ -174,11 +173,10 @@ class Simulation {
       body(false);
     }
   }
-  // The gather (its start pass unless `started`: EOS and zeroed sums), then
-  // close_rates; with dt > 0 fused per particle with the corrector,
-  // post_correct and the step maxima (into maxima_). The per-body reduction
-  // (NoBodies: none yet) would need its own pass between the two. Stamps
-  // t[1] (EOS, no-slip velocities done), t[2] (pairs done), t[3] (the end); t[0] is the caller's.
+  // The gather (its start pass unless `started`: EOS and zeroed sums), then close_rates; with dt > 0
+  // fused per particle with the corrector, post_correct and the step maxima (into maxima_, on the
+  // threads by finish_maxima). The per-body reduction (NoBodies: none yet) would need its own pass
+  // between the two. Stamps t[1] (EOS, no-slip velocities done), t[2] (pairs done), t[3] (the end).
   void evaluate_and_correct(bool par, bool started, double dt, double* t) {
     const std::ptrdiff_t n = P_.size();
     if (!started) for_each_index(par, n, [this](std::ptrdiff_t i) { start_rates_at(i); });
@@ -195,19 +193,22 @@ class Simulation {
       for_each_index(par, n, [this](std::ptrdiff_t i) { close_rates_at(i); });
       return;
     }
-    StepMaxima m = reduce_each_index(
-        par, n, maxima_partials_, StepMaxima{},
-        [&](std::ptrdiff_t i, StepMaxima& part) {
-          close_rates_at(i);
-          correct_at(P_, i, dt);
-          if constexpr (tensor) post_correct_material<Models>(P_, materials_, i);
-          take_maxima(P_, materials_, i, part.worst_rho, part.v2, part.a2, part.finite);
-        },
-        combine_maxima);
-    m.valid = true;
-    if (!par) maxima_ = m, t[3] = omp_get_wtime();
+    // On the threads without a closing barrier (the region's end is one; finish_maxima combines after it).
+    StepMaxima m = partial_each_index(par, n, maxima_partials_, StepMaxima{}, [&](std::ptrdiff_t i, StepMaxima& part) {
+      close_rates_at(i);
+      correct_at(P_, i, dt);
+      if constexpr (tensor) post_correct_material<Models>(P_, materials_, i);
+      take_maxima(P_, materials_, i, part.worst_rho, part.v2, part.a2, part.finite);
+    });
+    if (!par) maxima_ = m, maxima_.valid = true, t[3] = omp_get_wtime();
 #pragma omp master
-    if (par) maxima_ = m, t[3] = omp_get_wtime();
+    if (par) maxima_threads_ = omp_get_num_threads();
+  }
+  // After a region that corrected on the threads: their maxima, in thread order (exact), into maxima_; stamps `at`.
+  void finish_maxima(double& at) {
+    if (maxima_threads_ == 0) return;
+    maxima_ = combine_partials(maxima_partials_, maxima_threads_, StepMaxima{}, combine_maxima);
+    maxima_.valid = true, maxima_threads_ = 0, at = omp_get_wtime();
   }
 
   // Gather, per particle: EOS and its sums set to zero (and, with Morris, its Shepard sums).
@@ -224,10 +225,9 @@ class Simulation {
     }
     if constexpr (tensor) P_.grad_v[i].setZero(), P_.shape[i].setZero();
   }
-  // close_rates of particle a: body force and wall penalty of a fluid
-  // particle; the velocity gradient G M^-1 (eq. T2) and the constitutive rate
-  // d tau/dt of its material (constitutive_rates.h); an outlet particle keeps
-  // the density it left with (a zero-gradient outlet).
+  // close_rates of particle a: body force and wall penalty of a fluid particle; the velocity gradient
+  // G M^-1 (eq. T2) and the constitutive rate d tau/dt of its material (constitutive_rates.h); an
+  // outlet particle keeps the density it left with (a zero-gradient outlet).
   void close_rates_at(std::ptrdiff_t a) {
     if (P_.moves(a)) {
       if (body_force_on_) model_.body.add(P_.acc[a]);
@@ -257,21 +257,17 @@ class Simulation {
     book_boundary_density(P_, cells_, kernel_, xj, m, sign);
   }
 
-  // Time step of eq. 13 extended by the viscous and force criteria, from the
-  // rates just computed: min(cfl h/(c0 + v_max), viscous h^2/nu, force sqrt(h/a_max))
-  // (largest c0 and nu over the materials).
+  // Time step of eq. 13 extended by the viscous and force criteria, from the rates just computed:
+  // min(cfl h/(c0 + v_max), viscous h^2/nu, force sqrt(h/a_max)) (largest c0 and nu over the materials).
   double adaptive_dt() { return adaptive_time_step(maxima(), deck_, materials_, has(term::morris_viscosity)); }
 
-  // Forget the maxima the corrector took (call after adding, removing or
-  // changing particles: indices change, the list is rebuilt before the next evaluation).
+  // Forget the maxima (call after adding, removing or changing particles: the list is rebuilt before use).
   void forget_maxima() { maxima_.valid = false, list_stale_ = true; }
   // Forget the maxima only (call after changing velocities or densities of particles that stay).
   void forget_step_maxima() { maxima_.valid = false; }
   // Rates of the initial state, before the first step (later steps reuse the
   // rates of the previous step's half-step evaluation); cells must be binned.
-  void ensure_rates() {
-    if (!rates_ready_) compute_rates();
-  }
+  void ensure_rates() { rates_ready_ ? void() : compute_rates(); }
 
   // One full step (stages.h), one rate evaluation at the half step. While the
   // Verlet list stays valid (verlet_skin.h) the step is one parallel region:
@@ -312,6 +308,7 @@ class Simulation {
       evaluate_and_correct(par, true, dt, t + 1);  // sets maxima_ (valid)
     };
     run_region(region);
+    finish_maxima(t[4]);
     times_.predict += t[1] - t[0];
     if (!maxima_.valid) {  // the region stopped after the predictor: the list must be rebuilt
       if (!rebin()) return false;
@@ -319,6 +316,7 @@ class Simulation {
         stamp_time(par, t[1]);
         evaluate_and_correct(par, false, dt, t + 1);
       });
+      finish_maxima(t[4]);
     }
     times_.eos += t[2] - t[1], times_.pairs += t[3] - t[2], times_.correct += t[4] - t[3];
     time_ += dt;
@@ -361,6 +359,7 @@ class Simulation {
   void build_list() {
     if constexpr (sheared) images_.rebase(), cells_.set_shear_offset(images_.build_offset());
     list_.build(cells_, P_.x, P_.kind, kernel_.support_radius() + skin_, walls_together_);
+    pairs_.set_uniform_mass();
     x_build_.assign(P_.x.begin(), P_.x.end());
     shepard_.resize(P_.size());
     if constexpr (tensor) non_fluid_ = std::any_of(P_.kind.begin(), P_.kind.end(), [](Kind k) { return k != Kind::fluid; });
@@ -389,6 +388,7 @@ class Simulation {
   std::vector<Vec<D>> x_pred_;   // wrapped predicted positions by index before the reorder (scratch of rebin)
   std::vector<ThreadPartial<double>> moved_partials_;  // per thread: largest squared displacement (step)
   std::vector<ThreadPartial<StepMaxima>> maxima_partials_;  // per thread: the corrector's maxima
+  int maxima_threads_ = 0;  // threads whose maxima_partials_ finish_maxima has still to combine
   std::vector<Vec<D>> x_build_;  // positions at the last Verlet list build
   double skin_ = 0.0;
   double time_ = 0.0;  // s
