@@ -71,7 +71,9 @@ def test_lattice_fills_the_regions_to_their_closed_form_volume(preset):
     # the penalty walls stay an option: the meshes, cut above the buffers, and the prefill s off the walls
     penalty = build_scene(load_case(CASE, preset=preset, overrides=["physics.walls='penalty'"]).model)
     assert penalty.walls is None and "wall_penalty" in penalty.flow.physics
-    assert prefill_margin(penalty.case, ring) > 0.0 and penalty.n_fluid < scene.n_fluid
+    width = ring.r_out - ring.r_in  # s = dx / 2, or what leaves one spacing across a narrower channel
+    assert prefill_margin(penalty.case, ring) == pytest.approx(min(0.5 * dx, max(0.0, 0.5 * (width - dx))), abs=1e-15)
+    assert penalty.n_fluid <= scene.n_fluid
     for mesh in penalty.flow.meshes.values():
         assert mesh.vertices[:, 2].max() <= layout.z_hi + 1e-8  # manifold3d rounds to float32
 
@@ -151,7 +153,7 @@ def test_the_paper_resolution_starts_with_a_timing_probe(preset, probed):
 
     case = load_case(CASE, preset=preset).model
     scene = build_scene(case)
-    particle_steps = case.planned_steps * probe_scene(scene).n_particles
+    particle_steps = case.planned_steps * probe_scene(scene).n_fluid
     assert case.planned_steps < PROBE_ABOVE_STEPS
     assert (particle_steps > PROBE_ABOVE_PARTICLE_STEPS) is probed
     assert bind("ejector_drill", "sph", scene).wants_probe(scene) is probed
