@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from orchestrator.kinds.ejector_drill.layout import Hole, Layout, Ring
+from orchestrator.reference.sph import kernel_value
 
 #: The parts that are walls (the passages are cut out of the head; the nozzles are at the feed, outside both
 #: scenes).
@@ -189,8 +190,6 @@ def initial_densities(walls: WallParticles, case, layout: Layout, occupied: np.n
     the fluid arrives. With this start it reaches rho0 when the wetted sites around it are filled at the lattice
     spacing, and stays below (at pressure 0: the engine takes max(rho_b, rho0)) while they are empty."""
     from scipy.spatial import cKDTree
-
-    from orchestrator.reference.sph import kernel_value
 
     dx, h, rho0 = case.numerics.dx, case.numerics.h, case.fluid.density
     mass = rho0 * dx ** 3
