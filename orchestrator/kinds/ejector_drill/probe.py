@@ -71,7 +71,8 @@ def write_probe(scene, workdir: Path, threads: int, steps: int) -> dict:
     workdir = Path(workdir)
     flow = probe_scene(scene)
     write_particles(flow, workdir / "particles.h5")
-    write_meshes(flow, workdir / "meshes.h5")
+    if flow.meshes:  # penalty walls
+        write_meshes(flow, workdir / "meshes.h5")
     deck = json.loads(render(TEMPLATE, deck_context(flow, threads=threads)))
     deck["max_steps"] = int(steps)
     deck["output"]["frame_interval"] = deck["t_end"]
