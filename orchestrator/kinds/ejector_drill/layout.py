@@ -141,7 +141,8 @@ def drill_layout(case) -> Layout:
         outlets["leak"] = Plane("leak", (0.0, 0.0, z_leak), (0.0, 0.0, 1.0), r_b)
         z_ag = z_in - 0.5 * (z_in - L)
         # the AG disc reaches into the outer tube's wall, which holds no fluid, so that it counts the gap's particles
-        # the penalty lets sit slightly inside the wall exactly as the rear disc does
+        # that sit slightly past the wall's surface (up to 0.5 dx with boundary particles, more with the penalty)
+        # exactly as the rear disc does
         planes["AG"] = Plane("AG", (0.0, 0.0, z_ag), (0.0, 0.0, -1.0), 0.5 * (r_oi + r_oo))
         planes["rear"] = Plane("rear", (0.0, 0.0, z_ag), (0.0, 0.0, 1.0), r_b)
         for hole in holes:
