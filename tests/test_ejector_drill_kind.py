@@ -137,10 +137,17 @@ def test_tiny_flow_exit_run(tmp_path):
                                                                   "output.frame_interval=2.5e-5"])
     summary = run_case(loaded, engine="sph", out_dir=tmp_path / "run", progress=False)
     assert summary.status == "ok"
-    # the inlet's volume flow is v_in times its annulus, the whole gap between the walls' particles (the engine
-    # scales the profile's columns to it)
-    area = math.pi * (10e-3 ** 2 - 9.5e-3 ** 2)
-    assert summary.measured["V_in"] == pytest.approx(60.0 * area, rel=0.03)
+    # the inlet delivers v_in times its annulus, the whole gap between the walls' particles (the engine scales the
+    # profile's columns to it), to within one lattice layer across the inlet: at dx = 0.5 mm the gap's columns all
+    # sit near one radius and cross the patch together, so a mean over a few records is quantised by whole layers
+    import h5py
+
+    area, dx = math.pi * (10e-3 ** 2 - 9.5e-3 ** 2), loaded.model.numerics.dx
+    with h5py.File(tmp_path / "run" / "run.h5", "r") as h5:
+        time, rate = h5["series/time"][()], h5["series/inflow_gap_inlet"][()]
+    delivered = float(np.sum(rate[1:] * np.diff(time)))
+    assert abs(delivered - 60.0 * area * time[-1]) <= area * dx
+    assert summary.measured["V_in"] == pytest.approx(60.0 * area, rel=0.1)
 
 
 @pytest.mark.parametrize("preset, probed", [("drill_head", True), ("drill_head_quick", False)])
