@@ -164,3 +164,18 @@ def test_the_paper_resolution_starts_with_a_timing_probe(preset, probed):
     assert case.planned_steps < PROBE_ABOVE_STEPS
     assert (particle_steps > PROBE_ABOVE_PARTICLE_STEPS) is probed
     assert bind("ejector_drill", "sph", scene).wants_probe(scene) is probed
+
+
+def test_user_meshes_need_the_penalty_walls(tmp_path):
+    """The boundary particles are cut from the parametric solids in closed form: a user's mesh for a part is refused
+    with them, by name, and accepted with walls = 'penalty'."""
+    import trimesh
+
+    stl = tmp_path / "head.stl"
+    trimesh.creation.box(extents=(10.0, 10.0, 10.0)).export(stl)
+    with pytest.raises(OrchestratorError) as err:
+        load_case(CASE, preset="flow_exit_quick", overrides=[f"parts.head.file='{stl}'"])
+    assert "parts.head" in str(err.value) and "penalty" in str(err.value)
+    case = load_case(CASE, preset="flow_exit_quick", overrides=[f"parts.head.file='{stl}'", "parts.head.scale=1e-3",
+                                                                "physics.walls='penalty'"]).model
+    assert case.parts["head"].scale == 1e-3

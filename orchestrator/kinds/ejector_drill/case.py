@@ -135,6 +135,9 @@ class EjectorDrillCase(Frozen):
             self.geometry()
         except ValueError as exc:
             raise ValueError(f"drill: {exc}") from None
+        if self.parts and self.physics.walls == "particles":
+            raise ValueError(f"parts.{next(iter(self.parts))}: user meshes need physics.walls = 'penalty' (the "
+                             "boundary particles are cut from the parametric solids in closed form)")
         if self.physics.morris_viscosity != (self.fluid.viscosity is not None):
             raise ValueError("fluid.viscosity is given exactly when physics.morris_viscosity = true")
         if self.scene.inlet_velocity > self.fluid.max_speed:

@@ -166,7 +166,7 @@ def drill_layout(case) -> Layout:
         extended = {"head_clearance": z_in + buffer, "chip_mouth": sc.mouth_depth + buffer}
     planes["front"] = Plane("front", (0.0, 0.0, z_front), (0.0, 0.0, -1.0), r_b)
     wetted = tuple(dataclasses.replace(r, z_hi=extended[r.name]) if r.name in extended else r for r in regions)
-    # the walls reach 2h and a layer beyond the wetted regions (walls.py), and are cut one more layer above
+    # the walls reach 2h beyond the wetted regions (walls.py); the meshes are cut two layers above that
     z_hi = max(r.z_hi for r in wetted if isinstance(r, Ring)) + 2 * h + 2 * dx
     return Layout(area=sc.area, regions=regions, wetted=wetted, channel=channel, inlet=inlet, inlet_inner_radius=inner,
                   outlets=outlets, planes=planes, sensors=sensors, z_lo=-c - g.workpiece_wall, z_hi=z_hi,

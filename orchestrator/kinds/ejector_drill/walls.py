@@ -1,12 +1,12 @@
 """Fixed boundary particles for the walls of an ejector-drill scene: the lattice sites lo + (i + 1/2) dx of the
 fluid's own lattice that lie inside the drill's solids (workpiece, head with its holes cut, outer and inner tube)
-within the kernel support and a layer (2h + dx) of the wetted regions (layout.wetted: the fluid regions and the
+within the kernel support 2h of the wetted regions' surface (layout.wetted: the fluid regions and the
 open boundaries' buffers), each with its wall point, the nearest point of the wetted regions' surface (the
 solid's wetted face: the engine extrapolates the no-slip velocity to it, engines/sph/README.md "Wall points").
 SI units (m).
 
 The solids of revolution are tested in closed form on their (r, z) polygons (case_geometry.profiles) and the holes
-as cylinders; a part the user replaced by a mesh ([parts]) is tested with trimesh's `contains`. The wall point is in
+as cylinders (user meshes, [parts], need walls = "penalty": the case says so). The wall point is in
 closed form too: the nearest point of each wetted ring is its (r, z) rectangle's clamp at the site's own angle, of
 each hole the clamp to its cylinder, and the nearest of those is the wall's (the wetted regions and the solids
 share their faces, so the nearest wetted point of a site inside a solid lies on the solid's wetted surface).
@@ -133,7 +133,8 @@ def wall_points(points: np.ndarray, layout: Layout) -> np.ndarray:
 
 def solid_masks(points: np.ndarray, case, layout: Layout, cut_meshes: dict | None = None) -> dict[str, np.ndarray]:
     """part name -> mask of the points inside that solid (the head without its holes); a part replaced by a user
-    mesh is tested with trimesh (cut_meshes: name -> trimesh, build.wall_meshes)."""
+    mesh is tested with trimesh's `contains` (cut_meshes: name -> trimesh, build.wall_meshes; it needs rtree, which
+    the environment may lack: the case refuses user meshes with boundary-particle walls)."""
     eps = 1e-6 * case.numerics.dx
     profiles = case.geometry().profiles()
     out = {}
@@ -151,7 +152,7 @@ def solid_masks(points: np.ndarray, case, layout: Layout, cut_meshes: dict | Non
 
 def boundary_particles(case, layout: Layout, cut_meshes: dict | None = None, slab: int = 40) -> WallParticles:
     """The scene's boundary particles (see the module docstring): sites inside a solid, outside the wetted regions,
-    at most 2h + dx from them. slab: lattice planes handled at a time (memory)."""
+    at most 2h from them. slab: lattice planes handled at a time (memory)."""
     dx, h = case.numerics.dx, case.numerics.h
     reach = 2.0 * h
     r_max = max(r.r_out for r in layout.wetted if isinstance(r, Ring)) + reach + dx
