@@ -1,7 +1,8 @@
-"""The SPH scene of an ejector-drill case: the drill's wall meshes (the adduction holes cut into the head with
-manifold3d's booleans, every part cut above the scene's buffers), fluid particles on the Cartesian lattice
-lo + (i + 1/2) dx inside the inlet's channel (the prefill), the inlet, the outlets, the flow planes and the sensor
-probes, as an sph_flow SphScene so that sph_flow's adapter writes the deck (kinds/sph_flow/sph.py). SI units.
+"""The SPH scene of an ejector-drill case: the walls (fixed boundary particles with wall points inside the drill's
+solids, walls.py; or, with physics.walls = "penalty", the wall meshes with the adduction holes cut into the head by
+manifold3d's booleans, every part cut above the scene's buffers), fluid particles on the scene's Cartesian lattice
+inside the inlet's channel (the prefill), the inlet, the outlets, the flow planes and the sensor probes, as an
+sph_flow SphScene so that sph_flow's adapter writes the deck (kinds/sph_flow/sph.py). SI units.
 
 (This module is the kind's scene builder; it lives in layer 7 beside the layout because the geometry's meshes and
 the sph_flow adapter's scene type are both needed.)
@@ -19,11 +20,9 @@ from orchestrator.kinds.ejector_drill.layout import Layout, drill_layout
 from orchestrator.kinds.sph_flow.case import SphFlowCase
 from orchestrator.kinds.sph_flow.case_open import Inlet, Outlet
 from orchestrator.kinds.sph_flow.case_parts import Domain, Patch, Physics, Probe, SphOutput, WallPenalty
-from orchestrator.kinds.sph_flow.scene import FLUID, SphScene, WallMesh, lattice
-
-#: The parts that are walls (the passages are cut out of the head; the nozzles are at the feed, outside both
-#: scenes).
-WALL_PARTS = ("workpiece", "head", "outer_tube", "inner_tube")
+from orchestrator.kinds.ejector_drill.walls import (WALL_PARTS, WallParticles, boundary_particles, initial_densities,
+                                                    scene_lattice)
+from orchestrator.kinds.sph_flow.scene import BOUNDARY, FLUID, SphScene, WallMesh
 
 
 @dataclass(frozen=True)
@@ -33,11 +32,17 @@ class DrillSphScene:
     case: EjectorDrillCase
     flow: SphScene
     layout: Layout
+    walls: WallParticles | None = None  # the boundary particles (None with penalty walls)
 
     @property
     def n_particles(self) -> int:
-        """Particles in the input (the prefill; the inlet adds more at run time)."""
+        """Particles in the input (the boundary particles and the prefill; the inlet adds more at run time)."""
         return self.flow.n_particles
+
+    @property
+    def n_fluid(self) -> int:
+        """Fluid particles in the input (the prefill)."""
+        return self.flow.n_fluid
 
     @property
     def timestep(self) -> float:
@@ -63,26 +68,39 @@ def wall_meshes(case: EjectorDrillCase, layout: Layout) -> dict:
 
 
 def prefill_margin(case: EjectorDrillCase, ring) -> float:
-    """Distance (m) of the prefill from the channel's walls: the penalty's s (the walls push harder below it), or
-    less where the channel is narrower than dx + 2 s (then what leaves one spacing across)."""
+    """Distance (m) of the prefill and the inlet's columns from the channel's walls: none with boundary particles
+    (the lattice's sites in the channel are its fluid); with penalty walls the penalty's s (the walls push harder
+    below it), or less where the channel is narrower than dx + 2 s (then what leaves one spacing across)."""
+    if case.physics.walls == "particles":
+        return 0.0
     s = case.physics.wall_penalty.s_over_dx * case.numerics.dx
     return min(s, max(0.0, 0.5 * (ring.r_out - ring.r_in - case.numerics.dx)))
 
 
 def prefill_points(case: EjectorDrillCase, layout: Layout) -> np.ndarray:
-    """Lattice sites (n, 3) m in the inlet's channel from the inlet plane scene.prefill downstream, at least the
-    penalty's zero-force distance s from the channel's walls."""
+    """Lattice sites (n, 3) m of the scene's lattice (walls.scene_lattice) in the inlet's channel from the inlet
+    plane scene.prefill downstream, at least prefill_margin from the channel's walls."""
     dx, ring = case.numerics.dx, layout.channel
     if case.scene.prefill <= 0.0:
         return np.zeros((0, 3))
     z_top = layout.inlet.center[2]
     z_bottom = z_top - case.scene.prefill
-    n = int(np.ceil(ring.r_out / dx))
-    lo = (-n * dx, -n * dx, z_top - np.ceil((z_top - z_bottom) / dx) * dx)
-    points = lattice(lo, (n * dx, n * dx, z_top), dx)
+    points = scene_lattice(layout, dx, ring.r_out + dx, z_bottom, z_top)
     r = np.hypot(points[:, 0], points[:, 1])
     gap = prefill_margin(case, ring)
-    return points[(r >= ring.r_in + gap) & (r <= ring.r_out - gap) & (points[:, 2] >= z_bottom)]
+    inside = (r >= ring.r_in + gap) & (r < ring.r_out - gap) if gap else ring.contains(points)
+    return points[inside]
+
+
+def inlet_buffer_points(case: EjectorDrillCase, layout: Layout, layers: int) -> np.ndarray:
+    """The sites (n, 3) m the engine fills with the inlet's particles at the start: `layers` lattice layers upstream
+    of the inlet plane across the channel (its columns are the scene lattice's, walls.lattice_offset)."""
+    dx, ring = case.numerics.dx, layout.channel
+    z_in = layout.inlet.center[2]
+    points = scene_lattice(layout, dx, ring.r_out + dx, z_in, z_in + layers * dx)
+    r = np.hypot(points[:, 0], points[:, 1])
+    margin = prefill_margin(case, ring)
+    return points[(r >= layout.inlet_inner_radius + margin) & (r <= ring.r_out - margin)]
 
 
 def _flow_case(case: EjectorDrillCase, layout: Layout) -> SphFlowCase:
@@ -90,14 +108,15 @@ def _flow_case(case: EjectorDrillCase, layout: Layout) -> SphFlowCase:
     model_construct: its walls are the drill's meshes, which an sph_flow case file cannot name)."""
     dx = case.numerics.dx
     pen = case.physics.wall_penalty
-    terms = ["wall_penalty"]
+    penalty = case.physics.walls == "penalty"
+    terms = ["wall_penalty"] if penalty else []
     if case.physics.morris_viscosity:
         terms.insert(0, "morris_viscosity")
     if case.physics.artificial_viscosity is not None:
         terms.insert(0, "artificial_viscosity")
     physics = Physics(terms=tuple(terms), artificial_viscosity=case.physics.artificial_viscosity,
                       wall_penalty=WallPenalty(range=pen.range_over_dx * dx, s=pen.s_over_dx * dx,
-                                               psi=pen.pressure * dx * dx))
+                                               psi=pen.pressure * dx * dx) if penalty else None)
     margin = prefill_margin(case, layout.channel)  # no inlet column inside the walls' push (as the prefill)
     inlet = Inlet(name=layout.inlet.name, center=layout.inlet.center, normal=layout.inlet.normal,
                   radius=layout.inlet.radius - margin, velocity=case.scene.inlet_velocity, profile="annular",
@@ -128,12 +147,28 @@ def build_drill_scene(case: EjectorDrillCase) -> DrillSphScene:
     rho0, dx = case.fluid.density, case.numerics.dx
     velocity = case.scene.inlet_velocity * np.asarray(layout.inlet.normal)
     n = len(points)
-    meshes = {name: WallMesh(name, np.ascontiguousarray(m.vertices, dtype=float),
-                             np.ascontiguousarray(m.faces, dtype=np.int64))
-              for name, m in wall_meshes(case, layout).items()}
-    flow = SphScene(case=flow_case, positions=points, velocities=np.tile(velocity, (n, 1)),
-                    masses=np.full(n, rho0 * dx ** 3), densities=np.full(n, rho0),
-                    kind=np.full(n, FLUID, dtype=np.int8), block=np.zeros(n, dtype=np.int32), meshes=meshes,
-                    h=case.numerics.h, c0=case.c0, timestep=case.timestep_at_rest, physics=flow_case.physics.terms,
-                    material=np.zeros(n, dtype=np.int32), materials=())
-    return DrillSphScene(case=case, flow=flow, layout=layout)
+    velocities = np.tile(velocity, (n, 1))
+    densities = np.full(n, rho0)
+    kind = np.full(n, FLUID, dtype=np.int8)
+    wall_point = np.full((n, 3), np.nan)
+    walls, meshes = None, {}
+    if case.physics.walls == "penalty":
+        meshes = {name: WallMesh(name, np.ascontiguousarray(m.vertices, dtype=float),
+                                 np.ascontiguousarray(m.faces, dtype=np.int64))
+                  for name, m in wall_meshes(case, layout).items()}
+    else:
+        walls = boundary_particles(case, layout, wall_meshes(case, layout) if case.parts else None)
+        occupied = np.vstack([points, inlet_buffer_points(case, layout, flow_case.inlets[0].layers)])
+        densities = np.concatenate([initial_densities(walls, case, layout, occupied), densities])
+        points = np.vstack([walls.positions, points])
+        velocities = np.vstack([np.zeros((walls.n, 3)), velocities])
+        kind = np.concatenate([np.full(walls.n, BOUNDARY, dtype=np.int8), kind])
+        wall_point = np.vstack([walls.wall_points, wall_point])
+        n = len(points)
+    flow = SphScene(case=flow_case, positions=points, velocities=velocities,
+                    masses=np.full(n, rho0 * dx ** 3), densities=densities, kind=kind,
+                    block=np.zeros(n, dtype=np.int32), meshes=meshes, h=case.numerics.h, c0=case.c0,
+                    timestep=case.timestep_at_rest, physics=flow_case.physics.terms,
+                    material=np.zeros(n, dtype=np.int32), materials=(),
+                    wall_point=None if walls is None else wall_point)
+    return DrillSphScene(case=case, flow=flow, layout=layout, walls=walls)

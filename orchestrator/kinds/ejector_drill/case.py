@@ -64,7 +64,8 @@ class DrillScene(Frozen):
     area: Literal["flow_exit", "drill_head"] = Field(
         description="flow_exit: annular gap -> adduction holes -> clearance to the bore (paper Fig. 2); drill_head: "
                     "head clearance -> cutting zone -> chip mouth (Figs. 3-4)")
-    inlet_velocity: Positive = Field(description="plug inflow speed at the inlet, m/s")
+    inlet_velocity: Positive = Field(description="mean inflow speed at the inlet (the laminar annulus profile's "
+                                                 "columns, peak ~1.5 x), m/s")
     inlet_distance: Positive = Field(
         description="flow_exit: from the holes' axis up the annular gap to the inlet plane; drill_head: from the "
                     "holes' axis forward to the inlet plane in the head clearance, m")
@@ -94,11 +95,16 @@ class DrillPenalty(Frozen):
 
 
 class DrillPhysics(Frozen):
-    """Optional terms beyond continuity, EOS and pressure gradient: the wall penalty is always on."""
+    """Optional terms beyond continuity, EOS and pressure gradient, and what the walls are."""
 
     morris_viscosity: bool = Field(True, description="the laminar viscous term (eq. 10) with fluid.viscosity")
     artificial_viscosity: ArtificialViscosity | None = None
-    wall_penalty: DrillPenalty
+    walls: Literal["particles", "penalty"] = Field(
+        "particles", description="particles: fixed boundary particles on the fluid's lattice inside the solids, "
+                                 "each with its nearest point of the wetted surface (no-slip there; walls.py); "
+                                 "penalty: the solids' meshes with the penalty force of eq. 14 (wall_penalty)")
+    wall_penalty: DrillPenalty = Field(default_factory=lambda: DrillPenalty(pressure=5.0e7),
+                                       description="the penalty walls' force (only with walls = 'penalty')")
 
 
 class DrillOutput(Frozen):
@@ -129,6 +135,9 @@ class EjectorDrillCase(Frozen):
             self.geometry()
         except ValueError as exc:
             raise ValueError(f"drill: {exc}") from None
+        if self.parts and self.physics.walls == "particles":
+            raise ValueError(f"parts.{next(iter(self.parts))}: user meshes need physics.walls = 'penalty' (the "
+                             "boundary particles are cut from the parametric solids in closed form)")
         if self.physics.morris_viscosity != (self.fluid.viscosity is not None):
             raise ValueError("fluid.viscosity is given exactly when physics.morris_viscosity = true")
         if self.scene.inlet_velocity > self.fluid.max_speed:

@@ -11,6 +11,7 @@ The feed (ejector nozzles, C1, C2, V_EN) is 0.4 m away from either scene and is 
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -76,6 +77,8 @@ class Layout:
 
     area: str
     regions: tuple  # Ring and Hole, disjoint except where a hole crosses the groove (counted once: see volume)
+    wetted: tuple  # the regions with the inlet's channel and the outlets' rings carried on through their buffers:
+    # where fluid (and inlet and outlet particles) can be, which the boundary particles surround (walls.py)
     channel: Ring  # the inlet's channel (prefilled from the inlet plane downstream)
     inlet: Plane
     inlet_inner_radius: float
@@ -86,6 +89,13 @@ class Layout:
     z_lo: float
     z_hi: float  # the walls are cut here (above every buffer)
     r_max: float
+
+    def wetted_contains(self, points: np.ndarray) -> np.ndarray:
+        """Mask of the points in any wetted region (the fluid regions and the open boundaries' buffers)."""
+        mask = np.zeros(len(points), dtype=bool)
+        for region in self.wetted:
+            mask |= region.contains(points)
+        return mask
 
     def in_scene(self, point) -> bool:
         """True if a sensor point lies in one of the scene's fluid regions."""
@@ -131,7 +141,8 @@ def drill_layout(case) -> Layout:
         outlets["leak"] = Plane("leak", (0.0, 0.0, z_leak), (0.0, 0.0, 1.0), r_b)
         z_ag = z_in - 0.5 * (z_in - L)
         # the AG disc reaches into the outer tube's wall, which holds no fluid, so that it counts the gap's particles
-        # the penalty lets sit slightly inside the wall exactly as the rear disc does
+        # that sit slightly past the wall's surface (up to 0.5 dx with boundary particles, more with the penalty)
+        # exactly as the rear disc does
         planes["AG"] = Plane("AG", (0.0, 0.0, z_ag), (0.0, 0.0, -1.0), 0.5 * (r_oi + r_oo))
         planes["rear"] = Plane("rear", (0.0, 0.0, z_ag), (0.0, 0.0, 1.0), r_b)
         for hole in holes:
@@ -141,7 +152,8 @@ def drill_layout(case) -> Layout:
         sensors["A"] = (mid_clear, 0.0, z_hole)
         sensors["B"] = (mid_gap * math.cos(math.pi / n.n_holes), mid_gap * math.sin(math.pi / n.n_holes), z_ag)
         z_front = 0.5 * (sc.mouth_depth + z_hole - 0.5 * n.d_hole)
-        z_hi = max(z_in, z_leak) + buffer + 2 * dx
+        extended = {"annular_gap": z_in + buffer, "chip_mouth": sc.mouth_depth + buffer,
+                    "tube_clearance": z_leak + buffer}
     else:
         z_in = z_hole - sc.inlet_distance
         channel = Ring("head_clearance", r_h, r_b, 0.0, z_in)
@@ -151,8 +163,11 @@ def drill_layout(case) -> Layout:
         sensors["A"] = (mid_clear, 0.0, min(z_hole, z_in - 2 * dx))
         sensors["B"] = (mid_gap, 0.0, L + 0.5 * sc.inlet_distance)
         z_front = 0.5 * (sc.mouth_depth + z_in)
-        z_hi = z_in + buffer + 2 * dx
+        extended = {"head_clearance": z_in + buffer, "chip_mouth": sc.mouth_depth + buffer}
     planes["front"] = Plane("front", (0.0, 0.0, z_front), (0.0, 0.0, -1.0), r_b)
-    return Layout(area=sc.area, regions=regions, channel=channel, inlet=inlet, inlet_inner_radius=inner,
+    wetted = tuple(dataclasses.replace(r, z_hi=extended[r.name]) if r.name in extended else r for r in regions)
+    # the walls reach 2h beyond the wetted regions (walls.py); the meshes are cut two layers above that
+    z_hi = max(r.z_hi for r in wetted if isinstance(r, Ring)) + 2 * h + 2 * dx
+    return Layout(area=sc.area, regions=regions, wetted=wetted, channel=channel, inlet=inlet, inlet_inner_radius=inner,
                   outlets=outlets, planes=planes, sensors=sensors, z_lo=-c - g.workpiece_wall, z_hi=z_hi,
                   r_max=r_b + g.workpiece_wall)

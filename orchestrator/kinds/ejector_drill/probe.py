@@ -24,42 +24,46 @@ import numpy as np
 
 from orchestrator.case.loader import load_case
 from orchestrator.kinds import build_scene
-from orchestrator.kinds.sph_flow.scene import FLUID, lattice
+from orchestrator.kinds.ejector_drill.walls import scene_lattice
+from orchestrator.kinds.sph_flow.scene import FLUID
 from orchestrator.kinds.sph_flow.sph import DECK, TEMPLATE, deck_context, write_meshes, write_particles
 from orchestrator.templating import render
 
 
 def end_particles(scene) -> int:
-    """Upper bound of the run's fluid particles at its end: prefill + inflow volume over the duration / dx^3."""
+    """Upper bound of the run's fluid particles at its end: prefill + inflow volume over the duration / dx^3 (the
+    boundary particles come on top)."""
     case, layout = scene.case, scene.layout
     ring = layout.channel
     inflow = case.scene.inlet_velocity * math.pi * (ring.r_out ** 2 - layout.inlet_inner_radius ** 2) \
         if layout.area == "flow_exit" else case.scene.inlet_velocity * math.pi * (ring.r_out ** 2 - ring.r_in ** 2)
-    return scene.n_particles + int(inflow * case.simulation.duration / case.numerics.dx ** 3)
+    return scene.n_fluid + int(inflow * case.simulation.duration / case.numerics.dx ** 3)
 
 
 def probe_scene(scene, limit: int | None = None):
     """The scene's SphScene with its fluid regions filled on the lattice at rest, region after region in flow order,
-    up to `limit` particles (default end_particles)."""
+    up to `limit` fluid particles (default end_particles), beside the scene's boundary particles (at rho0: the
+    filled state's)."""
     case, layout = scene.case, scene.layout
     dx, rho0 = case.numerics.dx, case.fluid.density
     limit = end_particles(scene) if limit is None else limit
-    r = layout.r_max
-    k = int(np.ceil(r / dx))
-    z_hi = layout.z_hi
-    points = lattice((-k * dx, -k * dx, layout.z_lo), (k * dx, k * dx, layout.z_lo + np.ceil((z_hi - layout.z_lo) / dx)
-                                                          * dx), dx)
+    points = scene_lattice(layout, dx, layout.r_max, layout.z_lo, layout.z_hi)
     chosen, taken = [], np.zeros(len(points), dtype=bool)
     for region in layout.regions:  # the layout lists them in flow order
         inside = region.contains(points) & ~taken
         taken |= inside
         chosen.append(points[inside])
     points = np.concatenate(chosen)[:limit]
-    n = len(points)
-    return dataclasses.replace(scene.flow, positions=points, velocities=np.zeros((n, 3)),
-                               masses=np.full(n, rho0 * dx ** 3), densities=np.full(n, rho0),
-                               kind=np.full(n, FLUID, dtype=np.int8), block=np.zeros(n, dtype=np.int32),
-                               material=np.zeros(n, dtype=np.int32))
+    flow = scene.flow
+    walls = flow.kind != FLUID
+    n, nb = len(points), int(np.count_nonzero(walls))
+    wall_point = None if flow.wall_point is None else np.vstack([flow.wall_point[walls], np.full((n, 3), np.nan)])
+    return dataclasses.replace(flow, positions=np.vstack([flow.positions[walls], points]),
+                               velocities=np.zeros((nb + n, 3)), masses=np.full(nb + n, rho0 * dx ** 3),
+                               densities=np.full(nb + n, rho0),
+                               kind=np.concatenate([flow.kind[walls], np.full(n, FLUID, dtype=np.int8)]),
+                               block=np.zeros(nb + n, dtype=np.int32), material=np.zeros(nb + n, dtype=np.int32),
+                               wall_point=wall_point)
 
 
 def write_probe(scene, workdir: Path, threads: int, steps: int) -> dict:
@@ -67,7 +71,8 @@ def write_probe(scene, workdir: Path, threads: int, steps: int) -> dict:
     workdir = Path(workdir)
     flow = probe_scene(scene)
     write_particles(flow, workdir / "particles.h5")
-    write_meshes(flow, workdir / "meshes.h5")
+    if flow.meshes:  # penalty walls
+        write_meshes(flow, workdir / "meshes.h5")
     deck = json.loads(render(TEMPLATE, deck_context(flow, threads=threads)))
     deck["max_steps"] = int(steps)
     deck["output"]["frame_interval"] = deck["t_end"]

@@ -10,8 +10,9 @@ from orchestrator.kinds.ejector_drill.probe import probe_scene, write_probe
 from orchestrator.kinds.sph_flow.sph import SphFlow
 
 
-#: Runs planned above this many particle-steps (the filled scene's particles x planned steps; about a quarter of an
-#: hour at 1e6 particle-steps/s) start with a timing probe that prints their estimated wall time.
+#: Runs planned above this many fluid particle-steps (the filled scene's fluid particles x planned steps; about a
+#: quarter of an hour at 1e6 particle-steps/s, the boundary particles' cost on top) start with a timing probe that
+#: prints their estimated wall time.
 PROBE_ABOVE_PARTICLE_STEPS = 1.0e9
 
 
@@ -33,9 +34,9 @@ class EjectorDrillSph(SphFlow):
         return scene.case.planned_steps
 
     def wants_probe(self, engine, scene) -> bool:
-        """True above PROBE_ABOVE_PARTICLE_STEPS: a drill run's cost lies in its particles (the scene fills from a
-        few hundred to the filled count, probe_scene) as much as in its steps."""
-        return scene.case.planned_steps * probe_scene(scene).n_particles > PROBE_ABOVE_PARTICLE_STEPS
+        """True above PROBE_ABOVE_PARTICLE_STEPS: a drill run's cost lies in its fluid particles (the scene fills from
+        a few hundred to the filled count, probe_scene) as much as in its steps."""
+        return scene.case.planned_steps * probe_scene(scene).n_fluid > PROBE_ABOVE_PARTICLE_STEPS
 
     def probe_command(self, engine, scene, workdir: Path, steps: int = 200):
         """The probe deck (probe.py: the fluid regions filled with the run's end count) in workdir and the command
