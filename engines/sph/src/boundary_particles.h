@@ -75,6 +75,7 @@ inline constexpr double max_fit_gain = 1e4;    // largest noise gain of the fit 
 template <int D>
 inline void add_wall_fit(Particles<D>& P, int b, int f, double w, const Vec<D>& r_fb) {
   const Vec<D>& offset = P.wall_offset[b];  // x_w - x_b
+  P.wall_fit[b].pressure += w * P.p[f];
   const double d_b = offset.norm();
   if (!(d_b > 0.0)) return;  // NaN (no wall point) or on the wall surface
   const Vec<D> n = offset / d_b;
@@ -135,6 +136,8 @@ void no_slip_velocity(Particles<D>& P, const std::vector<double>& shepard, std::
     P.x_noslip[b].setZero();
     P.wall_fit[b] = WallFit<D>{};
     if (weight > 0.0 && !std::isnan(offset[0])) {
+      P.p[b] = fit.pressure / weight;  // eq. WP3
+      P.p_rho2[b] = P.p[b] / (P.rho[b] * P.rho[b]);
       const double d_b = offset.norm();
       const Vec<D>& v_w = P.v[b];
       if (d_b > 0.0 && quadratic_ghost(fit, d_b, weight, v_w, P.v_noslip[b])) return;

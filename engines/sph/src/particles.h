@@ -46,7 +46,8 @@ struct WallFit {
   static constexpr int K = D == 3 ? 5 : 3;
   Eigen::Matrix<double, K, K> normal = Eigen::Matrix<double, K, K>::Zero();
   Eigen::Matrix<double, K, D> rhs = Eigen::Matrix<double, K, D>::Zero();
-  double behind = 0.0;  // sum of w over fluid neighbours behind the wall's tangent plane (s < 0)
+  double behind = 0.0;    // sum of w over fluid neighbours behind the wall's tangent plane (s < 0)
+  double pressure = 0.0;  // sum of w p_f (the wall pressure, eq. WP3)
 };
 
 template <int D>
