@@ -56,6 +56,23 @@ namespace sph {
 // particle on the wall surface (d_b = 0) takes v_w; a NaN wall point means
 // none (Adami's mirror).
 //
+// (WP3) A boundary particle with a wall point also takes the Shepard average of
+// the fluid pressure around it, p_b = sum_f W_bf p_f / sum_f W_bf (Adami et al.
+// 2012, walls at rest without body force), instead of the pressure of its own
+// (summation) density, which follows how closely the fluid packs against it
+// rather than the fluid's pressure: in the open pipe (R = 6 dx, h = 1.3 dx) the
+// fluid's pressure gradient was 5.3 % below Hagen-Poiseuille with WP2 alone
+// while its velocity profile implied 1.5 % (the walls' pressures carried part of
+// the axial force); with WP3 2.2 %.
+// Measured limits of WP2: max_fit_gain, the fit's noise gain
+// sum_f W_bf e^T N^-1 e (N the normal matrix, e = (-d_b, d_b^2, 0, ...); a
+// mirror-like linear fit gives (d_b / d_f)^2): the open pipe at h = 1.5 dx went
+// unstable at 0.04 s with no limit, ran with 1e5, 1e4 and 1e3 (periodic pipe /
+// annulus flow +1.28 / +2.59 %, +1.47 / +2.91 %, +1.58 / +4.15 %); fluid behind
+// the wall plane (s < 0, squeezed into the staircase's gaps) is outside the
+// fit's model, and the open annulus at h = 1.5 dx went unstable at 0.36 s until
+// such boundary particles fell back to WP1.
+//
 // The limit of WP1, 8 (measured before WP2): on a flat wall of the lattice with h = 1.3 dx the second
 // layer already has d_b / d_f = 3 (the first 0.97), and a wall 0.2 dx inside
 // the lattice layer gives about 6, so a lower limit loses a linear profile
