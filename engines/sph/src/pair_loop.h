@@ -103,7 +103,11 @@ class PairLoop {
         P_.v_noslip[wall] += w * P_.v[fluid];
         shepard_[wall] += w;
         if constexpr (tensor) add_wall_stress<Models>(P_, wall, fluid, w);  // eq. W1 (boundary_particles.h)
-        if (positions) P_.x_noslip[wall] += w * (a_fluid ? r : Vec<D>(-r));
+        if (positions) {
+          const Vec<D> r_fb = a_fluid ? r : Vec<D>(-r);
+          P_.x_noslip[wall] += w * r_fb;
+          add_wall_fit(P_, wall, fluid, w, r_fb);  // eq. WP2 (boundary_particles.h)
+        }
       }
     }
   }

@@ -38,6 +38,18 @@ struct Field {
   }
 };
 
+// Sums of the weighted least-squares fit of a fixed boundary particle's wall
+// extrapolation (boundary_particles.h, eq. WP2): sum w a a^T and sum w a (v_f - v_w)^T
+// over its fluid neighbours, a = the fit's K basis values; zero between evaluations.
+template <int D>
+struct WallFit {
+  static constexpr int K = D == 3 ? 5 : 3;
+  Eigen::Matrix<double, K, K> normal = Eigen::Matrix<double, K, K>::Zero();
+  Eigen::Matrix<double, K, D> rhs = Eigen::Matrix<double, K, D>::Zero();
+  double behind = 0.0;    // sum of w over fluid neighbours behind the wall's tangent plane (s < 0)
+  double pressure = 0.0;  // sum of w p_f (the wall pressure, eq. WP3)
+};
+
 template <int D>
 struct Particles {
   // -- integrated (value, rate, start-of-step copy); names are the frame datasets
@@ -65,6 +77,7 @@ struct Particles {
   std::vector<double> vol, p_rho2;   // m/rho m^D, p/rho^2 (saves divisions in the pair loop)
   std::vector<Vec<D>> v_noslip;      // velocity seen by the viscous term: v for fluid, mirrored for boundary
   std::vector<Vec<D>> x_noslip;      // Shepard sum of the fluid positions around a boundary particle (has_wall_points)
+  std::vector<WallFit<D>> wall_fit;  // weighted quadratic-fit sums of the same fluid (has_wall_points; vec.h)
   std::vector<Mat<D>> grad_v;        // velocity gradient (tensor()): row i, column j is d v_i / d x_j
   std::vector<Mat<D>> shape;         // kernel-correction sum, then its inverse (tensor())
   std::vector<Mat<D>> sigma_rho2;    // (-p I + tau) / rho^2 (tensor())
@@ -121,6 +134,7 @@ struct Particles {
     if (has_wall_points) {
       for (std::size_t i = had_walls; i < n; ++i) wall_offset[i].setConstant(std::numeric_limits<double>::quiet_NaN());
       x_noslip.resize(n, Vec<D>::Zero());
+      wall_fit.resize(n, WallFit<D>{});
     }
     if (tensor())
       for (auto* a : {&grad_v, &shape, &sigma_rho2}) a->resize(n, Mat<D>::Zero());
@@ -130,7 +144,7 @@ struct Particles {
   void reserve(std::size_t n) {
     for (auto* a : {&x, &x0, &next_x, &next_x0, &v_noslip, &scratch_vec_}) a->reserve(n);
     for (auto* a : {&p, &c, &vol, &p_rho2}) a->reserve(n);
-    if (has_wall_points) x_noslip.reserve(n);
+    if (has_wall_points) x_noslip.reserve(n), wall_fit.reserve(n);
     for_integrated([n](auto& f, Integrates) { f.each_array([n](auto& a) { a.reserve(n); }); });
     for_carried([n](auto& a, auto& next) { a.reserve(n), next.reserve(n); });
     if (tensor())
@@ -212,7 +226,7 @@ struct Particles {
     const std::size_t cap = std::max(o.reserved_, o.x.capacity());
     SPH_TAKE(x), SPH_TAKE(x0), SPH_TAKE(next_x), SPH_TAKE(next_x0), SPH_TAKE(vel), SPH_TAKE(dens), SPH_TAKE(stress);
     SPH_TAKE(has_stress), SPH_TAKE(mode_stress), SPH_TAKE(modes), SPH_TAKE(tau_solvent), SPH_TAKE(next_tau_solvent);
-    SPH_TAKE(has_wall_points), SPH_TAKE(wall_offset), SPH_TAKE(next_wall_offset), SPH_TAKE(x_noslip);
+    SPH_TAKE(has_wall_points), SPH_TAKE(wall_offset), SPH_TAKE(next_wall_offset), SPH_TAKE(x_noslip), SPH_TAKE(wall_fit);
     SPH_TAKE(mass), SPH_TAKE(kind), SPH_TAKE(id), SPH_TAKE(material);
     SPH_TAKE(next_mass), SPH_TAKE(next_kind), SPH_TAKE(next_id), SPH_TAKE(next_material);
     SPH_TAKE(p), SPH_TAKE(c), SPH_TAKE(vol), SPH_TAKE(p_rho2), SPH_TAKE(v_noslip);
