@@ -78,6 +78,16 @@ def test_deck_says_what_the_case_says(tmp_path):
     assert deck["output"]["flow_planes"][0]["half_extents"] == [0.025, 0.03]
 
 
+@pytest.mark.parametrize("walls,expected", [([], None), (["physics.artificial_viscosity.walls=true"], None),
+                                             (["physics.artificial_viscosity.walls=false"], {"walls": False})])
+def test_artificial_viscosity_walls_reach_the_deck(walls, expected, tmp_path):
+    """walls = false writes "artificial_viscosity": {"walls": false}; the default writes nothing (decks unchanged)."""
+    scene = build_scene(load_case(REFERENCE_2D, overrides=walls).model)
+    _backend().write_input(scene, tmp_path)
+    deck = json.loads((tmp_path / "deck.json").read_text())
+    assert deck["alpha"] == 0.1 and deck.get("artificial_viscosity") == expected
+
+
 def test_input_files_hold_the_scene(tmp_path):
     scene = build_scene(load_case(CHANNEL).model)
     _backend().write_input(scene, tmp_path)

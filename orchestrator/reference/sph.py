@@ -67,6 +67,7 @@ class SphModel:
     viscosity: float | None = None  # kinematic nu, m^2/s (Morris, eq. 10)
     alpha: float | None = None  # artificial viscosity (eqs. 11-12), -
     beta: float = 0.0
+    av_walls: bool = True  # eqs. 11-12 also on fluid-boundary pairs; False: fluid-fluid pairs only
     body_force: tuple | None = None  # m/s^2
     walls: PenaltyWalls | None = None
     periodic_axes: tuple[int, ...] = ()
@@ -239,6 +240,8 @@ def rates(state: SphState, model: SphModel) -> tuple[np.ndarray, np.ndarray]:
         rho_ab = 0.5 * (state.rho[a] + state.rho[b])
         c_ab = 0.5 * (c[a] + c[b])
         pi_ab = np.where(approaching, (-model.alpha * c_ab * mu_ab + model.beta * mu_ab * mu_ab) / rho_ab, 0.0)
+        if not model.av_walls:
+            pi_ab = np.where(fluid[b], pi_ab, 0.0)
         acc_pairs -= (state.mass[b] * pi_ab)[:, None] * grad_w
     acc = _sum_to(a[moving], acc_pairs[moving], n)
     drho_sum = _sum_to(a, drho, n)
@@ -345,6 +348,7 @@ def from_scene(scene) -> tuple[SphState, SphModel]:
         dimension=case.dimension, rho0=first.rho0, c0=first.c0, h=scene.h, gamma=first.gamma,
         background_pressure=first.background_pressure, viscosity=first.viscosity, materials=several,
         alpha=None if av is None else av.alpha, beta=0.0 if av is None else av.beta,
+        av_walls=True if av is None else av.walls,
         body_force=physics.body_force, walls=walls, periodic_axes=axes,
         periodic_lo=tuple(case.domain.lo[a] for a in axes), periodic_hi=tuple(case.domain.hi[a] for a in axes),
     )

@@ -243,7 +243,7 @@ std::string Deck::terms_string() const {
 
 Deck parse_deck(const json& j, const std::string& deck_dir) {
   check_keys(j, "", {"dimension", "particles_file", "physics", "rho0", "c0", "gamma", "background_pressure", "v_max",
-                     "viscosity", "alpha", "beta", "h", "dx", "body_force", "meshes", "wall", "periodic", "inlets",
+                     "viscosity", "alpha", "beta", "artificial_viscosity", "h", "dx", "body_force", "meshes", "wall", "periodic", "inlets",
                      "outlets", "dt", "time_step", "t_end", "max_steps", "stability", "output", "threads",
                      "materials", "lees_edwards"});
   Deck d;
@@ -287,6 +287,19 @@ Deck parse_deck(const json& j, const std::string& deck_dir) {
   if (j.contains("beta") && !(d.terms & term::artificial_viscosity))
     fail("key 'beta' is given but physics term 'artificial_viscosity' is not in 'physics'");
   d.beta = non_negative(j, "", "beta", 0.0);
+  if (j.contains("artificial_viscosity")) {
+    // {"walls": false}: eqs. 11-12 only between two fluid particles, none against a fixed one.
+    if (!(d.terms & term::artificial_viscosity))
+      fail("key 'artificial_viscosity' is given but physics term 'artificial_viscosity' is not in 'physics'");
+    const auto& av = j["artificial_viscosity"];
+    if (!av.is_object()) fail("'artificial_viscosity' must be an object like {\"walls\": false}, got " + av.dump());
+    check_keys(av, "artificial_viscosity", {"walls"});
+    if (av.contains("walls")) {
+      if (!av["walls"].is_boolean())
+        fail("'artificial_viscosity.walls' must be true or false, got " + av["walls"].dump());
+      d.av_walls = av["walls"].get<bool>();
+    }
+  }
   require_with_term(j, d, term::body_force, "body_force", "body_force");
   if (j.contains("body_force")) d.body_force = vector_of(j["body_force"], "body_force", d.dimension);
 

@@ -125,6 +125,7 @@ struct Deck {
   double v_max = 0;                                             // expected max speed, m/s
   double viscosity = 0;                                         // kinematic, m^2/s
   double alpha = 0, beta = 0;                                   // artificial viscosity
+  bool av_walls = true;  // artificial viscosity also on pairs with a fixed particle
   double h = 0, dx = 0;                                         // m
   std::vector<double> body_force;                               // m/s^2
   // walls

@@ -178,8 +178,11 @@ class PairLoop {
       k.drho_b[j] = (BMoves ? k.rho[j] * o.vol : o.m) * Fvr;
       if constexpr (AMoves || BMoves) {
         double radial = -(o.p_rho2 + k.p_rho2[j]) * F;  // eq. 9, along r_ab
-        if constexpr (has(term::artificial_viscosity))  // eqs. 11-12
-          radial -= model.artificial.pi(k.r2[j], k.vr[j], o.rho, k.rho[j], o.c, k.c[j]) * F;
+        if constexpr (has(term::artificial_viscosity)) {  // eqs. 11-12 (times 0 or 1 against a fixed particle)
+          double pi = model.artificial.pi(k.r2[j], k.vr[j], o.rho, k.rho[j], o.c, k.c[j]);
+          if constexpr (!(AMoves && BMoves)) pi *= model.artificial.wall;
+          radial -= pi * F;
+        }
         const double radial_a = k.m[j] * radial, radial_b = o.m * radial;
         for (int d = 0; d < D; ++d) k.f_a[d][j] = radial_a * k.r[d][j], k.f_b[d][j] = radial_b * k.r[d][j];
         if constexpr (has(term::morris_viscosity)) {
@@ -324,8 +327,11 @@ class PairLoop {
           radial = -(p_rho2_a + p_rho2[b]) * F;  // eq. 9, along r_ab
         }
         // Eqs. 11-12: symmetric in a and b, along r_ab.
-        if constexpr (has(term::artificial_viscosity))
-          radial -= model.artificial.pi(r2, v_ab.dot(r), rho_a, rho_b, c_a, c[b]) * F;
+        if constexpr (has(term::artificial_viscosity)) {  // times 0 or 1 against a fixed particle
+          double pi = model.artificial.pi(r2, v_ab.dot(r), rho_a, rho_b, c_a, c[b]);
+          if constexpr (!(AMoves && BMoves)) pi *= model.artificial.wall;
+          radial -= pi * F;
+        }
         if constexpr (!tensor || has(term::artificial_viscosity)) {
           if constexpr (AMoves) acc_a.noalias() += (m_b * radial) * r;
           if constexpr (BMoves) acc[b].noalias() -= (m_a * radial) * r;

@@ -129,6 +129,9 @@ struct MorrisViscosity {
 struct ArtificialViscosity {
   double alpha = 0.0, beta = 0.0;
   double h = 0.0, eta2 = 0.0;
+  // Factor on Pi_ab for pairs with a fixed (boundary, inlet or outlet) particle:
+  // 1 (deck artificial_viscosity.walls = true) or 0 (only fluid-fluid pairs).
+  double wall = 1.0;
   // Pi_ab of eq. 11 (symmetric in a and b) from r_ab^2 and v_ab . r_ab.
   double pi(double r2, double vr, double rho_a, double rho_b, double c_a, double c_b) const {
     const double d = r2 + eta2, rho_ab = 0.5 * (rho_a + rho_b);

@@ -107,6 +107,18 @@ TEST(term_keys_must_match_the_physics_list) {
   j["alpha"] = 0.1;
   CHECK(mentions(rejection(j), "'alpha' is given but physics term 'artificial_viscosity'"));
   j = good_deck();
+  j["artificial_viscosity"] = json::parse(R"({"walls": false})");
+  CHECK(mentions(rejection(j), "'artificial_viscosity' is given but physics term 'artificial_viscosity'"));
+  j["physics"].push_back("artificial_viscosity");
+  j["alpha"] = 0.1;
+  CHECK(!parse_deck(j, deck_dir().string()).av_walls);
+  j["artificial_viscosity"]["walls"] = 1;
+  CHECK(mentions(rejection(j), "'artificial_viscosity.walls' must be true or false"));
+  j["artificial_viscosity"] = json::parse(R"({"wall": false})");
+  CHECK(mentions(rejection(j), "artificial_viscosity"));
+  j.erase("artificial_viscosity");
+  CHECK(parse_deck(j, deck_dir().string()).av_walls);  // default: today's behaviour
+  j = good_deck();
   j.erase("viscosity");
   CHECK(mentions(rejection(j), "'morris_viscosity' is on but key 'viscosity' is missing"));
   j = good_deck();

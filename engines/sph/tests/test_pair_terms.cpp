@@ -107,6 +107,48 @@ TEST(boundary_particle_gets_density_but_no_motion) {
   CHECK(sim.particles().rho[b] != 998.0);
 }
 
+TEST(artificial_viscosity_off_the_walls) {
+  // A fluid particle moving at 1 m/s parallel to a row of boundary particles
+  // (spacing 0.8 mm, 0.5 mm below it): with walls = true eqs. 11-12 drag it
+  // back; with walls = false the wall pairs give it exactly what alpha = beta
+  // = 0 gives (pressure and Morris viscosity only). Between two fluid
+  // particles the switch changes nothing.
+  auto scene = [](bool second_fluid) {
+    Particles<2> P;
+    const int walls = 11, n = walls + 1 + (second_fluid ? 1 : 0);
+    P.resize(n);
+    for (int i = 0; i < walls; ++i) {
+      P.x[i] = {(i - 5) * 0.8e-3 + 0.13e-3, 0.0}, P.v[i] = {0.0, 0.0};
+      P.kind[i] = Kind::boundary;
+    }
+    P.x[walls] = {0.0, 0.5e-3}, P.v[walls] = {1.0, 0.0}, P.kind[walls] = Kind::fluid;
+    if (second_fluid) P.x[walls + 1] = {0.9e-3, 0.7e-3}, P.v[walls + 1] = {-0.2, 0.1}, P.kind[walls + 1] = Kind::fluid;
+    for (int i = 0; i < n; ++i) P.rho[i] = 1000.0 + 0.5 * i, P.mass[i] = 0.64e-3, P.id[i] = i;
+    return P;
+  };
+  auto acc_of = [&](double alpha, double beta, bool walls, bool second_fluid) {
+    Deck deck = pair_deck();
+    deck.alpha = alpha, deck.beta = beta, deck.av_walls = walls;
+    Simulation<2, kTerms> sim(deck, scene(second_fluid));
+    sim.compute_rates();
+    const auto& P = sim.particles();
+    for (std::size_t i = 0; i < P.id.size(); ++i)
+      if (P.id[i] == 11) return Vec<2>(P.acc[i]);
+    return Vec<2>(Vec<2>::Constant(NAN));
+  };
+  const Vec<2> none = acc_of(0.0, 0.0, true, false), on = acc_of(0.8, 1.5, true, false);
+  const Vec<2> off = acc_of(0.8, 1.5, false, false);
+  CHECK(off == none);                    // no artificial viscosity from the wall, exactly
+  CHECK(on[0] < none[0] - 1.0);          // with walls = true: a drag against the motion (> 1 m/s^2)
+  CHECK(acc_of(0.0, 0.0, false, false) == none);
+  // A fluid neighbour: the fluid-fluid pair keeps its artificial viscosity.
+  const Vec<2> pair_none = acc_of(0.0, 0.0, false, true), pair_off = acc_of(0.8, 1.5, false, true);
+  CHECK((pair_off - pair_none).norm() > 1.0);
+  // With walls = true both add up: (fluid pair's part) + (wall's part).
+  const Vec<2> both = acc_of(0.8, 1.5, true, true) - pair_none, parts = (pair_off - pair_none) + (on - none);
+  CHECK((both - parts).norm() <= 1e-9 * both.norm());
+}
+
 TEST(periodic_pair_across_the_box_edge) {
   // The same pair, moved so that it straddles the periodic edge x = 0 / x = L:
   // the rates must equal those of the unwrapped pair.

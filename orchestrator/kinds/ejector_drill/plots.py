@@ -61,6 +61,8 @@ def plot_comparison(rows, path: Path) -> Path:
         ax.axhline(0.0, color="k", lw=0.5)
     axes[0].set_title("flows (missing bars: outside the scene)", fontsize=10)
     axes[1].set_title("gauge pressures", fontsize=10)
-    axes[1].legend(fontsize=7)
+    lo, hi = axes[1].get_ylim()
+    axes[1].set_ylim(lo, hi + 0.3 * (hi - lo))  # headroom: the legend above the tallest bar
+    axes[1].legend(fontsize=7, ncol=2, loc="upper left")
     fig.savefig(path)
     return Path(path)
