@@ -235,6 +235,7 @@ class CellList {
   const std::array<int, D>& dims() const { return dims_; }
   int axis(int k) const { return perm_[k]; }
   bool periodic_internal(int k) const { return periodic_[k]; }
+  int reach() const { return reach_; }  // cells around a point's own that hold its neighbours, per axis
 
  private:
   // Cells c0 - reach .. c0 + reach along axis 0 (others fixed in cc) are

@@ -99,6 +99,7 @@ class NeighbourList {
       colours_[colour].push_back(k);
     }
     const double range2 = range * range;
+    count_movers(cells, kind, skip_walls);
     auto build_block = [&](int k) {
       for (int i = begin_[k]; i < begin_[k + 1]; ++i) block_of_[i] = k;
     };
@@ -114,6 +115,11 @@ class NeighbourList {
       for (std::ptrdiff_t cell = first_cell; cell < last_cell; ++cell) {
         const int first = cells.cell_begin(cell), last = cells.cell_end(cell);
         if (first == last) continue;
+        if (skip_walls && !movers_around(cells, cell)) {  // only boundary particles here, none other in reach: their rows are empty
+          for (int a = first; a < last; ++a) rows_[a] = {static_cast<int>(list.size()), static_cast<int>(list.size()),
+                                                         static_cast<int>(list.size())};
+          continue;
+        }
         const int nr = cells.runs_of_cell(cell, runs);
         for (int q = 0; q < nr; ++q) codes[q] = code_of(runs[q].shift);
         std::vector<std::uint32_t>& others = others_[k];
@@ -127,7 +133,9 @@ class NeighbourList {
           // the others to a side buffer appended after them (the row's
           // [mid, end)). Two sweeps (fluid, then the others) cost the 2D dam
           // break a fifth of its run time.
+          const bool only_movers = skip_walls && a_wall;  // a wall's row lists no wall
           for (int q = 0; q < nr; ++q) {
+            if (only_movers && movers(runs[q]) == 0) continue;  // no candidate of this run would be listed
             const Vec<D> xs = x[a] - runs[q].shift;
             const std::uint32_t code = static_cast<std::uint32_t>(codes[q]);
             const int end = cells.item_end(runs[q]);
@@ -223,6 +231,59 @@ class NeighbourList {
  private:
   int code_of(const Vec<D>& shift) const { return images_->code_of(shift); }
 
+  // movers_[c]: particles other than fixed boundary ones in the cells before c (particles sorted by cell).
+  // Walls never pair with walls when skip_walls, so a wall's row needs only the runs holding others:
+  // the walls far from any fluid or buffer cost one look at their cell (not a sweep of its stencil).
+  void count_movers(const CellList<D>& cells, const std::vector<Kind>& kind, bool skip_walls) {
+    if (!skip_walls) return;
+    const std::ptrdiff_t nc = cells.cell_count();
+    if (movers_.capacity() < static_cast<std::size_t>(nc) + 1) movers_.reserve(nc + nc / 4 + 1);
+    movers_.resize(nc + 1);
+    movers_[0] = 0;
+    for (std::ptrdiff_t c = 0; c < nc; ++c) {
+      int m = 0;
+      for (int i = cells.cell_begin(c), e = cells.cell_end(c); i < e; ++i) m += kind[i] != Kind::boundary;
+      movers_[c + 1] = movers_[c] + m;
+    }
+  }
+  // Whether a particle other than a fixed boundary one lies in the cell or its (2 reach + 1)^D stencil.
+  // Without periodic axes the stencil is a box of cells clamped to the grid (rows along axis 0 are
+  // contiguous); otherwise the cell list's runs (their shifts and Lees-Edwards rows) decide.
+  bool movers_around(const CellList<D>& cells, std::ptrdiff_t cell) const {
+    if (movers_[cell + 1] != movers_[cell]) return true;
+    const auto& dims = cells.dims();
+    bool periodic = false;
+    for (int d = 0; d < D; ++d) periodic = periodic || cells.periodic_internal(d);
+    if (periodic) {
+      typename CellList<D>::Run runs[CellList<D>::max_runs];
+      const int nr = cells.runs_of_cell(cell, runs);
+      for (int q = 0; q < nr; ++q)
+        if (movers(runs[q]) != 0) return true;
+      return false;
+    }
+    const int reach = cells.reach();
+    std::array<int, D> c{}, lo{}, hi{};
+    for (int d = 0; d < D; ++d) {
+      c[d] = static_cast<int>(cell % dims[d]);
+      cell /= dims[d];
+      lo[d] = std::max(0, c[d] - reach), hi[d] = std::min(dims[d] - 1, c[d] + reach);
+    }
+    std::array<int, D> o = lo;  // o[0] unused: a row lo[0]..hi[0] at a time
+    while (true) {
+      std::ptrdiff_t row = 0;
+      for (int d = D - 1; d >= 1; --d) row = row * dims[d] + o[d];
+      row *= dims[0];
+      if (movers_[row + hi[0] + 1] != movers_[row + lo[0]]) return true;
+      int d = 1;
+      for (; d < D; ++d) {
+        if (++o[d] <= hi[d]) break;
+        o[d] = lo[d];
+      }
+      if (d == D) return false;
+    }
+  }
+  int movers(const typename CellList<D>::Run& r) const { return movers_[r.cell_end] - movers_[r.cell_begin]; }
+
   // The queue of for_blocks_coloured: colour after colour, in a colour most
   // pairs first (ties: lower index; the last block a thread takes is a small
   // one); and per block its neighbouring blocks of earlier colours (-1: none).
@@ -266,7 +327,7 @@ class NeighbourList {
   const PeriodicImages<D>* images_ = nullptr;
   PeriodicBox<D> box_;
   std::vector<Row> rows_;
-  std::vector<int> block_of_, begin_;
+  std::vector<int> block_of_, begin_, movers_;
   std::vector<std::vector<std::uint32_t>> lists_;
   std::vector<std::vector<std::uint32_t>> others_;  // per block: a row's non-fluid neighbours while it is built
   std::array<std::vector<int>, 3> colours_;

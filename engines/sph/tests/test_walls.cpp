@@ -3,7 +3,12 @@
 #include <cmath>
 #include <random>
 
+#include <set>
+#include <utility>
+#include <vector>
+
 #include "check.h"
+#include "neighbour_list.h"
 #include "wall_penalty.h"
 
 using namespace sph;
@@ -123,4 +128,58 @@ TEST(penalty_in_2d_from_a_polyline) {
   const Vec<2> F = w.force(Vec<2>(2e-2 - d, d));
   CHECK_CLOSE(F[0], -f, 1e-12);
   CHECK_CLOSE(F[1], f, 1e-12);
+}
+
+// The Verlet list over a slab of boundary particles with a small fluid blob on it (the drill's walls):
+// the walls far from the fluid get empty rows without a sweep, and the listed pairs are exactly those
+// closer than the range that are not two walls, each once; along x periodic or not.
+TEST(neighbour_list_skips_walls_far_from_fluid) {
+  for (bool periodic : {false, true}) {
+    const double dx = 1.0, range = 2.6;
+    std::vector<Vec<3>> x;
+    std::vector<Kind> kind;
+    for (int i = 0; i < 30; ++i)
+      for (int j = 0; j < 12; ++j)
+        for (int k = 0; k < 3; ++k) x.emplace_back(i * dx, j * dx, k * dx), kind.push_back(Kind::boundary);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        for (int k = 0; k < 2; ++k)
+          x.emplace_back(4.3 + i * dx, 5.2 + j * dx, 3.1 + k * dx), kind.push_back(Kind::fluid);
+    PeriodicBox<3> box;
+    if (periodic) box.periodic[0] = true, box.lo[0] = -0.5, box.hi[0] = 29.5;
+    PeriodicImages<3> images(box);
+    CellList<3> cells;
+    cells.configure(range, 2, box, 1u << 20);
+    CHECK(cells.build(x, x.size()));
+    std::vector<Vec<3>> xs;
+    std::vector<Kind> ks;
+    for (int o : cells.items()) xs.push_back(x[o]), ks.push_back(kind[o]);
+    cells.mark_sorted();
+    NeighbourList<3> list;
+    list.configure(images);
+    list.build(cells, xs, ks, range, true);
+    std::set<std::pair<int, int>> listed;
+    int entries = 0, empty_walls = 0;
+    for (int k = 0; k < list.blocks(); ++k)
+      for (int a = list.block_begin(k); a < list.block_end(k); ++a) {
+        const auto& row = list.row(a);
+        if (ks[a] == Kind::boundary && row.begin == row.end) ++empty_walls;
+        for (int e = row.begin; e < row.end; ++e, ++entries) {
+          const int b = static_cast<int>(list.entries(k)[e] >> NeighbourList<3>::shift_bits);
+          listed.insert({std::min(a, b), std::max(a, b)});
+        }
+      }
+    std::set<std::pair<int, int>> expected;
+    const int n = static_cast<int>(xs.size());
+    for (int a = 0; a < n; ++a)
+      for (int b = a + 1; b < n; ++b) {
+        if (ks[a] == Kind::boundary && ks[b] == Kind::boundary) continue;
+        Vec<3> r = xs[a] - xs[b];
+        if (periodic) r[0] -= 30.0 * std::round(r[0] / 30.0);
+        if (r.squaredNorm() < range * range) expected.insert({a, b});
+      }
+    CHECK(listed == expected);
+    CHECK(entries == static_cast<int>(expected.size()));  // each pair once
+    CHECK(empty_walls > 900);  // of 1080 walls only those under the blob have fluid within reach
+  }
 }
