@@ -59,8 +59,7 @@ class Simulation {
     const double eta2 = 0.01 * deck.h * deck.h;
     model_.morris.mu = materials_[0].mu;
     model_.morris.eta2 = eta2;
-    model_.artificial = {deck.alpha, deck.beta, deck.h, eta2};
-    model_.artificial.wall = deck.av_walls ? 1.0 : 0.0;
+    model_.artificial = {deck.alpha, deck.beta, deck.h, eta2, deck.av_walls ? 1.0 : 0.0};
     body_force_on_ = deck.terms & term::body_force;
     walls_on_ = deck.terms & term::wall_penalty;
     if (!deck.body_force.empty())
