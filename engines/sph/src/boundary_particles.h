@@ -63,7 +63,13 @@ namespace sph {
 // rather than the fluid's pressure: in the open pipe (R = 6 dx, h = 1.3 dx) the
 // fluid's pressure gradient was 5.3 % below Hagen-Poiseuille with WP2 alone
 // while its velocity profile implied 1.5 % (the walls' pressures carried part of
-// the axial force); with WP3 2.2 %.
+// the axial force); with WP3 2.2 %. The wall particle also takes the Shepard
+// average of the fluid density, rho_b = sum_f W_bf rho_f / sum_f W_bf, the
+// density that goes with p_b (Adami et al. invert the EOS for it), in p_b /
+// rho_b^2 and V_b = m_b / rho_b: its own summation density may lie far below
+// rho0 where the fluid has not yet filled its support (the ejector drill's
+// walls start with the empty sites booked out), and p_b / rho_b^2 from that
+// density made the drill's quick flow-exit run unstable at 0.10 ms.
 // Measured limits of WP2: max_fit_gain, the fit's noise gain
 // sum_f W_bf e^T N^-1 e (N the normal matrix, e = (-d_b, d_b^2, 0, ...); a
 // mirror-like linear fit gives (d_b / d_f)^2): the open pipe at h = 1.5 dx went
@@ -93,6 +99,7 @@ template <int D>
 inline void add_wall_fit(Particles<D>& P, int b, int f, double w, const Vec<D>& r_fb) {
   const Vec<D>& offset = P.wall_offset[b];  // x_w - x_b
   P.wall_fit[b].pressure += w * P.p[f];
+  P.wall_fit[b].density += w * P.rho[f];
   const double d_b = offset.norm();
   if (!(d_b > 0.0)) return;  // NaN (no wall point) or on the wall surface
   const Vec<D> n = offset / d_b;
@@ -154,6 +161,8 @@ void no_slip_velocity(Particles<D>& P, const std::vector<double>& shepard, std::
     P.wall_fit[b] = WallFit<D>{};
     if (weight > 0.0 && !std::isnan(offset[0])) {
       P.p[b] = fit.pressure / weight;  // eq. WP3
+      P.rho[b] = fit.density / weight;  // the density that goes with that pressure (Adami et al. 2012)
+      P.vol[b] = P.mass[b] / P.rho[b];
       P.p_rho2[b] = P.p[b] / (P.rho[b] * P.rho[b]);
       const double d_b = offset.norm();
       const Vec<D>& v_w = P.v[b];

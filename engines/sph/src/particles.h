@@ -48,6 +48,7 @@ struct WallFit {
   Eigen::Matrix<double, K, D> rhs = Eigen::Matrix<double, K, D>::Zero();
   double behind = 0.0;    // sum of w over fluid neighbours behind the wall's tangent plane (s < 0)
   double pressure = 0.0;  // sum of w p_f (the wall pressure, eq. WP3)
+  double density = 0.0;   // sum of w rho_f (the wall density, eq. WP3)
 };
 
 template <int D>
