@@ -69,33 +69,12 @@ struct alignas(64) ThreadPartial {
   T value;
 };
 
-// Inside a parallel region (par) or not: body(i, partial) for i in [0, n),
-// each thread updating its own partial (from `init`; static schedule), then,
-// after the loop's barrier, the partials combined in thread order by
-// combine(total, partial); every thread returns the total. For max, min and
-// logical and (exact in any order) the result does not depend on the thread
-// count. `partials` has a slot per thread (sized before the region); a
-// region may use it once (a thread still combining would see the next loop's partials).
-template <class T, class Body, class Combine>
-T reduce_each_index(bool par, std::ptrdiff_t n, std::vector<ThreadPartial<T>>& partials, const T& init, Body&& body,
-                    Combine&& combine) {
-  T total = init;
-  if (!par) {
-    for (std::ptrdiff_t i = 0; i < n; ++i) body(i, total);
-    return total;
-  }
-  T& mine = partials[omp_get_thread_num()].value;
-  mine = init;
-#pragma omp for schedule(static)
-  for (std::ptrdiff_t i = 0; i < n; ++i) body(i, mine);
-  for (int t = 0; t < omp_get_num_threads(); ++t) combine(total, partials[t].value);
-  return total;
-}
-
-// As reduce_each_index, but on the threads (par) without the loop's closing
-// barrier: each thread leaves its partial in `partials` and nothing is
-// combined; after the region (whose end is a barrier) the caller combines
-// partials [0, threads) in thread order (combine_partials). Not par: returns the total.
+// Inside a parallel region (par): body(i, partial) for i in [0, n), each
+// thread updating its own partial in `partials` (from `init`; static
+// schedule), without the loop's closing barrier and without combining them:
+// after a barrier (reduce_each_index, or the region's end) the partials
+// [0, threads) are combined in thread order (combine_partials). Not par:
+// returns the total.
 template <class T, class Body>
 T partial_each_index(bool par, std::ptrdiff_t n, std::vector<ThreadPartial<T>>& partials, const T& init,
                      Body&& body) {
@@ -115,6 +94,22 @@ T combine_partials(const std::vector<ThreadPartial<T>>& partials, int threads, c
   T total = init;
   for (int t = 0; t < threads; ++t) combine(total, partials[t].value);
   return total;
+}
+
+// Inside a parallel region (par) or not: body(i, partial) for i in [0, n),
+// each thread updating its own partial (from `init`; static schedule), then,
+// after a barrier, the partials combined in thread order by
+// combine(total, partial); every thread returns the total. For max, min and
+// logical and (exact in any order) the result does not depend on the thread
+// count. `partials` has a slot per thread (sized before the region); a
+// region may use it once (a thread still combining would see the next loop's partials).
+template <class T, class Body, class Combine>
+T reduce_each_index(bool par, std::ptrdiff_t n, std::vector<ThreadPartial<T>>& partials, const T& init, Body&& body,
+                    Combine&& combine) {
+  const T total = partial_each_index(par, n, partials, init, body);
+  if (!par) return total;
+#pragma omp barrier
+  return combine_partials(partials, omp_get_num_threads(), init, combine);
 }
 
 // The wall time now into `at`: by the master thread inside a parallel region
