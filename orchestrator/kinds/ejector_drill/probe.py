@@ -12,7 +12,6 @@ prints the estimate for a case (the sph executable from $ORCHESTRATOR_SPH); Ejec
 from __future__ import annotations
 
 import argparse
-import os
 import dataclasses
 import json
 import math
@@ -23,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from orchestrator.case.loader import load_case
+from orchestrator.engines.sph import Sph
 from orchestrator.kinds import build_scene
 from orchestrator.kinds.ejector_drill.walls import scene_lattice
 from orchestrator.kinds.sph_flow.scene import FLUID
@@ -83,8 +83,12 @@ def write_probe(scene, workdir: Path, threads: int, steps: int) -> dict:
 
 def estimate(workdir: Path, executable: str, planned_steps: int, start: int, end: int) -> tuple[float, float, float]:
     """Run the probe deck in workdir; (s per step at `end` particles, estimate s, upper bound s)."""
-    done = subprocess.run([executable, DECK], cwd=workdir, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
-                          text=True)
+    try:
+        done = subprocess.run([executable, DECK], cwd=workdir, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                              text=True)
+    except OSError as err:
+        raise SystemExit(f"error: cannot start the sph executable {executable!r} ({err.strerror}): build it with "
+                         "'make sph' or set ORCHESTRATOR_SPH") from None
     if done.returncode != 0:
         raise SystemExit(f"error: the timing probe failed: {done.stderr.strip().splitlines()[-1:]}")
     import h5py
@@ -104,9 +108,10 @@ def main(argv=None) -> int:
     parser.add_argument("--dir", type=Path, default=Path("ejector_drill_probe"))
     parser.add_argument("--deck-dir", type=Path, help="run a probe deck written by EjectorDrillSph.probe_command")
     parser.add_argument("--planned", type=int, nargs=3, metavar=("STEPS", "START", "END"))
-    parser.add_argument("--sph", default=None, help="the sph executable (default $ORCHESTRATOR_SPH or sph)")
+    parser.add_argument("--sph", default=None, help="the sph executable (default $ORCHESTRATOR_SPH, else "
+                        "engines/sph/build/sph, else sph on PATH)")
     args = parser.parse_args(argv)
-    executable = args.sph or os.environ.get("ORCHESTRATOR_SPH") or "sph"
+    executable = args.sph or Sph().executable or "sph"
     if args.deck_dir is not None:
         steps, start, end = args.planned
         workdir = args.deck_dir
