@@ -152,6 +152,10 @@ void parse_inlet_options(const json& e, const std::string& path, const Deck& d, 
       fail("'" + path + ".pressure' must be \"extrapolated\" or \"summation\"; got \"" + mode + "\"");
     in.extrapolated = mode == "extrapolated";
   }
+  if (e.contains("ramp_time")) {
+    in.ramp_time = number(e["ramp_time"], path + ".ramp_time");
+    if (!(in.ramp_time >= 0.0)) fail("'" + path + ".ramp_time' must be >= 0 s");
+  }
   if (e.contains("material")) {
     const std::string name = text(e["material"], path + ".material");
     const auto list = d.material_list();
@@ -174,7 +178,7 @@ void parse_open_boundaries(const json& j, Deck& d) {
       const auto& e = j[key][i];
       if (inlet)
         check_keys(e, path, {"name", "center", "normal", "radius", "u", "half_extents", "velocity", "layers", "profile",
-                             "inner_radius", "pressure", "material"});
+                             "inner_radius", "pressure", "material", "ramp_time"});
       else check_keys(e, path, {"name", "center", "normal", "radius", "u", "half_extents", "layers", "pressure"});
       PlanePatch patch = parse_patch(e, path, d.dimension, seen);
       const int layers = buffer_layers(e, path, d);

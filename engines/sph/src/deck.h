@@ -47,6 +47,9 @@ using FlowPlaneSpec = PlanePatch;  // volume flux through it is measured
 // `velocity` is the mean speed over the patch. extrapolated: the buffer takes
 // the mean density of the fluid just inside the patch (else its summation
 // density). material: index into the run's materials (0 by default).
+// ramp_time: the inlet's speed rises as 0.5 (1 - cos(pi t / ramp_time)) of
+// its value up to t = ramp_time (0: full speed from the start), so that a
+// scene filled at rest is not struck by the inflow (eq. OB4, open_boundaries.h).
 struct InletSpec {
   PlanePatch patch;
   double velocity = 0.0;  // m/s
@@ -55,6 +58,7 @@ struct InletSpec {
   double inner_radius = 0.0;  // m (annular)
   bool extrapolated = false;
   int material = 0;
+  double ramp_time = 0.0;  // s
 };
 
 // Outlet: fluid leaving through the patch along `normal` keeps its velocity

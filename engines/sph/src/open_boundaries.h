@@ -26,6 +26,11 @@
 //   reference pressure, so the mean density cannot drift.
 // With any of these options the patch counts each particle as m / rho0 of its
 // material (the volume at the reference density: the mass flux over rho0).
+// - inlet ramp_time T: the buffer moves at g(t) times its speed,
+//   g = (1 - cos(pi t / T)) / 2 for t < T, 1 after (OB4), set after each
+//   step at the new time; the inflow starts at rest without a jump in
+//   acceleration, so a scene filled at rest is not struck by a water hammer
+//   of rho0 c0 U.
 #pragma once
 #include <algorithm>
 #include <cmath>
@@ -51,6 +56,8 @@ class OpenBoundaries {
       in.extrapolated = s.extrapolated;
       in.material = static_cast<std::uint8_t>(s.material);
       in.rho_ref = materials[s.material].rho0;
+      in.ramp_time = s.ramp_time;
+      in.factor = s.ramp_time > 0.0 ? 0.0 : 1.0;  // eq. OB4 at t = 0
       in.reference_volumes = in.profile != Profile::plug || in.extrapolated || s.material != 0;
       if (in.profile != Profile::plug) normalise(in);
       inlets_.push_back(in);
@@ -95,14 +102,14 @@ class OpenBoundaries {
       if (in.profile == Profile::plug && in.material == 0) {
         for (const auto& q : in.patch.lattice(dx_))
           for (int l = 0; l < in.layers; ++l)
-            P.append(in.patch.c + q - (l + 0.5) * dx_ * in.patch.n, in.velocity * in.patch.n, rho0_, mass,
+            P.append(in.patch.c + q - (l + 0.5) * dx_ * in.patch.n, in.factor * in.velocity * in.patch.n, rho0_, mass,
                      Kind::inlet, next_id++);
         continue;
       }
       const double m = in.rho_ref * std::pow(dx_, D);
       for (const auto& q : columns(in))
         for (int l = 0; l < in.layers; ++l)
-          P.append(in.patch.c + q - (l + 0.5) * dx_ * in.patch.n, speed(in, q) * in.patch.n, in.rho_ref, m,
+          P.append(in.patch.c + q - (l + 0.5) * dx_ * in.patch.n, in.factor * speed(in, q) * in.patch.n, in.rho_ref, m,
                    Kind::inlet, next_id++, in.material);
     }
     return next_id;
@@ -124,13 +131,20 @@ class OpenBoundaries {
     }
   }
 
-  // After a step: convert and remove buffer particles. event(x, m, +1 / -1)
-  // is called for each particle created / removed. Returns the next free id.
+  // After a step, at time t (s): convert and remove buffer particles, ramp the
+  // inlets' speed (eq. OB4). event(x, m, +1 / -1) is called for each particle
+  // created / removed. Returns the next free id.
   template <class Event>
-  std::int64_t update(Particles<D>& P, std::int64_t next_id, Event&& event) {
+  std::int64_t update(Particles<D>& P, std::int64_t next_id, double t, Event&& event) {
     const std::size_t n = P.size();
     bool removals = false;
     bool extrapolate = false;
+    bool ramping = false;
+    for (auto& in : inlets_) {
+      in.ramping = in.factor < 1.0;  // some buffer particles still move below full speed
+      if (in.ramping) in.factor = t < in.ramp_time ? 0.5 * (1.0 - std::cos(M_PI * t / in.ramp_time)) : 1.0;
+      ramping = ramping || in.ramping;
+    }
     for (auto& in : inlets_)
       if (in.extrapolated) in.rho_fluid = fluid_density_ahead(P, in), extrapolate = true;
     for (auto& out : outlets_)
@@ -139,6 +153,7 @@ class OpenBoundaries {
     for (std::size_t i = 0; i < n; ++i) {
       if (P.kind[i] == Kind::inlet) {
         if (extrapolate) hold_inlet_density(P, i);
+        if (ramping) ramp_inlet_velocity(P, i);
         for (auto& in : inlets_) {
           const double s = in.patch.height(P.x[i]);
           if (s < 0.0 || s > 2.0 * dx_ || !in.patch.contains(P.x[i] - in.patch.c)) continue;
@@ -151,7 +166,7 @@ class OpenBoundaries {
             P.append(spawn, P.v[i], in.extrapolated ? in.rho_fluid : in.rho_ref, P.mass[i], Kind::inlet, next_id++,
                      in.material);
           else
-            P.append(spawn, in.velocity * in.patch.n, rho0_, P.mass[i], Kind::inlet, next_id++);
+            P.append(spawn, in.factor * in.velocity * in.patch.n, rho0_, P.mass[i], Kind::inlet, next_id++);
           break;
         }
       } else if (P.kind[i] == Kind::fluid) {
@@ -221,6 +236,9 @@ class OpenBoundaries {
     std::uint8_t material = 0;
     double rho_ref = 0.0;    // rho0 of the material, kg/m^3
     double rho_fluid = 0.0;  // mean density of the fluid ahead (extrapolated), kg/m^3
+    double ramp_time = 0.0;  // s (eq. OB4)
+    double factor = 1.0;     // g(t) of eq. OB4 at the last update
+    bool ramping = false;    // this update sets the buffer's speed
   };
   struct Outlet {
     Outlet(const Patch<D>& p, int l) : patch(p), layers(l) {}
@@ -296,7 +314,10 @@ class OpenBoundaries {
       if (in.profile != Profile::annular || radial(in.patch, q) >= in.inner_radius) out.push_back(q);
     return out;
   }
-  double speed(const Inlet& in, const Vec<D>& q) const { return in.scale * shape(in, q); }
+  // The speed of the column at in-plane offset q, m/s (a plug's is its velocity).
+  double speed(const Inlet& in, const Vec<D>& q) const {
+    return in.profile == Profile::plug ? in.velocity : in.scale * shape(in, q);
+  }
   // Scale of a profile so that the columns carry U times the patch area: sum_j v_j dx^(D-1) = U A.
   void normalise(Inlet& in) const {
     double sum = 0.0;
@@ -316,6 +337,17 @@ class OpenBoundaries {
       sum += P.rho[i], ++count;
     }
     return count > 0 ? sum / count : in.rho_ref;
+  }
+  // An inlet buffer particle of a ramping inlet takes g(t) times its column's speed (eq. OB4).
+  void ramp_inlet_velocity(Particles<D>& P, std::size_t i) const {
+    for (const auto& in : inlets_) {
+      const Vec<D> q = P.x[i] - in.patch.c;
+      if (!in.ramping || !in.patch.contains(q)) continue;
+      const double s = q.dot(in.patch.n);
+      if (s < -(in.layers + 1.0) * dx_ || s > 2.0 * dx_) continue;
+      P.v[i] = in.factor * speed(in, q - s * in.patch.n) * in.patch.n;
+      return;
+    }
   }
   // An inlet buffer particle of an extrapolating inlet takes the fluid's density ahead.
   void hold_inlet_density(Particles<D>& P, std::size_t i) const {

@@ -84,7 +84,7 @@ int run_simulation(const Deck& deck, Particles<D> particles, WallPenalty<D> wall
       break;
     }
     if (!open.empty()) {
-      next_id = open.update(sim.particles(), next_id, [&](const Vec<D>& x, double m, double sign) {
+      next_id = open.update(sim.particles(), next_id, t, [&](const Vec<D>& x, double m, double sign) {
         sim.boundary_density_event(x, m, sign);
       });
       if (open.particles_kept()) sim.forget_step_maxima();  // only buffer densities and velocities changed

@@ -59,6 +59,27 @@ struct TinyPipe {
             {"threads", 1},
             {"output", {{"file", "out.h5"}, {"frame_interval", t_end / 6}, {"series_interval", t_end / 20}}}};
   }
+  // The inlet's lattice columns (plane_patch.h): offsets ((i + 1/2) dx - R, (j + 1/2) dx - R) inside R.
+  template <class F>
+  void for_each_column(F&& f) const {
+    const int n = static_cast<int>(std::lround(2.0 * R / dx));
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) {
+        const double a = (i + 0.5) * dx - R, b = (j + 0.5) * dx - R, r2 = a * a + b * b;
+        if (r2 < R * R) f(1.0 - r2 / (R * R));  // the parabolic shape, eq. OB1
+      }
+  }
+  double column_shape_sum() const {
+    double sum = 0.0;
+    for_each_column([&](double f) { sum += f; });
+    return sum;
+  }
+  // Volume of the whole particles that cross the patch when column j has moved scale f_j t, m^3.
+  double lattice_volume(double scale_t) const {
+    double count = 0.0;
+    for_each_column([&](double f) { count += std::floor(scale_t * f / dx + 0.5); });
+    return count * dx * dx * dx;
+  }
 };
 
 struct FluidState {
@@ -114,6 +135,63 @@ TEST(pipe_with_parabolic_inlet_and_pressure_outlet_keeps_its_mass) {
   CHECK(std::abs(b.count - a.count) < 0.03 * a.count);    // no pile-up
 }
 
+// A pipe filled at rest, its inlet ramped over T (eq. OB4): the inflowing volume follows
+// U A (t / 2 - T sin(pi t / T) / (2 pi)) and the flow starts without the impulsive start's
+// acoustic jump rho0 c0 U (a density deviation of U / c0 = 1 % here).
+TEST(ramped_inlet_starts_a_filled_pipe_without_a_jump) {
+  TinyPipe pipe;
+  const double T = 0.5 * pipe.L / pipe.U, t_end = 1.5 * T, area = M_PI * pipe.R * pipe.R;
+  double early_deviation[2] = {0.0, 0.0};  // max |rho/rho0 - 1| over t < 0.1 T: ramped, impulsive
+  for (int ramped = 1; ramped >= 0; --ramped) {
+    const fs::path dir = testfiles::scratch(ramped ? "open_pipe_ramp" : "open_pipe_jump");
+    json deck = pipe.deck(dir, ramped ? t_end : 0.1 * T);
+    if (ramped) deck["inlets"][0]["ramp_time"] = T;
+    testfiles::write_text(dir / "deck.json", deck.dump(2));
+    CHECK(run_deck(load_deck((dir / "deck.json").string())) == exit_ok);
+    const fs::path out = dir / "out.h5";
+    const auto times = testfiles::read_doubles(out, "/series/time");
+    const auto qin = testfiles::read_doubles(out, "/series/inflow_feed");
+    const auto dev = testfiles::read_doubles(out, "/series/max_density_deviation");
+    for (std::size_t i = 0; i < times.size(); ++i)
+      if (times[i] <= 0.1 * T + 1e-9) early_deviation[1 - ramped] = std::max(early_deviation[1 - ramped], dev[i]);
+    if (!ramped) break;
+    // The buffer moves at g(t) of its column's speed v_j = U A / (sum_j f_j dx^2) f_j (eqs. OB1, OB4) in every
+    // frame of the ramp (frames at T/4, T/2, 3T/4).
+    const double scale = pipe.U * area / (pipe.column_shape_sum() * pipe.dx * pipe.dx);
+    double worst = 0.0;
+    int buffer = 0;
+    for (int f = 1; f <= 3; ++f) {
+      const std::string g = "/frames/" + std::to_string(f);
+      const double tf = testfiles::read_double_attr(out, g, "time");
+      const double ramp = 0.5 * (1.0 - std::cos(M_PI * tf / T));
+      const auto kind = testfiles::read_doubles(out, g + "/kind");
+      const auto x = testfiles::read_doubles(out, g + "/positions"), v = testfiles::read_doubles(out, g + "/velocities");
+      for (std::size_t i = 0; i < kind.size(); ++i) {
+        if (kind[i] != 2) continue;  // Kind::inlet
+        const double r2 = x[3 * i + 1] * x[3 * i + 1] + x[3 * i + 2] * x[3 * i + 2];
+        const double expected = ramp * scale * (1.0 - r2 / (pipe.R * pipe.R));
+        worst = std::max({worst, std::abs(v[3 * i] - expected) / pipe.U, std::abs(v[3 * i + 1]), std::abs(v[3 * i + 2])});
+        ++buffer;
+      }
+    }
+    // The volume in over the run: whole particles of column j cross the patch by t_end, floor(d_j / dx + 1/2)
+    // with d_j = v_j T (the ramp delivers half of T at full speed).
+    const auto time = testfiles::read_doubles(out, "/series/time");
+    double v_in = 0.0;
+    for (std::size_t i = 1; i < time.size(); ++i) v_in += qin[i] * (time[i] - time[i - 1]);
+    const double expected = pipe.lattice_volume(scale * T);
+    std::fprintf(stderr, "  ramp: %d buffer particles in 3 frames, worst |v - g v_j| %.1e U; volume in %.4g m^3 "
+                 "(the lattice's %.4g, U A (t_end - T/2) %.4g)\n", buffer, worst, v_in, expected, pipe.U * area * T);
+    CHECK(buffer > 200);
+    CHECK(worst < 1e-9);
+    CHECK_CLOSE(v_in, expected, 0.05);
+  }
+  std::fprintf(stderr, "  early max density deviation: ramped %.2e, impulsive %.2e\n", early_deviation[0],
+               early_deviation[1]);
+  CHECK(early_deviation[1] > 3e-3);                         // the jump U / c0 = 1 % near the inlet
+  CHECK(early_deviation[0] < 0.2 * early_deviation[1]);     // the ramp avoids it
+}
+
 TEST(inlet_and_outlet_options_are_validated) {
   TinyPipe pipe;
   const fs::path dir = testfiles::scratch("open_pipe_deck");
@@ -151,4 +229,7 @@ TEST(inlet_and_outlet_options_are_validated) {
   j = good;
   j["inlets"][0]["pressure"] = "fixed";
   CHECK(rejection(j).find("extrapolated") != std::string::npos);
+  j = good;
+  j["inlets"][0]["ramp_time"] = -1.0;
+  CHECK(rejection(j).find("inlets[0].ramp_time") != std::string::npos);
 }
