@@ -18,7 +18,7 @@ from orchestrator.kinds.ejector_drill.probe import end_particles, probe_scene
 from orchestrator.reference.drill_network import LITRE_PER_MIN, solve
 
 CASE = Path(__file__).resolve().parent.parent / "cases" / "ejector_drill_canini.toml"
-PRESETS = ("flow_exit", "flow_exit_quick", "drill_head", "drill_head_quick")
+PRESETS = ("flow_exit", "flow_exit_quick", "flow_exit_filled_quick", "drill_head", "drill_head_quick")
 
 
 def test_registered_with_the_sph_engine():
@@ -76,6 +76,45 @@ def test_lattice_fills_the_regions_to_their_closed_form_volume(preset):
     assert penalty.n_fluid <= scene.n_fluid
     for mesh in penalty.flow.meshes.values():
         assert mesh.vertices[:, 2].max() <= layout.z_hi + 1e-8  # manifold3d rounds to float32
+
+
+def test_a_filled_start_holds_every_region_at_rest_and_ramps_the_inlet():
+    """start = 'filled': the fluid regions and the outlets' buffers on the lattice at rest, every wetted site occupied
+    (so no boundary particle below the inlet books an empty site out: they start at rho0), and the inlet's deck
+    entry ramps."""
+    import json
+
+    from orchestrator.kinds.ejector_drill.build import filled_sites
+    from orchestrator.kinds.sph_flow.sph import TEMPLATE, deck_context
+    from orchestrator.templating import render
+
+    case = load_case(CASE, preset="flow_exit_filled_quick").model
+    scene = build_scene(case)
+    dx, layout, flow = case.numerics.dx, scene.layout, scene.flow
+    fluid = flow.kind == 0
+    assert np.count_nonzero(fluid) == len(filled_sites(layout, dx))
+    assert not np.any(flow.velocities[fluid])
+    # the regions' closed-form volume plus the outlets' buffers (the wetted rings beyond the regions)
+    regions = {r.name: r for r in layout.regions}
+    buffers = sum(r.volume() - regions[r.name].volume() for r in layout.wetted
+                  if r.name in regions and r.name != layout.channel.name)
+    assert np.count_nonzero(fluid) * dx ** 3 == pytest.approx(layout.fluid_volume() + buffers, rel=0.03)
+    # walls start at rho0 except beside the channel's sites behind the inlet's 3-layer buffer (always empty)
+    below_inlet = flow.positions[:, 2] < layout.inlet.center[2]
+    assert np.all(flow.densities[~fluid & below_inlet] == case.fluid.density)
+    inlet = json.loads(render(TEMPLATE, deck_context(flow, threads=1)))["inlets"][0]
+    assert inlet["ramp_time"] == case.scene.ramp_time == 2.0e-4
+
+
+@pytest.mark.parametrize("overrides, words", [
+    (["scene.ramp_time=0.0"], "rho0 c0 v_in = 900 bar"),
+    (["scene.prefill=1e-3"], "scene.prefill is for start = 'empty'"),
+    (["scene.ramp_time=1e-3"], "scene.ramp_time = 0.001 s is longer"),
+])
+def test_a_filled_start_needs_a_ramp(overrides, words):
+    with pytest.raises(OrchestratorError) as err:
+        load_case(CASE, preset="flow_exit_filled_quick", overrides=overrides)
+    assert words in str(err.value)
 
 
 def test_the_head_has_its_holes_cut():

@@ -92,6 +92,22 @@ def prefill_points(case: EjectorDrillCase, layout: Layout) -> np.ndarray:
     return points[inside]
 
 
+def filled_sites(layout: Layout, dx: float, buffers: bool = True) -> np.ndarray:
+    """The scene lattice's sites (n, 3) m in the fluid regions, region after region in flow order (the layout lists
+    them so), then (buffers) those in the outlets' buffers: the wetted regions beyond the fluid regions, except the
+    inlet channel's part upstream of the inlet plane (the engine's inlet buffer)."""
+    points = scene_lattice(layout, dx, layout.r_max, layout.z_lo, layout.z_hi)
+    chosen, taken = [], np.zeros(len(points), dtype=bool)
+    regions = list(layout.regions)
+    if buffers:
+        regions += [r for r in layout.wetted if r.name != layout.channel.name]
+    for region in regions:
+        inside = region.contains(points) & ~taken
+        taken |= inside
+        chosen.append(points[inside])
+    return np.concatenate(chosen)
+
+
 def inlet_buffer_points(case: EjectorDrillCase, layout: Layout, layers: int) -> np.ndarray:
     """The sites (n, 3) m the engine fills with the inlet's particles at the start: `layers` lattice layers upstream
     of the inlet plane across the channel (its columns are the scene lattice's, walls.lattice_offset)."""
@@ -120,7 +136,8 @@ def _flow_case(case: EjectorDrillCase, layout: Layout) -> SphFlowCase:
     margin = prefill_margin(case, layout.channel)  # no inlet column inside the walls' push (as the prefill)
     inlet = Inlet(name=layout.inlet.name, center=layout.inlet.center, normal=layout.inlet.normal,
                   radius=layout.inlet.radius - margin, velocity=case.scene.inlet_velocity, profile="annular",
-                  inner_radius=layout.inlet_inner_radius + margin, pressure="extrapolated")
+                  inner_radius=layout.inlet_inner_radius + margin, pressure="extrapolated",
+                  ramp_time=case.scene.ramp_time)
     pressures = {"mouth": case.scene.mouth_pressure, "leak": case.scene.leak_pressure}
     outlets = tuple(Outlet(name=p.name, center=p.center, normal=p.normal, radius=p.radius,
                            pressure=pressures[role]) for role, p in layout.outlets.items())
@@ -143,9 +160,13 @@ def build_drill_scene(case: EjectorDrillCase) -> DrillSphScene:
     """The scene of an ejector-drill case (see the module docstring)."""
     layout = drill_layout(case)
     flow_case = _flow_case(case, layout)
-    points = prefill_points(case, layout)
     rho0, dx = case.fluid.density, case.numerics.dx
-    velocity = case.scene.inlet_velocity * np.asarray(layout.inlet.normal)
+    if case.scene.start == "filled":  # at rest everywhere, the inlet ramped (engine eq. OB4)
+        points = filled_sites(layout, dx)
+        velocity = np.zeros(3)
+    else:
+        points = prefill_points(case, layout)
+        velocity = case.scene.inlet_velocity * np.asarray(layout.inlet.normal)
     n = len(points)
     velocities = np.tile(velocity, (n, 1))
     densities = np.full(n, rho0)

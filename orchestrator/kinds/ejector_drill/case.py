@@ -69,8 +69,15 @@ class DrillScene(Frozen):
     inlet_distance: Positive = Field(
         description="flow_exit: from the holes' axis up the annular gap to the inlet plane; drill_head: from the "
                     "holes' axis forward to the inlet plane in the head clearance, m")
-    prefill: float = Field(0.0, ge=0, description="length of the inlet channel downstream of the inlet filled with "
-                                                  "fluid moving at inlet_velocity at t = 0, m")
+    prefill: float = Field(0.0, ge=0, description="start = 'empty': length of the inlet channel downstream of the "
+                                                  "inlet filled with fluid moving at inlet_velocity at t = 0, m")
+    start: Literal["empty", "filled"] = Field(
+        "empty", description="empty: the scene fills from the inlet (the paper's Fig. 2, a front that strikes the "
+                             "walls); filled: every fluid region and the outlets' buffers hold fluid at rest at "
+                             "t = 0 and the inlet ramps up over ramp_time (the flow's steady state without the "
+                             "filling's water hammer)")
+    ramp_time: float = Field(0.0, ge=0, description="the inlet's speed rises as (1 - cos(pi t / ramp_time)) / 2 of "
+                                                    "inlet_velocity until ramp_time (engine eq. OB4), s; 0: at once")
     mouth_depth: Positive = Field(5.0e-3, description="the chip-mouth outlet's distance behind the head face, m")
     leak_margin: Positive = Field(3.0e-3, description="flow_exit: the leak outlet's distance behind the inlet "
                                                       "plane in the tube/bore clearance, m")
@@ -159,6 +166,16 @@ class EjectorDrillCase(Frozen):
             if t > t_end * (1 + 1e-9) or abs(k - round(k)) > 1e-6 * max(1.0, k):
                 raise ValueError(f"output.picture_times[{i}] = {t} s is not a frame time (a multiple of "
                                  f"output.frame_interval = {self.output.frame_interval} s up to simulation.duration)")
+        if self.scene.start == "filled" and self.scene.prefill > 0.0:
+            raise ValueError("scene.prefill is for start = 'empty' (with 'filled' every region holds fluid at rest): "
+                             "set scene.prefill = 0")
+        if self.scene.start == "filled" and not self.scene.ramp_time > 0.0:
+            hammer = self.fluid.density * self.c0 * self.scene.inlet_velocity / 1e5
+            raise ValueError(f"scene.start = 'filled' needs scene.ramp_time > 0 s: the inlet started at full speed "
+                             f"against fluid at rest is a water hammer of rho0 c0 v_in = {hammer:.0f} bar")
+        if self.scene.ramp_time > t_end:
+            raise ValueError(f"scene.ramp_time = {self.scene.ramp_time} s is longer than simulation.duration = "
+                             f"{t_end} s")
         if self.scene.prefill > self.scene.inlet_distance:
             raise ValueError(f"scene.prefill = {self.scene.prefill} m is longer than scene.inlet_distance = "
                              f"{self.scene.inlet_distance} m")

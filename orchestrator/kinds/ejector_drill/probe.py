@@ -24,7 +24,7 @@ import numpy as np
 from orchestrator.case.loader import load_case
 from orchestrator.engines.sph import Sph
 from orchestrator.kinds import build_scene
-from orchestrator.kinds.ejector_drill.walls import scene_lattice
+from orchestrator.kinds.ejector_drill.build import filled_sites
 from orchestrator.kinds.sph_flow.scene import FLUID
 from orchestrator.kinds.sph_flow.sph import DECK, TEMPLATE, deck_context, write_meshes, write_particles
 from orchestrator.templating import render
@@ -47,13 +47,7 @@ def probe_scene(scene, limit: int | None = None):
     case, layout = scene.case, scene.layout
     dx, rho0 = case.numerics.dx, case.fluid.density
     limit = end_particles(scene) if limit is None else limit
-    points = scene_lattice(layout, dx, layout.r_max, layout.z_lo, layout.z_hi)
-    chosen, taken = [], np.zeros(len(points), dtype=bool)
-    for region in layout.regions:  # the layout lists them in flow order
-        inside = region.contains(points) & ~taken
-        taken |= inside
-        chosen.append(points[inside])
-    points = np.concatenate(chosen)[:limit]
+    points = filled_sites(layout, dx, buffers=False)[:limit]
     flow = scene.flow
     walls = flow.kind != FLUID
     n, nb = len(points), int(np.count_nonzero(walls))

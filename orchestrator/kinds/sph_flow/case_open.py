@@ -28,6 +28,9 @@ class Inlet(Patch):
 
     material: Name | None = Field(None, description="name of the [[materials]] table of the fluid it makes "
                                                     "(default: the first)")
+    ramp_time: float = Field(0.0, ge=0, description="the speed rises as (1 - cos(pi t / ramp_time)) / 2 of its value "
+                                                    "until ramp_time, s (a scene filled at rest starts without a "
+                                                    "water hammer); 0: full speed from the start")
 
     @model_validator(mode="after")
     def _annulus(self):
@@ -44,9 +47,10 @@ class Inlet(Patch):
         return self.velocity * (1.0 if self.profile == "plug" else 2.0 if disc else 1.5)
 
     def deck_options(self) -> dict:
-        """The profile, pressure and material keys of the engine deck, only where they differ from the defaults."""
+        """The profile, pressure, material and ramp keys of the engine deck, only where they differ from the
+        defaults."""
         out = {"profile": self.profile, "inner_radius": self.inner_radius, "pressure": self.pressure,
-               "material": self.material}
+               "material": self.material, "ramp_time": self.ramp_time or None}
         return {k: v for k, v in out.items() if v not in ("plug", None, "summation")}
 
 
