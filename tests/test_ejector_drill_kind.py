@@ -149,6 +149,17 @@ def test_balance_of_eq2_on_synthetic_series():
     assert times["t_gap"] == pytest.approx(1e-6, abs=1e-5) and times["t_holes"] == pytest.approx(time[1])
 
 
+@pytest.mark.parametrize("residual, storage, words", [
+    (0.004, math.nan, "closes within 1 %"),
+    (0.5, 0.495, "still filling the scene"),
+    (0.05, 0.001, "5 % of V_AG, of which the control volume's storage accounts for 0.1 %"),
+])
+def test_the_balance_verdict_says_where_the_volume_is(residual, storage, words):
+    from orchestrator.kinds.ejector_drill.report import balance_verdict
+
+    assert words in balance_verdict(residual, storage)
+
+
 def test_network_at_the_sph_gap_flow_and_the_table():
     case = load_case(CASE, preset="flow_exit_quick").model
     net = case.network()
@@ -218,3 +229,34 @@ def test_user_meshes_need_the_penalty_walls(tmp_path):
     case = load_case(CASE, preset="flow_exit_quick", overrides=[f"parts.head.file='{stl}'", "parts.head.scale=1e-3",
                                                                 "physics.walls='penalty'"]).model
     assert case.parts["head"].scale == 1e-3
+
+
+def test_zones_find_the_still_fluid_and_the_pressure_peak():
+    """A synthetic frame: the flow-exit quick scene's lattice sites moving at v_in, those in the groove below the
+    holes at rest, one hole at 500 bar: zones() finds both where they were put."""
+    from orchestrator.kinds.ejector_drill.analysis import zones
+    from orchestrator.kinds.ejector_drill.build import filled_sites
+
+    case = load_case(CASE, preset="flow_exit_quick").model
+    layout = build_scene(case).layout
+    x = filled_sites(layout, case.numerics.dx, buffers=False)
+    n = len(x)
+    v = np.tile([0.0, 0.0, -60.0], (n, 1))
+    gap = layout.channel
+    hole = next(r for r in layout.regions if r.name == "hole1")
+    floor = gap.contains(x) & (x[:, 2] < hole.z - 0.5 * hole.d)
+    v[floor] = 0.0
+    p = np.full(n, 1e5)
+    hot = hole.contains(x)  # fewer sites than the top 1 % of the scene: the rest of the top are at 1 bar
+    p[hot] = 5e7
+    frame = {"kind": np.zeros(n), "positions": x, "velocities": v, "pressures": p}
+    found = zones(layout, frame, 60.0)
+    name, count, share, r, z = found["still"][0]
+    assert (name, count) == ("annular_gap", int(floor.sum())) and len(found["still"]) == 1
+    assert gap.r_in <= r <= gap.r_out and gap.z_lo <= z < hole.z - 0.5 * hole.d
+    assert share == pytest.approx(floor.sum() / gap.contains(x).sum())
+    count, mean, top, where, r, z = found["peak"]
+    k = int(hot.sum())
+    assert (count, where, top) == (round(0.01 * n), "hole1", 5e7) and count > k
+    assert mean == pytest.approx((k * 5e7 + (count - k) * 1e5) / count)
+    assert z == pytest.approx(hole.z, abs=0.5 * hole.d)

@@ -113,7 +113,8 @@ def sensor_pressures(series: dict, time: np.ndarray) -> dict[str, float]:
 def measure_drill(case, result) -> dict[str, float]:
     """Measured quantities of an ejector-drill run (SI units): V_in (the inlet's), V_AG, V_IB, V_loss (means over
     the last STEADY_FRACTION, m^3/s), balance_residual (V_AG - V_IB - V_loss, m^3/s) and balance_share (of V_AG, -),
-    p_A, p_B (gauge, Pa), t_gap, t_holes, t_front, t_mouth, t_leak, t_ejector_onset (s; NaN: did not happen),
+    p_A, p_B (gauge, Pa), t_gap, t_holes, t_front, t_mouth, t_leak (a start 'empty' only), t_ejector_onset (s,
+    after t_leak, or after the ramp with a start 'filled'; NaN: did not happen),
     max_density_deviation (-). Empty when the run recorded fewer than two series records."""
     time = np.asarray(result.time if result.time is not None else [], dtype=float)
     if time.size < 2:
@@ -127,9 +128,55 @@ def measure_drill(case, result) -> dict[str, float]:
             out[key] = bal[key]
     out["balance_residual"], out["balance_share"] = bal["residual"], bal["residual_share"]
     out.update({f"p_{k}": v for k, v in sensor_pressures(series, time).items()})
-    times = filling_times(time, flows)
-    out.update(times)
-    out["t_ejector_onset"] = ejector_onset(time, flows, times.get("t_leak", math.nan))
+    if case.scene.start == "filled":  # nothing fills; the onset counts once the inlet has ramped up
+        out["t_ejector_onset"] = ejector_onset(time, flows, case.scene.ramp_time)
+    else:
+        times = filling_times(time, flows)
+        out.update(times)
+        out["t_ejector_onset"] = ejector_onset(time, flows, times.get("t_leak", math.nan))
     if "max_density_deviation" in series:
         out["max_density_deviation"] = float(np.nanmax(series["max_density_deviation"]))
+    return out
+
+
+#: A fluid particle slower than this share of the inflow speed is "still" (paper sect. 3.2: "areas with little to
+#: zero fluid velocity"), -.
+STILL_SHARE = 0.05
+#: The share of fluid particles with the highest pressure that marks the zone of maximum pressure, -.
+PEAK_SHARE = 0.01
+
+
+def zones(layout, frame: dict, v_in: float) -> dict:
+    """The zones the paper describes (sect. 3.2: little to zero velocity, maximum pressure) in one run.h5 frame:
+    {'still': [(region, count, share of the region's particles, mean r m, mean z m), ...] for the fluid particles
+    slower than STILL_SHARE v_in, largest count first; 'peak': (count, mean p Pa, max p Pa, region holding most,
+    mean r m and z m of its particles among them) of the PEAK_SHARE of fluid particles with the highest pressure}. Only particles inside the
+    layout's fluid regions count (not the open boundaries' buffers)."""
+    fluid = np.asarray(frame["kind"]) == 0
+    x = np.asarray(frame["positions"], dtype=float)[fluid]
+    speed = np.linalg.norm(np.asarray(frame["velocities"], dtype=float)[fluid], axis=1)
+    p = np.asarray(frame["pressures"], dtype=float)[fluid]
+    label = np.full(len(x), -1)
+    for k, region in enumerate(layout.regions):
+        label[(label < 0) & region.contains(x)] = k
+    inside = label >= 0
+    x, speed, p, label = x[inside], speed[inside], p[inside], label[inside]
+    r = np.hypot(x[:, 0], x[:, 1])
+    still = []
+    slow = speed < STILL_SHARE * v_in
+    for k, region in enumerate(layout.regions):
+        mine = label == k
+        hit = mine & slow
+        if hit.any():
+            still.append((region.name, int(hit.sum()), float(hit.sum() / mine.sum()), float(r[hit].mean()),
+                          float(x[hit, 2].mean())))
+    still.sort(key=lambda row: -row[1])
+    out = {"still": still}
+    if len(p):
+        n = max(1, int(round(PEAK_SHARE * len(p))))
+        top = np.argsort(p)[-n:]
+        most = np.bincount(label[top], minlength=len(layout.regions)).argmax()
+        there = top[label[top] == most]
+        out["peak"] = (n, float(p[top].mean()), float(p[top].max()), layout.regions[most].name,
+                       float(r[there].mean()), float(x[there, 2].mean()))
     return out

@@ -10,8 +10,8 @@ from pathlib import Path
 
 import numpy as np
 
-from orchestrator.kinds.ejector_drill.analysis import (balance, filling_times, flow_series, sensor_pressures,
-                                                       stored_volume_rate)
+from orchestrator.kinds.ejector_drill.analysis import (STILL_SHARE, balance, filling_times, flow_series,
+                                                       sensor_pressures, stored_volume_rate, zones)
 from orchestrator.kinds.ejector_drill.comparison import comparison_rows, network_at_gap_flow, stored_volume
 from orchestrator.kinds.ejector_drill.layout import drill_layout
 from orchestrator.kinds.ejector_drill.pictures import draw_sections
@@ -21,6 +21,34 @@ from orchestrator.reference.drill_network import LITRE_PER_MIN, solve
 
 def _fmt(value) -> str:
     return f"{value:10.3g}" if isinstance(value, float) and math.isfinite(value) else f"{'-':>10}"
+
+
+def balance_verdict(residual_share: float, filling_share: float) -> str:
+    """One line on eq. 2 over the steady window: closed within 1 % of V_AG, or where the missing volume is (the
+    fluid still filling the control volume, when the storage accounts for the residual to within 1 %; else what the
+    planes and frames do not account for). Shares of V_AG, -."""
+    if abs(residual_share) <= 0.01:
+        return "the balance closes within 1 %"
+    if math.isfinite(filling_share) and abs(residual_share - filling_share) <= 0.01:
+        return ("the balance does not close within 1 %: the missing volume is the fluid still filling the scene "
+                "(the control volume's storage above), not yet a steady state")
+    return (f"the balance does not close within 1 %: {residual_share * 100:.3g} % of V_AG, of which the control "
+            f"volume's storage accounts for {filling_share * 100:.3g} %")
+
+
+def print_zones(layout, frames: dict, v_in: float) -> None:
+    """Print the still zones and the zone of maximum pressure (analysis.zones) of the last frame; v_in m/s."""
+    last = frames[max((k for k in frames if k != "attrs"), key=int)]
+    found = zones(layout, last, v_in)
+    print(f"\nzones at t = {float(last['attrs']['time']) * 1e3:.3g} ms (paper: 'areas with little to zero fluid velocity "
+          "and maximum pressure'):")
+    still = "; ".join(f"{name} {count} ({share * 100:.2g} % of it) at r {r * 1e3:.3g} mm, z {z * 1e3:.3g} mm"
+                      for name, count, share, r, z in found["still"][:4]) or "none"
+    print(f"  still (|v| < {STILL_SHARE * 100:g} % of v_in): {still}")
+    if "peak" in found:
+        n, mean, top, name, r, z = found["peak"]
+        print(f"  highest pressure (top {n} particles): mean {mean / 1e5:.3g} bar, max {top / 1e5:.3g} bar, mostly "
+              f"in {name}, at r {r * 1e3:.3g} mm, z {z * 1e3:.3g} mm")
 
 
 def analyze_drill_run(run_dir, run: dict, case, render: bool = True) -> dict:
@@ -49,13 +77,15 @@ def analyze_drill_run(run_dir, run: dict, case, render: bool = True) -> dict:
     if math.isfinite(bal.get("filling_share", math.nan)):
         print(f"residual minus storage: {(bal['residual_share'] - bal['filling_share']) * 100:.3g} % of V_AG (what the "
               f"planes and the frames, {case.output.frame_interval * 1e3:g} ms apart, do not account for)")
-    closes = abs(bal["residual_share"]) <= 0.01
-    print("the balance closes within 1 %" if closes else
-          "the balance does not close within 1 %: the missing volume is the fluid still filling the scene "
-          "(the control volume's storage above), not yet a steady state")
-    times = filling_times(time, flows)
-    print("\nfilling times (s): " + ", ".join(f"{k} {v:.3g}" if math.isfinite(v) else f"{k} not reached"
-                                             for k, v in times.items()))
+    print(balance_verdict(bal["residual_share"], bal.get("filling_share", math.nan)))
+    if case.scene.start == "filled":
+        print(f"\nstarted filled at rest, the inlet ramped over {case.scene.ramp_time * 1e3:g} ms: no filling times")
+    else:
+        times = filling_times(time, flows)
+        print("\nfilling times (s): " + ", ".join(f"{k} {v:.3g}" if math.isfinite(v) else f"{k} not reached"
+                                                 for k, v in times.items()))
+    if frames:
+        print_zones(layout, frames, case.scene.inlet_velocity)
     pressures = sensor_pressures(series, time)
     net = case.network()
     sph = {k: v for k, v in bal.items() if k.startswith("V_")}
