@@ -52,6 +52,22 @@ def test_parts_are_watertight_with_closed_form_volumes():
         n.n_ejector_nozzles * math.pi * (n.d_ejector_nozzle / 2) ** 2 * nozzle_len * _ngon(k), rel=1e-9)
 
 
+def test_a_deep_groove_is_a_collector_chamber():
+    """groove_depth cuts the groove out to the outer tube's wall: the head loses the ring r_oi..r_oi + depth over the
+    groove's length (closed form), the layout gains it as the region 'collector' and the holes start at its outer
+    wall; deeper than the tube's wall is refused."""
+    from orchestrator.kinds.ejector_drill.case_geometry import DrillGeometry as G
+
+    flat, deep = G(), G(groove_depth=2.0e-3)
+    n = flat.network
+    r_oi = n.d_outer_tube_id / 2
+    assert flat.meshes()["head"].volume - deep.meshes()["head"].volume == pytest.approx(
+        _ring(r_oi, r_oi + 2.0e-3, flat.groove_length) * _ngon(flat.sections), rel=1e-9)
+    assert deep.groove_outer_radius == pytest.approx(r_oi + 2.0e-3)
+    with pytest.raises(ValueError, match="groove_depth"):
+        G(groove_depth=2.5e-3)
+
+
 def test_the_gaps_are_the_networks():
     g = DrillGeometry()
     n = g.network

@@ -38,7 +38,8 @@ def _drill_fields() -> dict:
         out[f.name] = (kind, Field(f.default, gt=0) if f.name not in ("p_ambient",) else Field(f.default))
     for f in dataclasses.fields(DrillGeometry):
         if f.name != "network":
-            out[f.name] = (type(f.default), Field(f.default, gt=0))
+            out[f.name] = (type(f.default), Field(f.default, ge=0) if f.name == "groove_depth" else
+                           Field(f.default, gt=0))
     return out
 
 

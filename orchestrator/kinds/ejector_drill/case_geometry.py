@@ -33,6 +33,10 @@ class DrillGeometry:
     # reconstruction: the head reaches over the tube joint; 8 mm of it is the groove that carries the annular gap
     # to the holes (twice the hole diameter, so a hole fits in the groove with 2 mm to spare)
     groove_length: float = 8.0e-3
+    # the groove's radial depth beyond the gap's outer radius (a collector chamber cut into the head around the
+    # holes' entrances, out to at most the outer tube's OD, whose end face closes it): 0 keeps the groove the gap's
+    # own 0.5 mm, from which the Ø4 mm holes must be fed through a 0.5 mm sheet round their rims
+    groove_depth: float = 0.0
     # reconstruction: the chip mouth's edge is 0.5 mm behind the bore bottom (the cutting edges stand out of the
     # head's face by this much)
     front_clearance: float = 0.5e-3
@@ -56,6 +60,10 @@ class DrillGeometry:
         if n.d_hole >= self.groove_length:
             raise ValueError(f"d_hole = {n.d_hole * 1e3:g} mm does not fit in groove_length = "
                              f"{self.groove_length * 1e3:g} mm")
+        if not 0.0 <= self.groove_depth <= (n.d_outer_tube_od - n.d_outer_tube_id) / 2:
+            raise ValueError(f"groove_depth = {self.groove_depth * 1e3:g} mm must lie between 0 and the outer tube's "
+                             f"wall, {(n.d_outer_tube_od - n.d_outer_tube_id) / 2 * 1e3:g} mm (its end face closes "
+                             "the groove)")
         if n.head_rear_length <= self.groove_length:
             raise ValueError("head_rear_length must exceed groove_length (the head's solid front)")
         if self.sections < 8:
@@ -73,6 +81,11 @@ class DrillGeometry:
         return self.head_length - self.groove_length
 
     @property
+    def groove_outer_radius(self) -> float:
+        """The groove's outer radius, m: the outer tube's ID plus groove_depth."""
+        return self.network.d_outer_tube_id / 2 + self.groove_depth
+
+    @property
     def hole_z(self) -> float:
         """z of the adduction holes' axes: the middle of the groove, m."""
         return self.groove_start + 0.5 * self.groove_length
@@ -85,7 +98,8 @@ class DrillGeometry:
         z_g, z_feed = self.groove_start, L + n.tube_length
         inner_end = z_feed + n.mixing_length + n.discharge_length  # the inner tube runs on to the chip outlet
         c, w = self.front_clearance, self.workpiece_wall
-        head = [(r_m, 0.0), (r_h, 0.0), (r_h, L), (r_oi, L), (r_oi, z_g), (r_io, z_g), (r_io, L), (r_m, L)]
+        r_g = self.groove_outer_radius
+        head = [(r_m, 0.0), (r_h, 0.0), (r_h, L), (r_g, L), (r_g, z_g), (r_io, z_g), (r_io, L), (r_m, L)]
         return {
             "workpiece": [(0.0, -c - w), (r_b + w, -c - w), (r_b + w, n.bore_depth), (r_b, n.bore_depth),
                           (r_b, -c), (0.0, -c)],

@@ -132,9 +132,11 @@ def drill_layout(case) -> Layout:
         z_in = z_hole + sc.inlet_distance
         z_leak = z_in + sc.leak_margin
         channel = Ring("annular_gap", r_io, r_oi, z_g, z_in)
-        holes = tuple(Hole(f"hole{k}", 2 * math.pi * k / n.n_holes, z_hole, n.d_hole, r_oi, r_h)
+        r_g = g.groove_outer_radius
+        holes = tuple(Hole(f"hole{k}", 2 * math.pi * k / n.n_holes, z_hole, n.d_hole, r_g, r_h)
                       for k in range(n.n_holes))
-        regions = (channel, *holes, Ring("head_clearance", r_h, r_b, 0.0, L), front, mouth,
+        collector = (Ring("collector", r_oi, r_g, z_g, L),) if r_g > r_oi else ()
+        regions = (channel, *collector, *holes, Ring("head_clearance", r_h, r_b, 0.0, L), front, mouth,
                    Ring("tube_clearance", r_oo, r_b, L, z_leak))
         inlet = Plane("gap_inlet", (0.0, 0.0, z_in), (0.0, 0.0, -1.0), r_oi)
         inner = r_io
