@@ -82,7 +82,7 @@ class Simulation {
     const std::size_t n = P_.size(), capacity = P_.x.capacity();
     P_.has_stress = Models::any_single_stress;
     P_.modes = Models::any_modes ? modes : 0;
-    P_.resize(n);
+    P_.resize(n), P_.set_wall_frames();  // wall frames: of the wall offsets the caller set
     P_.reserve(capacity);
     for (auto* a : {&x_pred_, &x_build_}) a->reserve(capacity);
     shepard_.reserve(capacity);
