@@ -98,7 +98,7 @@ inline constexpr double max_fit_gain = 1e4;    // largest noise gain of the fit 
 // density rho_f, to the fit sums `fit` of a boundary particle of wall frame `frame` (eq. WP2). Each
 // sum takes w a_i a_j as (w a_i) a_j (as Eigen's w * (a * a^T) rounds it), the lower triangle only.
 template <int D>
-inline void add_wall_fit(WallFit<D>& fit, const WallFrame<D>& frame, double w, const Vec<D>& r_fb, const Vec<D>& dv,
+inline __attribute__((always_inline)) void add_wall_fit(WallFit<D>& fit, const WallFrame<D>& frame, double w, const Vec<D>& r_fb, const Vec<D>& dv,
                          double p_f, double rho_f) {
   constexpr int K = WallFit<D>::K;
   fit.pressure += w * p_f;
@@ -135,7 +135,7 @@ struct NoSlipSums {
 };
 // Add fluid particle f at r_fb = x_f - x_b, weight w > 0, to the sums s of boundary particle b.
 template <int D>
-inline void add_no_slip(const Particles<D>& P, int b, int f, double w, const Vec<D>& r_fb, NoSlipSums<D> s) {
+inline __attribute__((always_inline)) void add_no_slip(const Particles<D>& P, int b, int f, double w, const Vec<D>& r_fb, NoSlipSums<D> s) {
   s.v += w * P.v[f];
   s.weight += w;
   if (!P.has_wall_points) return;

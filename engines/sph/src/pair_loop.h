@@ -93,9 +93,12 @@ class PairLoop {
     const bool positions = P_.has_wall_points;
     Vec<D> no_x;  // the sums a run without wall points does not keep
     WallFit<D> no_fit;
+    // Beyond this r^2 the weight is 0 for certain (no sqrt); nearer, value_clamped decides.
+    const double far2 = 4.0 * kernel_.h * kernel_.h * (1.0 + 1e-9);
     auto weight = [&](int a, std::uint32_t entry, Vec<D>& r) {
       r = x[a] - x[entry >> List::shift_bits] - shifts[entry & List::shift_mask];
-      return kernel_.value_clamped(std::sqrt(r.squaredNorm()));
+      const double r2 = r.squaredNorm();
+      return r2 > far2 ? 0.0 : kernel_.value_clamped(std::sqrt(r2));
     };
     for (int a = list_.block_begin(k); a < list_.block_end(k); ++a) {
       const auto& row = list_.row(a);
