@@ -94,33 +94,53 @@ inline constexpr double max_wall_extrapolation = 8.0;
 inline constexpr double min_fit_pivot = 1e-6;  // smallest LDLT pivot / largest of the scaled fit (eq. WP2)
 inline constexpr double max_fit_gain = 1e4;    // largest noise gain of the fit (eq. WP2), see no_slip_velocity
 
-// Add fluid particle f at r_fb = x_f - x_b, weight w, to the fit sums of boundary particle b (eq. WP2).
+// Add a fluid neighbour at r_fb = x_f - x_b, weight w, with velocity v_f - v_b = dv, pressure p_f and
+// density rho_f, to the fit sums `fit` of a boundary particle of wall frame `frame` (eq. WP2). Each
+// sum takes w a_i a_j as (w a_i) a_j (as Eigen's w * (a * a^T) rounds it), the lower triangle only.
 template <int D>
-inline void add_wall_fit(Particles<D>& P, int b, int f, double w, const Vec<D>& r_fb) {
-  const Vec<D>& offset = P.wall_offset[b];  // x_w - x_b
-  P.wall_fit[b].pressure += w * P.p[f];
-  P.wall_fit[b].density += w * P.rho[f];
-  const double d_b = offset.norm();
+inline __attribute__((always_inline)) void add_wall_fit(WallFit<D>& fit, const WallFrame<D>& frame, double w, const Vec<D>& r_fb, const Vec<D>& dv,
+                         double p_f, double rho_f) {
+  constexpr int K = WallFit<D>::K;
+  fit.pressure += w * p_f;
+  fit.density += w * rho_f;
+  const double d_b = frame.depth;
   if (!(d_b > 0.0)) return;  // NaN (no wall point) or on the wall surface
-  const Vec<D> n = offset / d_b;
-  const double s = r_fb.dot(n) - d_b;  // height above the wall's tangent plane
-  Eigen::Matrix<double, WallFit<D>::K, 1> a;
+  const double s = r_fb.dot(frame.n) - d_b;  // height above the wall's tangent plane
+  double a[K];
   if constexpr (D == 3) {
-    // Any orthonormal tangent pair: the fit's quadratic form in (t1, t2) does not depend on which.
-    int k = 0;
-    for (int d = 1; d < 3; ++d)
-      if (std::abs(n[d]) < std::abs(n[k])) k = d;
-    const Vec<D> e1 = n.cross(Vec<D>::Unit(k)).normalized(), e2 = n.cross(e1);
-    const double t1 = r_fb.dot(e1), t2 = r_fb.dot(e2);
-    a << s, s * s, t1 * t1, t2 * t2, t1 * t2;
+    const double t1 = r_fb.dot(frame.e1), t2 = r_fb.dot(frame.e2);
+    a[0] = s, a[1] = s * s, a[2] = t1 * t1, a[3] = t2 * t2, a[4] = t1 * t2;
   } else {
-    const double t = n[0] * r_fb[1] - n[1] * r_fb[0];
-    a << s, s * s, t * t;
+    const double t = frame.n[0] * r_fb[1] - frame.n[1] * r_fb[0];
+    a[0] = s, a[1] = s * s, a[2] = t * t;
   }
-  WallFit<D>& fit = P.wall_fit[b];
-  fit.normal.noalias() += w * (a * a.transpose());
-  fit.rhs.noalias() += w * (a * (P.v[f] - P.v[b]).transpose());
+  double* lower = fit.normal.data();
+  for (int i = 0; i < K; ++i) {
+    const double wa = w * a[i];
+    for (int j = 0; j <= i; ++j) *lower++ += wa * a[j];
+    for (int d = 0; d < D; ++d) fit.rhs(i, d) += wa * dv[d];
+  }
   if (s < 0.0) fit.behind += w;
+}
+
+// The no-slip sums of a boundary particle b (its Shepard sums of the fluid velocity and weight and,
+// with wall points, of the fluid positions relative to it and the fit of eq. WP2), held where the
+// caller accumulates them: in the particle arrays, or in locals over b's own row.
+template <int D>
+struct NoSlipSums {
+  Vec<D>& v;
+  double& weight;
+  Vec<D>& x;
+  WallFit<D>& fit;
+};
+// Add fluid particle f at r_fb = x_f - x_b, weight w > 0, to the sums s of boundary particle b.
+template <int D>
+inline __attribute__((always_inline)) void add_no_slip(const Particles<D>& P, int b, int f, double w, const Vec<D>& r_fb, NoSlipSums<D> s) {
+  s.v += w * P.v[f];
+  s.weight += w;
+  if (!P.has_wall_points) return;
+  s.x += w * r_fb;
+  add_wall_fit(s.fit, P.wall_frame[b], w, r_fb, Vec<D>(P.v[f] - P.v[b]), P.p[f], P.rho[f]);  // eq. WP2
 }
 
 // The quadratic extrapolation of eq. WP2 into boundary particle b at depth d_b behind its
@@ -129,11 +149,14 @@ template <int D>
 bool quadratic_ghost(const WallFit<D>& fit, double d_b, double weight, const Vec<D>& v_w, Vec<D>& v) {
   constexpr int K = WallFit<D>::K;
   if (fit.behind > 0.0) return false;
-  const Eigen::Matrix<double, K, 1> diag = fit.normal.diagonal();
+  Eigen::Matrix<double, K, K> normal;
+  for (int i = 0, k = 0; i < K; ++i)
+    for (int j = 0; j <= i; ++j, ++k) normal(i, j) = normal(j, i) = fit.normal[k];
+  const Eigen::Matrix<double, K, 1> diag = normal.diagonal();
   if (!(diag.minCoeff() > 0.0)) return false;
   const Eigen::Matrix<double, K, 1> scale = diag.cwiseSqrt().cwiseInverse();  // Jacobi scaling
-  const Eigen::Matrix<double, K, K> scaled = scale.asDiagonal() * fit.normal * scale.asDiagonal();
-  const Eigen::LDLT<Eigen::Matrix<double, K, K>> ldlt(scaled);
+  const Eigen::Matrix<double, K, K> scaled = scale.asDiagonal() * normal * scale.asDiagonal();
+  const Eigen::LDLT<Eigen::Matrix<double, K, K>> ldlt(scaled);  // reads the lower triangle
   const auto pivots = ldlt.vectorD();
   if (ldlt.info() != Eigen::Success || !(pivots.minCoeff() > min_fit_pivot * pivots.maxCoeff())) return false;
   Eigen::Matrix<double, K, 1> e = Eigen::Matrix<double, K, 1>::Zero();
@@ -153,6 +176,10 @@ void no_slip_velocity(Particles<D>& P, const std::vector<double>& shepard, std::
     return;
   }
   const double weight = shepard[b];
+  if (weight == 0.0) {  // no fluid in reach: no sum was touched (pairs of weight 0 add nothing)
+    P.v_noslip[b] = P.v[b];
+    return;
+  }
   if (P.has_wall_points) {
     const Vec<D>& offset = P.wall_offset[b];  // x_w - x_b
     const Vec<D> mean_offset = P.x_noslip[b];  // sum w (x_f - x_b)
@@ -164,7 +191,7 @@ void no_slip_velocity(Particles<D>& P, const std::vector<double>& shepard, std::
       P.rho[b] = fit.density / weight;  // the density that goes with that pressure (Adami et al. 2012)
       P.vol[b] = P.mass[b] / P.rho[b];
       P.p_rho2[b] = P.p[b] / (P.rho[b] * P.rho[b]);
-      const double d_b = offset.norm();
+      const double d_b = P.wall_frame[b].depth;  // |offset|
       const Vec<D>& v_w = P.v[b];
       if (d_b > 0.0 && quadratic_ghost(fit, d_b, weight, v_w, P.v_noslip[b])) return;
       const Vec<D> v_mean = P.v_noslip[b] / weight;

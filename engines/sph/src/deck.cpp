@@ -249,7 +249,7 @@ Deck parse_deck(const json& j, const std::string& deck_dir) {
   check_keys(j, "", {"dimension", "particles_file", "physics", "rho0", "c0", "gamma", "background_pressure", "v_max",
                      "viscosity", "alpha", "beta", "artificial_viscosity", "h", "dx", "body_force", "meshes", "wall", "periodic", "inlets",
                      "outlets", "dt", "time_step", "t_end", "max_steps", "stability", "output", "threads",
-                     "materials", "lees_edwards"});
+                     "materials", "lees_edwards", "neighbour_skin"});
   Deck d;
   d.deck_dir = deck_dir;
   const auto& dim = need(j, "", "dimension");
@@ -370,6 +370,7 @@ Deck parse_deck(const json& j, const std::string& deck_dir) {
       fail("'threads' must be a positive integer, got " + j["threads"].dump());
     d.threads = j["threads"].get<int>();
   }
+  if (j.contains("neighbour_skin")) d.neighbour_skin = positive(j, "", "neighbour_skin");
   return d;
 }
 

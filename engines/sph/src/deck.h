@@ -156,6 +156,9 @@ struct Deck {
   std::vector<FlowPlaneSpec> flow_planes;
   double progress_interval = 1.0;  // s of wall time
   int threads = 0;                 // 0: OpenMP default
+  // Verlet skin as a fraction of the support 2h (LAMMPS's 0.3 mm on a 3 mm cutoff is 0.1): the list
+  // holds pairs closer than (1 + skin) 2h and is rebuilt when a particle has moved skin/2 since the build.
+  double neighbour_skin = 0.1;
 
   std::string resolve(const std::string& path) const;
   std::string terms_string() const;

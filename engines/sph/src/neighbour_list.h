@@ -70,6 +70,7 @@ class NeighbourList {
   void reserve(std::size_t n) {
     rows_.reserve(n);
     block_of_.reserve(n);
+    mover_items_.reserve(n);
   }
 
   // List the pairs of x[0..n) closer than `range` (kind: fluid first in each
@@ -138,16 +139,21 @@ class NeighbourList {
             if (only_movers && movers(runs[q]) == 0) continue;  // no candidate of this run would be listed
             const Vec<D> xs = x[a] - runs[q].shift;
             const std::uint32_t code = static_cast<std::uint32_t>(codes[q]);
-            const int end = cells.item_end(runs[q]);
-            for (int b = cells.item_begin(runs[q]); b < end; ++b) {
-              if ((xs - x[b]).squaredNorm() >= range2) continue;
-              if (!owns(a, b, codes[q], k)) continue;  // also drops a itself at the centre image
+            auto candidate = [&](int b) {
+              if ((xs - x[b]).squaredNorm() >= range2) return;
+              if (!owns(a, b, codes[q], k)) return;  // also drops a itself at the centre image
               const std::uint32_t entry = static_cast<std::uint32_t>(b) << shift_bits | code;
               if (kind[b] == Kind::fluid) {
                 list.push_back(entry);
               } else if (!(skip_walls && a_wall && kind[b] == Kind::boundary)) {
                 others.push_back(entry);
               }
+            };
+            if (only_movers) {  // the run's movers only, in index order (the others would be dropped)
+              for (int m = movers_[runs[q].cell_begin], end = movers_[runs[q].cell_end]; m < end; ++m)
+                candidate(mover_items_[m]);
+            } else {
+              for (int b = cells.item_begin(runs[q]), end = cells.item_end(runs[q]); b < end; ++b) candidate(b);
             }
           }
           row.mid = static_cast<int>(list.size());
@@ -231,19 +237,23 @@ class NeighbourList {
  private:
   int code_of(const Vec<D>& shift) const { return images_->code_of(shift); }
 
-  // movers_[c]: particles other than fixed boundary ones in the cells before c (particles sorted by cell).
-  // Walls never pair with walls when skip_walls, so a wall's row needs only the runs holding others:
-  // the walls far from any fluid or buffer cost one look at their cell (not a sweep of its stencil).
+  // movers_[c]: particles other than fixed boundary ones (movers) in the cells before c (particles sorted by
+  // cell), mover_items_ their indices in order (a run's movers: mover_items_[movers_[begin], movers_[end])).
+  // Walls never pair with walls when skip_walls, so a wall's row needs only the runs' movers:
+  // the walls far from any fluid or buffer cost one look at their cell (not a sweep of its stencil),
+  // the others a sweep of the movers around them only (the drill's walls outnumber its fluid 6 to 1).
   void count_movers(const CellList<D>& cells, const std::vector<Kind>& kind, bool skip_walls) {
     if (!skip_walls) return;
     const std::ptrdiff_t nc = cells.cell_count();
     if (movers_.capacity() < static_cast<std::size_t>(nc) + 1) movers_.reserve(nc + nc / 4 + 1);
     movers_.resize(nc + 1);
     movers_[0] = 0;
+    if (mover_items_.capacity() < kind.size()) mover_items_.reserve(kind.size() + kind.size() / 4);
+    mover_items_.clear();
     for (std::ptrdiff_t c = 0; c < nc; ++c) {
-      int m = 0;
-      for (int i = cells.cell_begin(c), e = cells.cell_end(c); i < e; ++i) m += kind[i] != Kind::boundary;
-      movers_[c + 1] = movers_[c] + m;
+      for (int i = cells.cell_begin(c), e = cells.cell_end(c); i < e; ++i)
+        if (kind[i] != Kind::boundary) mover_items_.push_back(i);
+      movers_[c + 1] = static_cast<int>(mover_items_.size());
     }
   }
   // Whether a particle other than a fixed boundary one lies in the cell or its (2 reach + 1)^D stencil.
@@ -327,7 +337,7 @@ class NeighbourList {
   const PeriodicImages<D>* images_ = nullptr;
   PeriodicBox<D> box_;
   std::vector<Row> rows_;
-  std::vector<int> block_of_, begin_, movers_;
+  std::vector<int> block_of_, begin_, movers_, mover_items_;
   std::vector<std::vector<std::uint32_t>> lists_;
   std::vector<std::vector<std::uint32_t>> others_;  // per block: a row's non-fluid neighbours while it is built
   std::array<std::vector<int>, 3> colours_;

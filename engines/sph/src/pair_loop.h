@@ -81,33 +81,51 @@ class PairLoop {
   // (for their no-slip velocity), over the fluid-boundary pairs of block k;
   // tensor configurations: also of the fluid's extra stress (eq. W1); with
   // wall points (Particles::has_wall_points), also of the fluid positions
-  // relative to the boundary particle b, x_fluid - x_b (periodic images included).
+  // relative to the boundary particle b, x_fluid - x_b (periodic images
+  // included), and the fit of eq. WP2 (boundary_particles.h). Pairs of the
+  // skin (weight 0) add exact zeros and are skipped; a boundary particle's
+  // own row is summed into locals (the same additions in the same order).
   void no_slip_sums_of_block(int k) const {
     using List = NeighbourList<D>;
     const std::uint32_t* const e = list_.entries(k);
     const Vec<D>* const shifts = list_.shifts();
     const Vec<D>* const x = P_.x.data();
     const bool positions = P_.has_wall_points;
+    Vec<D> no_x;  // the sums a run without wall points does not keep
+    WallFit<D> no_fit;
+    // Beyond this r^2 the weight is 0 for certain (no sqrt); nearer, value_clamped decides.
+    const double far2 = 4.0 * kernel_.h * kernel_.h * (1.0 + 1e-9);
+    auto weight = [&](int a, std::uint32_t entry, Vec<D>& r) {
+      r = x[a] - x[entry >> List::shift_bits] - shifts[entry & List::shift_mask];
+      const double r2 = r.squaredNorm();
+      return r2 > far2 ? 0.0 : kernel_.value_clamped(std::sqrt(r2));
+    };
     for (int a = list_.block_begin(k); a < list_.block_end(k); ++a) {
       const auto& row = list_.row(a);
-      const bool a_fluid = P_.moves(a), a_wall = P_.kind[a] == Kind::boundary;
-      if (!a_fluid && !a_wall) continue;
-      // a fluid: its non-fluid neighbours; a boundary particle: its fluid neighbours.
-      const int from = a_fluid ? row.mid : row.begin, to = a_fluid ? row.end : row.mid;
-      for (int j = from; j < to; ++j) {
-        const int b = static_cast<int>(e[j] >> List::shift_bits);
-        if (a_fluid && P_.kind[b] != Kind::boundary) continue;
-        const Vec<D> r = x[a] - x[b] - shifts[e[j] & List::shift_mask];
-        const double w = kernel_.value_clamped(std::sqrt(r.squaredNorm()));
-        const int wall = a_fluid ? b : a, fluid = a_fluid ? a : b;
-        P_.v_noslip[wall] += w * P_.v[fluid];
-        shepard_[wall] += w;
-        if constexpr (tensor) add_wall_stress<Models>(P_, wall, fluid, w);  // eq. W1 (boundary_particles.h)
-        if (positions) {
-          const Vec<D> r_fb = a_fluid ? r : Vec<D>(-r);
-          P_.x_noslip[wall] += w * r_fb;
-          add_wall_fit(P_, wall, fluid, w, r_fb);  // eq. WP2 (boundary_particles.h)
+      Vec<D> r;
+      if (P_.moves(a)) {  // a fluid: its boundary neighbours
+        for (int j = row.mid; j < row.end; ++j) {
+          const int b = static_cast<int>(e[j] >> List::shift_bits);
+          if (P_.kind[b] != Kind::boundary) continue;
+          const double w = weight(a, e[j], r);
+          if (w == 0.0) continue;
+          if constexpr (tensor) add_wall_stress<Models>(P_, b, a, w);  // eq. W1 (boundary_particles.h)
+          add_no_slip<D>(P_, b, a, w, r,
+                         {P_.v_noslip[b], shepard_[b], positions ? P_.x_noslip[b] : no_x, positions ? P_.wall_fit[b] : no_fit});
         }
+      } else if (P_.kind[a] == Kind::boundary && row.begin != row.mid) {  // a boundary particle: its fluid neighbours
+        Vec<D> v = P_.v_noslip[a], xs = positions ? P_.x_noslip[a] : no_x;
+        double ws = shepard_[a];
+        WallFit<D> fit = positions ? P_.wall_fit[a] : no_fit;
+        for (int j = row.begin; j < row.mid; ++j) {
+          const int b = static_cast<int>(e[j] >> List::shift_bits);
+          const double w = weight(a, e[j], r);
+          if (w == 0.0) continue;
+          if constexpr (tensor) add_wall_stress<Models>(P_, a, b, w);
+          add_no_slip<D>(P_, a, b, w, Vec<D>(-r), {v, ws, xs, fit});
+        }
+        P_.v_noslip[a] = v, shepard_[a] = ws;
+        if (positions) P_.x_noslip[a] = xs, P_.wall_fit[a] = fit;
       }
     }
   }

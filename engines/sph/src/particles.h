@@ -10,6 +10,8 @@
 // rule (x' = x + dt (v + v')/2, integrator.h) and listed apart.
 #pragma once
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -41,15 +43,44 @@ struct Field {
 // Sums of the weighted least-squares fit of a fixed boundary particle's wall
 // extrapolation (boundary_particles.h, eq. WP2): sum w a a^T and sum w a (v_f - v_w)^T
 // over its fluid neighbours, a = the fit's K basis values; zero between evaluations.
+// The normal matrix is symmetric and its LDLT reads the lower triangle only, so only
+// that is summed, packed row by row: entry (i, j), j <= i, at i (i + 1) / 2 + j.
 template <int D>
 struct WallFit {
   static constexpr int K = D == 3 ? 5 : 3;
-  Eigen::Matrix<double, K, K> normal = Eigen::Matrix<double, K, K>::Zero();
+  static constexpr int packed = K * (K + 1) / 2;
+  std::array<double, packed> normal{};  // lower triangle of sum w a a^T
   Eigen::Matrix<double, K, D> rhs = Eigen::Matrix<double, K, D>::Zero();
   double behind = 0.0;    // sum of w over fluid neighbours behind the wall's tangent plane (s < 0)
   double pressure = 0.0;  // sum of w p_f (the wall pressure, eq. WP3)
   double density = 0.0;   // sum of w rho_f (the wall density, eq. WP3)
 };
+
+// A boundary particle's wall frame for the fit of eq. WP2, a function of its
+// wall_offset x_w - x_b alone (walls never move, so it is taken once: see
+// Particles::set_wall_frames): depth d_b = |x_w - x_b| (NaN: no wall point;
+// 0: on the wall surface), unit normal n = (x_w - x_b) / d_b and, in 3D, a
+// tangent pair e1, e2 (any orthonormal pair: the fit's quadratic form in
+// (t1, t2) does not depend on which). n, e1, e2 are NaN unless d_b > 0.
+template <int D>
+struct WallFrame {
+  Vec<D> n, e1, e2;
+  double depth;
+};
+template <int D>
+WallFrame<D> wall_frame_of(const Vec<D>& offset) {
+  const Vec<D> nan = Vec<D>::Constant(std::numeric_limits<double>::quiet_NaN());
+  WallFrame<D> f{nan, nan, nan, offset.norm()};
+  if (!(f.depth > 0.0)) return f;
+  f.n = offset / f.depth;
+  if constexpr (D == 3) {
+    int k = 0;
+    for (int d = 1; d < 3; ++d)
+      if (std::abs(f.n[d]) < std::abs(f.n[k])) k = d;
+    f.e1 = f.n.cross(Vec<D>::Unit(k)).normalized(), f.e2 = f.n.cross(f.e1);
+  }
+  return f;
+}
 
 template <int D>
 struct Particles {
@@ -73,6 +104,7 @@ struct Particles {
   std::vector<Mat<D>> tau_solvent, next_tau_solvent;  // solvent stress 2 eta_s D Pa of the last evaluation (modes > 0)
   bool has_wall_points = false;                       // the input gave `wall_point` (boundary_particles.h)
   std::vector<Vec<D>> wall_offset, next_wall_offset;  // m: wall point - position (boundary; wrap-proof); NaN: none
+  std::vector<WallFrame<D>> wall_frame, next_wall_frame;  // of wall_offset (set_wall_frames; fresh entries: none)
   // -- derived each evaluation
   std::vector<double> p, c;          // pressure Pa, sound speed m/s
   std::vector<double> vol, p_rho2;   // m/rho m^D, p/rho^2 (saves divisions in the pair loop)
@@ -112,7 +144,14 @@ struct Particles {
   void for_carried(F&& f) {
     f(mass, next_mass), f(kind, next_kind), f(id, next_id), f(material, next_material);
     if (modes) f(tau_solvent, next_tau_solvent);
-    if (has_wall_points) f(wall_offset, next_wall_offset);
+    if (has_wall_points) f(wall_offset, next_wall_offset), f(wall_frame, next_wall_frame);
+  }
+
+  // The wall frames of every particle from its wall_offset (call after setting wall offsets; Simulation does).
+  void set_wall_frames() {
+    if (has_wall_points)
+      parallel_for(static_cast<std::ptrdiff_t>(size()), parallel_min_light,
+                   [this](std::ptrdiff_t i) { wall_frame[i] = wall_frame_of(wall_offset[i]); });
   }
 
   std::size_t size() const { return x.size(); }
@@ -133,7 +172,8 @@ struct Particles {
     if (modes)
       for (std::size_t i = had; i < n; ++i) tau_solvent[i].setZero();  // fresh entries hold no stress
     if (has_wall_points) {
-      for (std::size_t i = had_walls; i < n; ++i) wall_offset[i].setConstant(std::numeric_limits<double>::quiet_NaN());
+      for (std::size_t i = had_walls; i < n; ++i)
+        wall_offset[i].setConstant(std::numeric_limits<double>::quiet_NaN()), wall_frame[i] = wall_frame_of(wall_offset[i]);
       x_noslip.resize(n, Vec<D>::Zero());
       wall_fit.resize(n, WallFit<D>{});
     }
@@ -227,7 +267,8 @@ struct Particles {
     const std::size_t cap = std::max(o.reserved_, o.x.capacity());
     SPH_TAKE(x), SPH_TAKE(x0), SPH_TAKE(next_x), SPH_TAKE(next_x0), SPH_TAKE(vel), SPH_TAKE(dens), SPH_TAKE(stress);
     SPH_TAKE(has_stress), SPH_TAKE(mode_stress), SPH_TAKE(modes), SPH_TAKE(tau_solvent), SPH_TAKE(next_tau_solvent);
-    SPH_TAKE(has_wall_points), SPH_TAKE(wall_offset), SPH_TAKE(next_wall_offset), SPH_TAKE(x_noslip), SPH_TAKE(wall_fit);
+    SPH_TAKE(has_wall_points), SPH_TAKE(wall_offset), SPH_TAKE(next_wall_offset), SPH_TAKE(wall_frame),
+    SPH_TAKE(next_wall_frame), SPH_TAKE(x_noslip), SPH_TAKE(wall_fit);
     SPH_TAKE(mass), SPH_TAKE(kind), SPH_TAKE(id), SPH_TAKE(material);
     SPH_TAKE(next_mass), SPH_TAKE(next_kind), SPH_TAKE(next_id), SPH_TAKE(next_material);
     SPH_TAKE(p), SPH_TAKE(c), SPH_TAKE(vol), SPH_TAKE(p_rho2), SPH_TAKE(v_noslip);

@@ -47,10 +47,8 @@ class Simulation {
   // Cells of half the list range (5^D stencil) test fewer far pairs than cells
   // of the full range (3^D), and two layers of them make a block of the list.
   static constexpr int cell_reach = 2;
-  // Verlet skin as a fraction of the support 2h (LAMMPS's 0.3 mm on a 3 mm
-  // cutoff is 0.1): the list holds pairs closer than (1 + skin) 2h and is
-  // rebuilt when a particle has moved skin/2 since the last build.
-  static constexpr double skin_fraction = 0.1;
+  // Verlet skin: deck.neighbour_skin (default 0.1) times the support 2h: the list holds pairs closer
+  // than (1 + skin) 2h and is rebuilt when a particle has moved skin/2 since the last build.
 
   Simulation(const Deck& deck, Particles<D> particles, WallPenalty<D> walls = {})
       : deck_(deck), P_(std::move(particles)), kernel_(deck.h), walls_(std::move(walls)),
@@ -82,13 +80,13 @@ class Simulation {
     const std::size_t n = P_.size(), capacity = P_.x.capacity();
     P_.has_stress = Models::any_single_stress;
     P_.modes = Models::any_modes ? modes : 0;
-    P_.resize(n);
+    P_.resize(n), P_.set_wall_frames();  // wall frames: of the wall offsets the caller set
     P_.reserve(capacity);
     for (auto* a : {&x_pred_, &x_build_}) a->reserve(capacity);
     shepard_.reserve(capacity);
     list_.reserve(capacity);
     list_.configure(images_);
-    skin_ = skin_fraction * kernel_.support_radius();
+    skin_ = deck.neighbour_skin * kernel_.support_radius();
     cells_.configure(kernel_.support_radius() + skin_, cell_reach, box, std::max<std::size_t>(64 * n, 1u << 22));
     sort_particles();
     equation_of_state();

@@ -102,6 +102,15 @@ TEST(bad_values_are_rejected) {
   CHECK(mentions(rejection(j), "missing key 't_end'"));
 }
 
+TEST(neighbour_skin_defaults_to_a_tenth_of_the_support) {
+  CHECK(parse_deck(good_deck(), deck_dir().string()).neighbour_skin == 0.1);
+  json j = good_deck();
+  j["neighbour_skin"] = 0.25;
+  CHECK(parse_deck(j, deck_dir().string()).neighbour_skin == 0.25);
+  j["neighbour_skin"] = 0.0;
+  CHECK(mentions(rejection(j), "'neighbour_skin' must be > 0"));
+}
+
 TEST(term_keys_must_match_the_physics_list) {
   json j = good_deck();
   j["alpha"] = 0.1;

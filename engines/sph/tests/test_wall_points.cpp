@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 
 #include <nlohmann/json.hpp>
 
@@ -245,4 +246,50 @@ TEST(wall_point_steps_do_not_depend_on_the_thread_count) {
   for (std::size_t i = 0; i < sim.particles().size(); ++i)
     differ = std::max(differ, (sim.particles().v[i] - one[sim.particles().id[i]]).norm());
   CHECK(differ > 1e-6);
+}
+
+// The fit of eq. WP2 as summed now (the wall frame taken once per particle, the lower triangle
+// of the normal matrix packed) equals, bitwise, the sums as the fit took them per pair before
+// (the frame from the offset at every pair, Eigen's w (a a^T) and w (a dv^T)), and so does the
+// extrapolated velocity (the LDLT reads the lower triangle only).
+TEST(wall_fit_sums_are_the_per_pair_outer_products_bitwise) {
+  std::mt19937_64 gen(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int ghosts = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    const Vec<3> offset(u(gen) * 1e-4, u(gen) * 1e-4, u(gen) * 1e-4);
+    const WallFrame<3> frame = wall_frame_of(offset);
+    const double d_b = offset.norm();
+    const Vec<3> n = offset / d_b;
+    int k = 0;
+    for (int d = 1; d < 3; ++d)
+      if (std::abs(n[d]) < std::abs(n[k])) k = d;
+    const Vec<3> e1 = n.cross(Vec<3>::Unit(k)).normalized(), e2 = n.cross(e1);
+    WallFit<3> fit;
+    Eigen::Matrix<double, 5, 5> normal = Eigen::Matrix<double, 5, 5>::Zero();
+    Eigen::Matrix<double, 5, 3> rhs = Eigen::Matrix<double, 5, 3>::Zero();
+    for (int f = 0; f < 40; ++f) {  // fluid in front of the wall's tangent plane, up to 2 dx off along it
+      const Vec<3> r = n * (d_b + 6e-4 * (0.05 + std::abs(u(gen)))) + 6e-4 * (u(gen) * e1 + u(gen) * e2);
+      const Vec<3> dv(u(gen), u(gen), u(gen));
+      const double w = 0.5 * (1.0 + u(gen));
+      add_wall_fit(fit, frame, w, r, dv, 1e5, 1000.0);
+      const double s = r.dot(n) - d_b, t1 = r.dot(e1), t2 = r.dot(e2);
+      Eigen::Matrix<double, 5, 1> a;
+      a << s, s * s, t1 * t1, t2 * t2, t1 * t2;
+      normal.noalias() += w * (a * a.transpose());
+      rhs.noalias() += w * (a * dv.transpose());
+    }
+    for (int i = 0, p = 0; i < 5; ++i)
+      for (int j = 0; j <= i; ++j, ++p) CHECK(fit.normal[p] == normal(i, j));
+    CHECK(fit.rhs == rhs && fit.behind == 0.0);
+    // The extrapolation as before, from Eigen's full (not quite symmetric) sums.
+    const Eigen::Matrix<double, 5, 1> scale = normal.diagonal().cwiseSqrt().cwiseInverse();
+    const Eigen::LDLT<Eigen::Matrix<double, 5, 5>> ldlt(Eigen::Matrix<double, 5, 5>(scale.asDiagonal() * normal * scale.asDiagonal()));
+    const Eigen::Matrix<double, 5, 3> c = scale.asDiagonal() * ldlt.solve(scale.asDiagonal() * rhs);
+    const Vec<3> v_w(0.1, 0.2, 0.3);
+    const Vec<3> before = v_w + (d_b * d_b) * c.row(1).transpose() - d_b * c.row(0).transpose();
+    Vec<3> now = Vec<3>::Zero();
+    if (quadratic_ghost(fit, frame.depth, 1.0, v_w, now)) ++ghosts, CHECK(now == before);
+  }
+  CHECK(ghosts > 100);
 }
