@@ -289,7 +289,10 @@ TEST(wall_fit_sums_are_the_per_pair_outer_products_bitwise) {
     const Vec<3> v_w(0.1, 0.2, 0.3);
     const Vec<3> before = v_w + (d_b * d_b) * c.row(1).transpose() - d_b * c.row(0).transpose();
     Vec<3> now = Vec<3>::Zero();
-    if (quadratic_ghost(fit, frame.depth, 1.0, v_w, now)) ++ghosts, CHECK(now == before);
+    if (quadratic_ghost(fit, frame.depth, 1.0, v_w, now)) {
+      ++ghosts;
+      CHECK(now == before);
+    }
   }
   CHECK(ghosts > 100);
 }
