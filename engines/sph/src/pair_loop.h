@@ -25,6 +25,7 @@
 #include "neighbour_list.h"
 #include "particles.h"
 #include "physics_terms.h"
+#include "viscosity_correction.h"
 
 namespace sph {
 
@@ -34,10 +35,23 @@ class PairLoop {
   using Model = FluidModel<D, Terms>;
   static constexpr bool has(unsigned t) { return (Terms & t) != 0; }
   static constexpr bool tensor = Models::any_stress;
+  static constexpr bool corrected = has(term::viscosity_correction);  // eq. VC1 (viscosity_correction.h)
+  static_assert(!corrected || (has(term::morris_viscosity) && !tensor), "eq. VC1: scalar path with Morris viscosity");
 
   PairLoop(Particles<D>& P, const NeighbourList<D>& list, const WendlandC2<D>& kernel, const Model& model,
            const MaterialTable& materials, std::vector<double>& shepard)
       : P_(P), list_(list), kernel_(kernel), model_(model), materials_(materials), shepard_(shepard) {}
+
+  // The gather's pair loop over every block (in the block colours of the
+  // list), after the sums of eq. VC1 and their factors k when corrected.
+  void rates(bool par) {
+    if constexpr (corrected) {
+      const double eta2 = model_.morris.eta2;
+      list_.for_blocks_coloured(par, [&](int k) { correction_.sums_of_block(list_, P_, kernel_, eta2, k); });
+      for_each_index(par, P_.size(), [this](std::ptrdiff_t i) { correction_.finish_at(i); });
+    }
+    list_.for_blocks_coloured(par, [this](int k) { rates_of_block(k); });
+  }
 
   // The pairs owned by the particles of block k: fluid or not, owner and
   // neighbour, each combination its own branch-free loop. Compiled twice,
@@ -53,12 +67,14 @@ class PairLoop {
   __attribute__((target("avx2"), noinline)) void rates_of_block_avx2(int k) const { rows_of_block(k); }
   __attribute__((noinline)) void rates_of_block_default(int k) const { rows_of_block(k); }
 
-  // Whether every particle has the same mass (set at each list build: masses
-  // change only when particles come or go, which rebuilds the list). Pass A
-  // then gathers no mass: its chunk holds that mass in every slot.
-  void set_uniform_mass() {
+  // At each list build (particles reordered, added or removed): whether every
+  // particle has the same mass (masses change only when particles come or go,
+  // which rebuilds the list; pass A then gathers no mass: its chunk holds that
+  // mass in every slot), and the sums of eq. VC1 sized to the particles.
+  void list_built() {
     const auto& m = P_.mass;
     uniform_mass_ = !m.empty() && std::all_of(m.begin(), m.end(), [&](double mi) { return mi == m[0]; });
+    if constexpr (corrected) correction_.resize(P_.size());
   }
 
   inline __attribute__((always_inline)) void rows_of_block(int k) const {
@@ -156,13 +172,13 @@ class PairLoop {
   struct Chunk {
     int b[chunk], code[chunk];
     double r[D][chunk], r2[chunk], vr[chunk];
-    double m[chunk], rho[chunk], vol[chunk], p_rho2[chunk], c[chunk], mu[chunk];
+    double m[chunk], rho[chunk], vol[chunk], p_rho2[chunk], c[chunk], mu[chunk], corr[chunk];
     double drho_a[chunk], drho_b[chunk], f_a[D][chunk], f_b[D][chunk], visc_a[chunk], visc_b[chunk];
   };
 
-  // Owner a's values for pass B.
+  // Owner a's values for pass B (corr: its factor k_a of eq. VC1 when corrected).
   struct Owner {
-    double m, rho, vol, p_rho2, inv_rho, c, inv_h, grad_factor;
+    double m, rho, vol, p_rho2, inv_rho, c, inv_h, grad_factor, corr;
   };
   // Pass B over pairs [0, n) of a chunk: kernel factor, eq. 7 for both sides,
   // eq. 9 (+ eqs. 11-12) along r_ab, eq. 10's factors.
@@ -190,7 +206,10 @@ class PairLoop {
           double s;
           if constexpr (has(term::several_materials)) s = model.morris.factor(k.mu[j], F, k.r2[j]);
           else s = model.morris.factor(F, k.r2[j]);
-          k.visc_a[j] = s * k.vol[j] * o.inv_rho, k.visc_b[j] = s * o.vol / k.rho[j];
+          if constexpr (corrected)  // eq. VC1: each side its own factor
+            k.visc_a[j] = o.corr * (s * k.vol[j] * o.inv_rho), k.visc_b[j] = k.corr[j] * (s * o.vol / k.rho[j]);
+          else
+            k.visc_a[j] = s * k.vol[j] * o.inv_rho, k.visc_b[j] = s * o.vol / k.rho[j];
         }
       }
     }
@@ -222,13 +241,15 @@ class PairLoop {
       k.rho[n] = P_.rho[b], k.vol[n] = P_.vol[b], k.p_rho2[n] = P_.p_rho2[b];
       if constexpr (has(term::artificial_viscosity)) k.c[n] = P_.c[b];
       if constexpr (has(term::several_materials)) k.mu[n] = mu_row[P_.material[b]];
+      if constexpr (corrected) k.corr[n] = correction_.factors()[b];
       n += r2 < support2;
     }
     (void)jumps;
     // B. per-pair coefficients (AVX2 where the CPU has it: no FMA, so every
     // lane rounds as the scalar code does and results do not depend on the CPU).
     const Owner o{P_.mass[a], P_.rho[a], P_.vol[a], P_.p_rho2[a], 1.0 / P_.rho[a],
-                  has(term::artificial_viscosity) ? P_.c[a] : 0.0, kernel_.inv_h, kernel_.grad_factor};
+                  has(term::artificial_viscosity) ? P_.c[a] : 0.0, kernel_.inv_h, kernel_.grad_factor,
+                  corrected ? correction_.factors()[a] : 1.0};
     coefficients<AMoves, BMoves>(k, n, o, model_);
     // C. sums into a, scatter to b, in list order.
     Vec<D>* const acc = P_.acc.data();
@@ -365,6 +386,7 @@ class PairLoop {
   const MaterialTable& materials_;
   std::vector<double>& shepard_;
   bool uniform_mass_ = false;
+  ViscosityCorrection<D> correction_;  // eq. VC1 (corrected configurations only)
 };
 
 }  // namespace sph
