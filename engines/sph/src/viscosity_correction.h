@@ -45,29 +45,23 @@ class ViscosityCorrection {
   // After a list build (particles reordered, added or removed): one zero sum per particle.
   void resize(std::size_t n) { sum_.assign(n, 0.0), factor_.resize(n); }
 
-  // The sums tr(S) of eq. VC1 over the pairs owned by the particles of block k (to both particles).
+  // The sums tr(S) of eq. VC1 over the pairs owned by the particles of block k (to both particles). As the
+  // pair loop: compiled for SSE2 and for AVX2 without FMA, chosen at run time (the same roundings); each row in
+  // chunks: gather r^2, the per-pair weights in a loop the compiler vectorises, then the sums in list order.
   void sums_of_block(const NeighbourList<D>& list, const Particles<D>& P, const WendlandC2<D>& kernel, double eta2,
                      int k) {
-    using List = NeighbourList<D>;
-    const std::uint32_t* const e = list.entries(k);
-    const Vec<D>* const shifts = list.shifts();
-    const Vec<D>* const x = P.x.data();
-    const double* const vol = P.vol.data();
-    for (int a = list.block_begin(k); a < list.block_end(k); ++a) {
-      const auto& row = list.row(a);
-      double sum_a = 0.0;
-      for (int j = row.begin; j < row.end; ++j) {
-        const int b = static_cast<int>(e[j] >> List::shift_bits);
-        const Vec<D> r = x[a] - x[b] - shifts[e[j] & List::shift_mask];
-        const double r2 = r.squaredNorm();
-        const double u = 1.0 - 0.5 * (std::sqrt(r2) * kernel.inv_h);
-        const double t = 0.5 * (u + std::abs(u));  // max(u, 0): pairs of the skin add zeros
-        const double g = -kernel.grad_factor * (t * t * t) * r2 * r2 / (r2 + eta2);  // -F r^4 / (r^2 + eta^2)
-        sum_a += vol[b] * g;
-        sum_[b] += vol[a] * g;
-      }
-      sum_[a] += sum_a;
-    }
+    static const bool avx2 = __builtin_cpu_supports("avx2");
+    if (avx2) sums_of_block_avx2(list, P, kernel, eta2, k);
+    else sums_of_block_default(list, P, kernel, eta2, k);
+  }
+  __attribute__((target("avx2"), noinline)) void sums_of_block_avx2(const NeighbourList<D>& list,
+                                                                    const Particles<D>& P,
+                                                                    const WendlandC2<D>& kernel, double eta2, int k) {
+    sums(list, P, kernel, eta2, k);
+  }
+  __attribute__((noinline)) void sums_of_block_default(const NeighbourList<D>& list, const Particles<D>& P,
+                                                       const WendlandC2<D>& kernel, double eta2, int k) {
+    sums(list, P, kernel, eta2, k);
   }
   // k_i of eq. VC1 from its sum (1 without neighbours); the sum is set to zero for the next evaluation.
   void finish_at(std::ptrdiff_t i) {
@@ -77,6 +71,39 @@ class ViscosityCorrection {
   const double* factors() const { return factor_.data(); }
 
  private:
+  static constexpr int chunk = 128;
+  inline __attribute__((always_inline)) void sums(const NeighbourList<D>& list, const Particles<D>& P,
+                                                  const WendlandC2<D>& kernel, double eta2, int k) {
+    using List = NeighbourList<D>;
+    const std::uint32_t* const e = list.entries(k);
+    const Vec<D>* const shifts = list.shifts();
+    const Vec<D>* const x = P.x.data();
+    const double* const vol = P.vol.data();
+    const double inv_h = kernel.inv_h, minus_grad_factor = -kernel.grad_factor;
+    int b[chunk];
+    double g[chunk];
+    for (int a = list.block_begin(k); a < list.block_end(k); ++a) {
+      const auto& row = list.row(a);
+      double sum_a = 0.0;
+      for (int j0 = row.begin; j0 < row.end; j0 += chunk) {
+        const int n = row.end - j0 < chunk ? row.end - j0 : chunk;
+        for (int i = 0; i < n; ++i) {
+          const std::uint32_t entry = e[j0 + i];
+          b[i] = static_cast<int>(entry >> List::shift_bits);
+          g[i] = (x[a] - x[b[i]] - shifts[entry & List::shift_mask]).squaredNorm();  // r^2
+        }
+        for (int i = 0; i < n; ++i) {
+          const double r2 = g[i];
+          const double u = 1.0 - 0.5 * (std::sqrt(r2) * inv_h);
+          const double t = 0.5 * (u + std::abs(u));  // max(u, 0): pairs of the skin add zeros
+          g[i] = minus_grad_factor * (t * t * t) * r2 * r2 / (r2 + eta2);  // -F r^4 / (r^2 + eta^2)
+        }
+        for (int i = 0; i < n; ++i) sum_a += vol[b[i]] * g[i], sum_[b[i]] += vol[a] * g[i];
+      }
+      sum_[a] += sum_a;
+    }
+  }
+
   std::vector<double> sum_, factor_;
 };
 
