@@ -21,6 +21,7 @@ from orchestrator.kinds import bind
 
 from orchestrator.kinds.sph_flow.sph import read_sph_output
 from orchestrator.case import load_case
+from orchestrator.errors import CaseError
 from orchestrator.cli import main
 from orchestrator.kinds import build_scene
 
@@ -86,6 +87,18 @@ def test_artificial_viscosity_walls_reach_the_deck(walls, expected, tmp_path):
     _backend().write_input(scene, tmp_path)
     deck = json.loads((tmp_path / "deck.json").read_text())
     assert deck["alpha"] == 0.1 and deck.get("artificial_viscosity") == expected
+
+
+@pytest.mark.parametrize("overrides,expected", [([], None), (["physics.viscosity_correction=true"], True)])
+def test_viscosity_correction_reaches_the_deck(overrides, expected, tmp_path):
+    """physics.viscosity_correction = true writes "viscosity_correction": true (engine eq. VC1); the default writes
+    nothing (decks unchanged); without the Morris term the case is refused, naming the key."""
+    scene = build_scene(load_case(REFERENCE_2D, overrides=overrides).model)
+    _backend().write_input(scene, tmp_path)
+    assert json.loads((tmp_path / "deck.json").read_text()).get("viscosity_correction") == expected
+    with pytest.raises(CaseError, match="physics.viscosity_correction = true needs 'morris_viscosity'"):
+        load_case(REFERENCE_2D, overrides=["physics.viscosity_correction=true",
+                                           "physics.terms=['artificial_viscosity', 'body_force']"])
 
 
 def test_input_files_hold_the_scene(tmp_path):

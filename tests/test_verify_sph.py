@@ -118,10 +118,11 @@ def test_dam_break_check_compares_over_the_measured_range():
 #: Checks that fail today, with the largest error accepted until they are fixed.
 KNOWN_FAILURES: dict[tuple[str, str], float] = {
     # the 3D annulus, gap of 5 particles, walls with wall points (quadratic extrapolation WP2, Shepard wall pressure
-    # WP3; issue 14; full run: profile 5.31 %, gradient 8.80 % low; quick: 3.34 %, 6.20 %): the Morris term's lattice
-    # sum (0.97 of the Laplacian at h = 1.3 dx) and a pressure line 6 % below the flow's viscous balance remain
-    ("sph_annulus_laminar", "u_profile"): 0.045,
-    ("sph_annulus_laminar", "pressure_gradient"): 0.1,
+    # WP3) and the renormalised Morris sum (eq. VC1; issue 14; quick: profile 3.22 %, gradient 4.87 % low; full run:
+    # 5.35 %, 8.03 %): the fluid fills a cross-section 3.6 % larger than the annulus (the lattice's staircase), as
+    # an annulus with walls 0.09 dx further out would (docs/verify_sph.md)
+    ("sph_annulus_laminar", "u_profile"): 0.04,
+    ("sph_annulus_laminar", "pressure_gradient"): 0.06,
 }
 
 

@@ -14,6 +14,9 @@ included (engines/sph/README.md):
   boundary particles entering with the mirrored velocity 2 v_b - <v>_fluid),
   Monaghan artificial viscosity (eqs. 11-12), body force, penalty walls
   (eq. 14, orchestrator.reference.sph_walls);
+- the renormalised Morris sum (optional, viscosity_correction; engine eq. VC1):
+  each fluid particle's viscous sum times k_a = D / sum_b V_b (-F_ab) r_ab^4 /
+  (r_ab^2 + 0.01 h^2), over all its neighbours (morris_correction_factors);
 - several materials (optional): each particle's rho0, c0, gamma, p_B and nu
   are its material's (EOS, boundary pressure of max(rho, rho0)); the Morris
   term of two different materials takes the harmonic mean
@@ -74,6 +77,7 @@ class SphModel:
     periodic_lo: tuple[float, ...] = ()  # m, one per periodic axis
     periodic_hi: tuple[float, ...] = ()
     materials: tuple[SphMaterial, ...] = ()  # several materials (SphState.material indexes them); else the above
+    viscosity_correction: bool = False  # the Morris sum renormalised per particle (engine eq. VC1)
 
     def material_list(self) -> tuple[SphMaterial, ...]:
         """The materials, or the one material of rho0, c0, gamma, background_pressure and viscosity."""
@@ -232,6 +236,8 @@ def rates(state: SphState, model: SphModel) -> tuple[np.ndarray, np.ndarray]:
         mu = pair_viscosity(model)[index[a], index[b]]
         v_noslip = _no_slip_velocities(state, model)
         s = 2.0 * mu * vol[b] / state.rho[a] * np.einsum("ij,ij->i", r_ab, grad_w) / (r2 + model.eta2)
+        if model.viscosity_correction:
+            s = s * morris_correction_factors(a, r2, vol[b], n, model)[a]
         acc_pairs += s[:, None] * (state.v[a] - v_noslip[b])
     if model.alpha is not None:
         vr = np.einsum("ij,ij->i", v_ab, r_ab)
@@ -251,6 +257,17 @@ def rates(state: SphState, model: SphModel) -> tuple[np.ndarray, np.ndarray]:
         acc[fluid] += model.walls.forces(state.x[fluid]) / state.mass[fluid][:, None]
     acc[~fluid] = 0.0
     return acc, drho_sum
+
+
+def morris_correction_factors(a: np.ndarray, r2: np.ndarray, vol_b: np.ndarray, n: int, model: SphModel) -> np.ndarray:
+    """k of eq. VC1 (engines/sph/src/viscosity_correction.h) for each of the n particles, -: D over
+    sum_b V_b (-F_ab) r_ab^4 / (r_ab^2 + 0.01 h^2) over the pairs (a, b) with |r_ab|^2 = r2 (m^2) and V_b = vol_b
+    (m^D); 1 for a particle without neighbours. With k the Morris sum of a quadratic velocity field is its exact
+    Laplacian where the weighted second moment of the neighbours is isotropic (a regular lattice)."""
+    d = model.dimension
+    g = -kernel_gradient_factor(np.sqrt(r2), model.h, d) * r2 * r2 / (r2 + model.eta2)
+    total = _sum_to(a, vol_b * g, n)
+    return np.divide(float(d), total, out=np.ones(n), where=total > 0.0)
 
 
 def _no_slip_velocities(state: SphState, model: SphModel) -> np.ndarray:
@@ -351,6 +368,7 @@ def from_scene(scene) -> tuple[SphState, SphModel]:
         av_walls=True if av is None else av.walls,
         body_force=physics.body_force, walls=walls, periodic_axes=axes,
         periodic_lo=tuple(case.domain.lo[a] for a in axes), periodic_hi=tuple(case.domain.hi[a] for a in axes),
+        viscosity_correction=physics.viscosity_correction,
     )
     state = SphState(x=np.array(scene.positions, dtype=float), v=np.array(scene.velocities, dtype=float),
                      rho=np.array(scene.densities, dtype=float), mass=np.array(scene.masses, dtype=float),

@@ -30,6 +30,7 @@ using N = ModelList<Newtonian>;
 using P = ModelList<Ptt>;
 constexpr unsigned morris = term::morris_viscosity, av = term::artificial_viscosity, several = term::several_materials;
 constexpr unsigned sheared = term::sheared;  // Lees-Edwards boundaries (the deck's `lees_edwards`)
+constexpr unsigned corrected = term::viscosity_correction;  // the deck's `viscosity_correction`
 }  // namespace config
 
 using Configurations = std::tuple<                           //
@@ -40,6 +41,8 @@ using Configurations = std::tuple<                           //
     Configuration<config::N, config::morris | config::several>,               // layered Newtonian fluids
     Configuration<config::N, config::morris | config::av | config::several>,  //
     Configuration<config::N, config::morris | config::sheared>,               // Newtonian Lees-Edwards cell
+    Configuration<config::N, config::morris | config::corrected>,             // renormalised Morris sum (eq. VC1)
+    Configuration<config::N, config::morris | config::av | config::corrected>,  //
     Configuration<config::P, 0>,                                              // PTT viscoelastic fluid (seed 002)
     Configuration<config::P, config::av>,                                     //   with artificial viscosity
     Configuration<config::P, config::sheared>,                                // PTT Lees-Edwards cell (rheometer)

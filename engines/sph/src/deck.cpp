@@ -242,14 +242,14 @@ std::string Deck::terms_string() const {
   std::string out = "continuity,tait_eos,pressure_gradient";
   for (const auto& t : term::optional)
     if (terms & t.bit) out += std::string(",") + t.name;
-  return out;
+  return viscosity_correction ? out + " with viscosity_correction" : out;
 }
 
 Deck parse_deck(const json& j, const std::string& deck_dir) {
   check_keys(j, "", {"dimension", "particles_file", "physics", "rho0", "c0", "gamma", "background_pressure", "v_max",
                      "viscosity", "alpha", "beta", "artificial_viscosity", "h", "dx", "body_force", "meshes", "wall", "periodic", "inlets",
                      "outlets", "dt", "time_step", "t_end", "max_steps", "stability", "output", "threads",
-                     "materials", "lees_edwards", "neighbour_skin"});
+                     "materials", "lees_edwards", "neighbour_skin", "viscosity_correction"});
   Deck d;
   d.deck_dir = deck_dir;
   const auto& dim = need(j, "", "dimension");
@@ -285,6 +285,13 @@ Deck parse_deck(const json& j, const std::string& deck_dir) {
   if (!j.contains("materials")) {
     require_with_term(j, d, term::morris_viscosity, "viscosity", "morris_viscosity");
     if (j.contains("viscosity")) d.viscosity = positive(j, "", "viscosity");
+  }
+  if (j.contains("viscosity_correction")) {  // eq. VC1 (viscosity_correction.h)
+    if (!j["viscosity_correction"].is_boolean())
+      fail("'viscosity_correction' must be true or false, got " + j["viscosity_correction"].dump());
+    d.viscosity_correction = j["viscosity_correction"].get<bool>();
+    if (d.viscosity_correction && !(d.terms & term::morris_viscosity))
+      fail("key 'viscosity_correction' is true but physics term 'morris_viscosity' is not in 'physics'");
   }
   require_with_term(j, d, term::artificial_viscosity, "alpha", "artificial_viscosity");
   if (j.contains("alpha")) d.alpha = non_negative(j, "", "alpha", 0.0);

@@ -25,6 +25,8 @@
 #include "neighbour_list.h"
 #include "particles.h"
 #include "physics_terms.h"
+#include "viscosity_correction.h"
+#include "wall_sums.h"
 
 namespace sph {
 
@@ -34,10 +36,23 @@ class PairLoop {
   using Model = FluidModel<D, Terms>;
   static constexpr bool has(unsigned t) { return (Terms & t) != 0; }
   static constexpr bool tensor = Models::any_stress;
+  static constexpr bool corrected = has(term::viscosity_correction);  // eq. VC1 (viscosity_correction.h)
+  static_assert(!corrected || (has(term::morris_viscosity) && !tensor), "eq. VC1: scalar path with Morris viscosity");
 
   PairLoop(Particles<D>& P, const NeighbourList<D>& list, const WendlandC2<D>& kernel, const Model& model,
            const MaterialTable& materials, std::vector<double>& shepard)
       : P_(P), list_(list), kernel_(kernel), model_(model), materials_(materials), shepard_(shepard) {}
+
+  // The gather's pair loop over every block (in the block colours of the
+  // list), after the sums of eq. VC1 and their factors k when corrected.
+  void rates(bool par) {
+    if constexpr (corrected) {
+      const double eta2 = model_.morris.eta2;
+      list_.for_blocks_coloured(par, [&](int k) { correction_.sums_of_block(list_, P_, kernel_, eta2, k); });
+      for_each_index(par, P_.size(), [this](std::ptrdiff_t i) { correction_.finish_at(i); });
+    }
+    list_.for_blocks_coloured(par, [this](int k) { rates_of_block(k); });
+  }
 
   // The pairs owned by the particles of block k: fluid or not, owner and
   // neighbour, each combination its own branch-free loop. Compiled twice,
@@ -53,12 +68,14 @@ class PairLoop {
   __attribute__((target("avx2"), noinline)) void rates_of_block_avx2(int k) const { rows_of_block(k); }
   __attribute__((noinline)) void rates_of_block_default(int k) const { rows_of_block(k); }
 
-  // Whether every particle has the same mass (set at each list build: masses
-  // change only when particles come or go, which rebuilds the list). Pass A
-  // then gathers no mass: its chunk holds that mass in every slot.
-  void set_uniform_mass() {
+  // At each list build (particles reordered, added or removed): whether every
+  // particle has the same mass (masses change only when particles come or go,
+  // which rebuilds the list; pass A then gathers no mass: its chunk holds that
+  // mass in every slot), and the sums of eq. VC1 sized to the particles.
+  void list_built() {
     const auto& m = P_.mass;
     uniform_mass_ = !m.empty() && std::all_of(m.begin(), m.end(), [&](double mi) { return mi == m[0]; });
+    if constexpr (corrected) correction_.resize(P_.size());
   }
 
   inline __attribute__((always_inline)) void rows_of_block(int k) const {
@@ -77,58 +94,8 @@ class PairLoop {
     }
   }
 
-  // Shepard sums of the fluid velocity around the fixed boundary particles
-  // (for their no-slip velocity), over the fluid-boundary pairs of block k;
-  // tensor configurations: also of the fluid's extra stress (eq. W1); with
-  // wall points (Particles::has_wall_points), also of the fluid positions
-  // relative to the boundary particle b, x_fluid - x_b (periodic images
-  // included), and the fit of eq. WP2 (boundary_particles.h). Pairs of the
-  // skin (weight 0) add exact zeros and are skipped; a boundary particle's
-  // own row is summed into locals (the same additions in the same order).
-  void no_slip_sums_of_block(int k) const {
-    using List = NeighbourList<D>;
-    const std::uint32_t* const e = list_.entries(k);
-    const Vec<D>* const shifts = list_.shifts();
-    const Vec<D>* const x = P_.x.data();
-    const bool positions = P_.has_wall_points;
-    Vec<D> no_x;  // the sums a run without wall points does not keep
-    WallFit<D> no_fit;
-    // Beyond this r^2 the weight is 0 for certain (no sqrt); nearer, value_clamped decides.
-    const double far2 = 4.0 * kernel_.h * kernel_.h * (1.0 + 1e-9);
-    auto weight = [&](int a, std::uint32_t entry, Vec<D>& r) {
-      r = x[a] - x[entry >> List::shift_bits] - shifts[entry & List::shift_mask];
-      const double r2 = r.squaredNorm();
-      return r2 > far2 ? 0.0 : kernel_.value_clamped(std::sqrt(r2));
-    };
-    for (int a = list_.block_begin(k); a < list_.block_end(k); ++a) {
-      const auto& row = list_.row(a);
-      Vec<D> r;
-      if (P_.moves(a)) {  // a fluid: its boundary neighbours
-        for (int j = row.mid; j < row.end; ++j) {
-          const int b = static_cast<int>(e[j] >> List::shift_bits);
-          if (P_.kind[b] != Kind::boundary) continue;
-          const double w = weight(a, e[j], r);
-          if (w == 0.0) continue;
-          if constexpr (tensor) add_wall_stress<Models>(P_, b, a, w);  // eq. W1 (boundary_particles.h)
-          add_no_slip<D>(P_, b, a, w, r,
-                         {P_.v_noslip[b], shepard_[b], positions ? P_.x_noslip[b] : no_x, positions ? P_.wall_fit[b] : no_fit});
-        }
-      } else if (P_.kind[a] == Kind::boundary && row.begin != row.mid) {  // a boundary particle: its fluid neighbours
-        Vec<D> v = P_.v_noslip[a], xs = positions ? P_.x_noslip[a] : no_x;
-        double ws = shepard_[a];
-        WallFit<D> fit = positions ? P_.wall_fit[a] : no_fit;
-        for (int j = row.begin; j < row.mid; ++j) {
-          const int b = static_cast<int>(e[j] >> List::shift_bits);
-          const double w = weight(a, e[j], r);
-          if (w == 0.0) continue;
-          if constexpr (tensor) add_wall_stress<Models>(P_, a, b, w);
-          add_no_slip<D>(P_, a, b, w, Vec<D>(-r), {v, ws, xs, fit});
-        }
-        P_.v_noslip[a] = v, shepard_[a] = ws;
-        if (positions) P_.x_noslip[a] = xs, P_.wall_fit[a] = fit;
-      }
-    }
-  }
+  // The Shepard sums around the fixed boundary particles over block k (wall_sums.h).
+  void no_slip_sums_of_block(int k) const { wall_sums_of_block<tensor, Models>(P_, list_, kernel_, shepard_, k); }
 
  private:
   // The pair terms of owner a with the neighbours of entries [e, end), added
@@ -174,13 +141,13 @@ class PairLoop {
   struct Chunk {
     int b[chunk], code[chunk];
     double r[D][chunk], r2[chunk], vr[chunk];
-    double m[chunk], rho[chunk], vol[chunk], p_rho2[chunk], c[chunk], mu[chunk];
+    double m[chunk], rho[chunk], vol[chunk], p_rho2[chunk], c[chunk], mu[chunk], corr[chunk];
     double drho_a[chunk], drho_b[chunk], f_a[D][chunk], f_b[D][chunk], visc_a[chunk], visc_b[chunk];
   };
 
-  // Owner a's values for pass B.
+  // Owner a's values for pass B (corr: its factor k_a of eq. VC1 when corrected).
   struct Owner {
-    double m, rho, vol, p_rho2, inv_rho, c, inv_h, grad_factor;
+    double m, rho, vol, p_rho2, inv_rho, c, inv_h, grad_factor, corr;
   };
   // Pass B over pairs [0, n) of a chunk: kernel factor, eq. 7 for both sides,
   // eq. 9 (+ eqs. 11-12) along r_ab, eq. 10's factors.
@@ -208,7 +175,10 @@ class PairLoop {
           double s;
           if constexpr (has(term::several_materials)) s = model.morris.factor(k.mu[j], F, k.r2[j]);
           else s = model.morris.factor(F, k.r2[j]);
-          k.visc_a[j] = s * k.vol[j] * o.inv_rho, k.visc_b[j] = s * o.vol / k.rho[j];
+          if constexpr (corrected)  // eq. VC1: each side its own factor
+            k.visc_a[j] = o.corr * (s * k.vol[j] * o.inv_rho), k.visc_b[j] = k.corr[j] * (s * o.vol / k.rho[j]);
+          else
+            k.visc_a[j] = s * k.vol[j] * o.inv_rho, k.visc_b[j] = s * o.vol / k.rho[j];
         }
       }
     }
@@ -240,13 +210,15 @@ class PairLoop {
       k.rho[n] = P_.rho[b], k.vol[n] = P_.vol[b], k.p_rho2[n] = P_.p_rho2[b];
       if constexpr (has(term::artificial_viscosity)) k.c[n] = P_.c[b];
       if constexpr (has(term::several_materials)) k.mu[n] = mu_row[P_.material[b]];
+      if constexpr (corrected) k.corr[n] = correction_.factors()[b];
       n += r2 < support2;
     }
     (void)jumps;
     // B. per-pair coefficients (AVX2 where the CPU has it: no FMA, so every
     // lane rounds as the scalar code does and results do not depend on the CPU).
     const Owner o{P_.mass[a], P_.rho[a], P_.vol[a], P_.p_rho2[a], 1.0 / P_.rho[a],
-                  has(term::artificial_viscosity) ? P_.c[a] : 0.0, kernel_.inv_h, kernel_.grad_factor};
+                  has(term::artificial_viscosity) ? P_.c[a] : 0.0, kernel_.inv_h, kernel_.grad_factor,
+                  corrected ? correction_.factors()[a] : 1.0};
     coefficients<AMoves, BMoves>(k, n, o, model_);
     // C. sums into a, scatter to b, in list order.
     Vec<D>* const acc = P_.acc.data();
@@ -383,6 +355,7 @@ class PairLoop {
   const MaterialTable& materials_;
   std::vector<double>& shepard_;
   bool uniform_mass_ = false;
+  ViscosityCorrection<D> correction_;  // eq. VC1 (corrected configurations only)
 };
 
 }  // namespace sph

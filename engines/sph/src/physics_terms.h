@@ -30,6 +30,9 @@ constexpr unsigned several_materials = 1u << 8;
 // Not a deck term: set by the dispatcher for Lees-Edwards runs (the pair loop
 // then subtracts the velocity jump of a sheared image, box_policy.h eq. LE2).
 constexpr unsigned sheared = 1u << 9;
+// Not a deck term: set by the dispatcher for the deck key `viscosity_correction`
+// (the pair loop scales each particle's Morris sum by k_a, viscosity_correction.h eq. VC1).
+constexpr unsigned viscosity_correction = 1u << 10;
 
 struct Named {
   const char* name;

@@ -166,6 +166,7 @@ inline Wanted wanted_by(const Deck& deck) {
     if (std::find(w.models.begin(), w.models.end(), m.model) == w.models.end()) w.models.push_back(m.model);
   if (materials.size() > 1 && (w.terms & term::morris_viscosity)) w.terms |= term::several_materials;
   if (deck.lees_edwards.on) w.terms |= term::sheared;
+  if (deck.viscosity_correction) w.terms |= term::viscosity_correction;
   return w;
 }
 template <class Models>

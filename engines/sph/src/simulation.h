@@ -185,7 +185,7 @@ class Simulation {
       }
     }
     stamp_time(par, t[1]);
-    list_.for_blocks_coloured(par, [this](int k) { pairs_.rates_of_block(k); });
+    pairs_.rates(par);  // the pair loop in the block colours (pair_loop.h)
     stamp_time(par, t[2]);
     if (dt <= 0.0) {
       for_each_index(par, n, [this](std::ptrdiff_t i) { close_rates_at(i); });
@@ -357,7 +357,7 @@ class Simulation {
   void build_list() {
     if constexpr (sheared) images_.rebase(), cells_.set_shear_offset(images_.build_offset());
     list_.build(cells_, P_.x, P_.kind, kernel_.support_radius() + skin_, walls_together_);
-    pairs_.set_uniform_mass();
+    pairs_.list_built();
     x_build_.assign(P_.x.begin(), P_.x.end());
     shepard_.resize(P_.size());
     if constexpr (tensor) non_fluid_ = std::any_of(P_.kind.begin(), P_.kind.end(), [](Kind k) { return k != Kind::fluid; });

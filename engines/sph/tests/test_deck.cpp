@@ -128,6 +128,17 @@ TEST(term_keys_must_match_the_physics_list) {
   j.erase("artificial_viscosity");
   CHECK(parse_deck(j, deck_dir().string()).av_walls);  // default: today's behaviour
   j = good_deck();
+  CHECK(!parse_deck(j, deck_dir().string()).viscosity_correction);  // default: the plain Morris sum
+  j["viscosity_correction"] = true;
+  CHECK(parse_deck(j, deck_dir().string()).viscosity_correction);
+  CHECK(mentions(parse_deck(j, deck_dir().string()).terms_string(), "with viscosity_correction"));
+  j["viscosity_correction"] = "yes";
+  CHECK(mentions(rejection(j), "'viscosity_correction' must be true or false"));
+  j["viscosity_correction"] = true;
+  j["physics"] = json::array({"body_force"});
+  j.erase("viscosity");
+  CHECK(mentions(rejection(j), "'viscosity_correction' is true but physics term 'morris_viscosity' is not in"));
+  j = good_deck();
   j.erase("viscosity");
   CHECK(mentions(rejection(j), "'morris_viscosity' is on but key 'viscosity' is missing"));
   j = good_deck();
