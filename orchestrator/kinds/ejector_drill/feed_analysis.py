@@ -1,0 +1,61 @@
+"""What a feed-scene run measures (feed_layout.py): V_total (the feed inlet's inflow), V_EN (the discs across the
+nozzles), V_AG (the discs at C1: AG_all over the gap and the tube, -z, plus IB over the tube, +z), V_IB (IB, and
+the tube inlet's inflow), the mixed flow behind the nozzles; eq. 1 (V_total = V_AG + V_EN) and the tube's balance
+(V_IB + V_EN = V_mixed) as residuals; the sensor pressures B, C1, C2. SI units (m^3/s, Pa gauge, s)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from orchestrator.kinds.ejector_drill.analysis import STEADY_FRACTION, sensor_pressures
+
+
+def feed_flows(series: dict) -> dict[str, np.ndarray]:
+    """V_total, V_AG, V_EN, V_IB, V_IB_in, V_mixed, V_gap_out, V_tube_out (m^3/s) from the run's series (the ones
+    present)."""
+    def get(name):
+        return np.asarray(series[name], dtype=float) if name in series else None
+
+    out = {}
+    for key, name in (("V_total", "inflow_feed_inlet"), ("V_IB_in", "inflow_tube_inlet"), ("V_IB", "flow_rate_IB"),
+                      ("V_mixed", "flow_rate_mixed"), ("V_gap_out", "outflow_gap_outlet"),
+                      ("V_tube_out", "outflow_tube_outlet")):
+        if get(name) is not None:
+            out[key] = get(name)
+    if get("flow_rate_AG_all") is not None and "V_IB" in out:  # AG_all counts the tube's +z flow negative
+        out["V_AG"] = get("flow_rate_AG_all") + out["V_IB"]
+    nozzles = [get(n) for n in sorted(series) if n.startswith("flow_rate_nozzle")]
+    if nozzles:
+        out["V_EN"] = np.sum(nozzles, axis=0)
+    return out
+
+
+def steady_means(time: np.ndarray, flows: dict) -> dict[str, float]:
+    """Each flow's mean over the last STEADY_FRACTION of the run (m^3/s), the nozzles' share V_EN / V_total (-),
+    eq. 1's residual V_total - V_AG - V_EN and the tube's V_IB + V_EN - V_mixed (m^3/s) with their shares of
+    V_total (-)."""
+    window = time >= time[-1] - STEADY_FRACTION * (time[-1] - time[0])
+    out = {k: float(np.nanmean(v[window])) for k, v in flows.items()}
+    total = out.get("V_total", math.nan)
+    out["EN_share"] = out.get("V_EN", math.nan) / total if total else math.nan
+    out["residual_eq1"] = total - out.get("V_AG", math.nan) - out.get("V_EN", math.nan)
+    out["residual_tube"] = out.get("V_IB", math.nan) + out.get("V_EN", math.nan) - out.get("V_mixed", math.nan)
+    for key in ("residual_eq1", "residual_tube"):
+        out[key + "_share"] = out[key] / total if total else math.nan
+    return out
+
+
+def measure_feed(case, result) -> dict[str, float]:
+    """Measured quantities of a feed-scene run (SI units): the steady means of steady_means, p_B, p_C1, p_C2 (gauge,
+    Pa), max_density_deviation (-). Empty when the run recorded fewer than two series records."""
+    time = np.asarray(result.time if result.time is not None else [], dtype=float)
+    if time.size < 2:
+        return {}
+    series = {k: v.values for k, v in result.series.items()}
+    out = steady_means(time, feed_flows(series))
+    out.update({f"p_{k}": v for k, v in sensor_pressures(series, time).items()})
+    if "max_density_deviation" in series:
+        out["max_density_deviation"] = float(np.nanmax(series["max_density_deviation"]))
+    return out
