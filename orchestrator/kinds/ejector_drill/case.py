@@ -163,11 +163,12 @@ class EjectorDrillCase(Frozen):
         if gap < dx * (1 - 1e-9):
             raise ValueError(f"numerics.dx = {dx:g} m does not fit in {what} = {gap:g} m (the inlet's channel); "
                              f"allowed: dx <= {gap:g} m")
-        if self.scene.area == "feed" and (round(net.d_outer_tube_id / dx) - round(net.d_inner_tube_id / dx)) % 2:
+        n_gap, n_tube = round(net.d_outer_tube_id / dx), round(net.d_inner_tube_id / dx)
+        if self.scene.area == "feed" and (n_gap - n_tube) % 2:
             raise ValueError(f"numerics.dx = {dx:g} m puts the feed inlet's columns (round(d_outer_tube_id / dx) = "
-                             f"{round(net.d_outer_tube_id / dx)}) and the tube inlet's ({round(net.d_inner_tube_id / dx)})"
-                             " on different lattices (the engine centres an even count off the axis, an odd one on "
-                             "it); allowed: a dx that makes both even or both odd")
+                             f"{n_gap}) and the tube inlet's ({n_tube}) on different lattices (the engine centres an "
+                             "even count off the axis, an odd one on it); allowed: a dx that makes both even or both "
+                             "odd")
         t_end = self.simulation.duration
         for key in ("frame_interval", "series_interval"):
             if getattr(self.output, key) > t_end:

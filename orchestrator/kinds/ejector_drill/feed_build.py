@@ -5,11 +5,11 @@ pressures (feed_network.py), the flow discs and the sensors B, C1, C2, as an sph
 
 The start: every region filled. The inlets enter at full speed from the first step (the engine has no ramp yet),
 so the fluid starts moving as they push it, with no split: the gap with V_total all the way down (-z), the tube
-with V_IB (+z), each with its inlet's profile (start_velocities), the nozzles at rest; each particle at the density of the network's pressure of its
-region (the gap outlet's in the gap, the tube outlet's in the tube, linear in r through the nozzles). Starting at
-rest would send a water hammer rho c0 v_gap = 330 bar down the gap at c0 = 1000 m/s and through the nozzles; the
-start above leaves the nozzles to accelerate under the pressure difference the network puts across them, so the
-split V_EN / V_AG is the SPH's own, not the start's.
+with V_IB (+z), each with its inlet's profile (start_velocities), the nozzles at rest; each particle at the density
+of the network's pressure of its region (the gap outlet's in the gap, the tube outlet's in the tube, linear in r
+through the nozzles). Starting at rest would send a water hammer rho c0 v_gap = 330 bar down the gap at c0 =
+1000 m/s and through the nozzles; the start above leaves the nozzles to accelerate under the pressure difference
+the network puts across them, so the split V_EN / V_AG is the SPH's own, not the start's.
 """
 
 from __future__ import annotations
@@ -68,9 +68,11 @@ def start_pressure(layout: FeedLayout, boundary: FeedBoundary, points: np.ndarra
 
 
 def tait_density(case, pressure: np.ndarray) -> np.ndarray:
-    """Density (kg/m^3) of the gauge pressure (Pa) by eq. 6 inverted: rho0 ((p - p_B) gamma / (rho0 c0^2) + 1)^(1/gamma)."""
+    """Density (kg/m^3) of the gauge pressure (Pa), eq. 6 inverted:
+    rho0 ((p - p_B) gamma / (rho0 c0^2) + 1)^(1/gamma)."""
     f = case.fluid
-    return f.density * ((pressure - f.background_pressure) * f.gamma / (f.density * case.c0 ** 2) + 1.0) ** (1.0 / f.gamma)
+    ratio = (pressure - f.background_pressure) * f.gamma / (f.density * case.c0 ** 2) + 1.0
+    return f.density * ratio ** (1.0 / f.gamma)
 
 
 def annulus_shape(r: np.ndarray, r_in: float, r_out: float) -> np.ndarray:
