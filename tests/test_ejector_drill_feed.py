@@ -13,7 +13,7 @@ import pytest
 from orchestrator.case.loader import load_case
 from orchestrator.errors import OrchestratorError
 from orchestrator.kinds import build_scene
-from orchestrator.kinds.ejector_drill.feed_analysis import feed_flows, steady_means
+from orchestrator.kinds.ejector_drill.feed_analysis import feed_flows, slab_flow, steady_means
 from orchestrator.kinds.ejector_drill.feed_build import start_pressure, start_velocities, tait_density
 from orchestrator.kinds.ejector_drill.feed_layout import Nozzle
 from orchestrator.kinds.ejector_drill.feed_network import feed_boundary, gap_pressure_below_feed
@@ -243,6 +243,26 @@ def test_a_dx_with_two_lattices_is_refused():
     with pytest.raises(OrchestratorError) as err:
         load_case(CASE, preset="feed_quick", overrides=["numerics.dx=0.44e-3"])
     assert "different lattices" in str(err.value) and "numerics.dx" in str(err.value)
+
+
+def test_slab_flow_is_the_volume_flux_of_a_lattice_pipe_flow():
+    """A bore of R = 8 mm filled on a lattice of dx = 0.25 mm, Hagen-Poiseuille v = 2 U (1 - r^2 / R^2) with
+    U = 3.75 m/s (45.2 l/min), at rho = 1001 kg/m^3 with m = rho0 dx^3: the slab's flux is U pi R^2 rho0 / rho
+    (the volume m / rho each particle stands for) to the lattice's sampling of the disc (0.3 %)."""
+    dx, radius, u = 0.25e-3, 8e-3, 3.75
+    g = (np.arange(-40, 40) + 0.5) * dx
+    x, y, z = np.meshgrid(g, g, (np.arange(-6, 6) + 0.5) * dx, indexing="ij")
+    pos = np.column_stack([x.ravel(), y.ravel(), z.ravel()])
+    r = np.hypot(pos[:, 0], pos[:, 1])
+    pos = pos[r < radius]
+    r = r[r < radius]
+    vel = np.zeros_like(pos)
+    vel[:, 2] = 2 * u * (1 - (r / radius) ** 2)
+    arrays = {"positions": pos, "velocities": vel, "densities": np.full(len(pos), 1001.0),
+              "kind": np.zeros(len(pos), dtype=np.int8)}
+    flow = slab_flow(arrays, 1000.0 * dx ** 3, 0.0, 1.0e-3, radius)
+    assert flow == pytest.approx(u * math.pi * radius ** 2 * 1000.0 / 1001.0, rel=0.003)
+    assert slab_flow(arrays, 1000.0 * dx ** 3, 5e-3, 1.0e-3, radius) == 0.0  # no fluid there
 
 
 @pytest.mark.sph

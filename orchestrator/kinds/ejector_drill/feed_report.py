@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from orchestrator.kinds.ejector_drill.feed_analysis import feed_flows, steady_means
+from orchestrator.kinds.ejector_drill.feed_analysis import feed_flows, steady_means, tube_slab_flows
 from orchestrator.kinds.ejector_drill.analysis import sensor_pressures
 from orchestrator.kinds.ejector_drill.feed_layout import feed_layout
 from orchestrator.kinds.ejector_drill.feed_walls import feed_wall_meshes
@@ -33,10 +33,12 @@ def feed_rows(case, means: dict, pressures: dict) -> list:
     boundary = feed_boundary(case, layout.z_nozzles - layout.outlets["gap"].center[2])
     net, state = case.network(), boundary.state
     rows = []
-    for name, note in (("V_total", "the feed inlet (held)"), ("V_AG", "gap, below the nozzles"),
-                       ("V_EN", "the nozzles' discs"), ("V_IB", "tube, before the nozzles (inlet held)"),
-                       ("V_mixed", "tube, behind the nozzles")):
-        value = means.get(name, math.nan)
+    for name, key, note in (("V_total", "V_total", "the feed inlet's inflow (held)"),
+                            ("V_AG", "V_AG", "gap, at C1 (discs AG_all + IB)"),
+                            ("V_EN", "V_EN", "the nozzles' discs"),
+                            ("V_IB", "V_IB_slab", "tube, at C1 (frames' slab; the inlet holds it)"),
+                            ("V_mixed", "V_mixed_slab", "tube, at C2 (frames' slab)")):
+        value = means.get(key, math.nan)
         network = state.V_IB + state.V_EN if name == "V_mixed" else getattr(state, name)
         rows.append((name, "l/min", value / LITRE_PER_MIN, network / LITRE_PER_MIN, note))
     rows.append(("V_EN / V_total", "%", 100 * means.get("EN_share", math.nan), 100 * state.V_EN / state.V_total, ""))
@@ -70,10 +72,18 @@ def analyze_feed_run(run_dir, run: dict, case, render: bool = True) -> dict:
         return {}
     flows = feed_flows(series)
     means = steady_means(time, flows)
+    frames = run.get("frames", {})
+    listed = [(float(frames[k]["attrs"]["time"]), frames[k]) for k in sorted((k for k in frames if k != "attrs"),
+                                                                              key=int)]
+    means.update(tube_slab_flows(listed, case, feed_layout(case)))
     pressures = sensor_pressures(series, time)
+    total = means.get("V_total", math.nan)
+    slab_residual = (means.get("V_IB_slab", math.nan) + means.get("V_EN", math.nan)
+                     - means.get("V_mixed_slab", math.nan)) / total
     print(f"\nover the last 20 % of the run ({time[-1] * 0.8e3 + time[0] * 0.2e3:.3g}-{time[-1] * 1e3:.3g} ms): "
           f"eq. 1 V_total - V_AG - V_EN = {means['residual_eq1_share'] * 100:.3g} % of V_total; the tube's "
-          f"V_IB + V_EN - V_mixed = {means['residual_tube_share'] * 100:.3g} % of V_total")
+          f"V_IB + V_EN - V_mixed = {means['residual_tube_share'] * 100:.3g} % of V_total by the discs (quantised by whole "
+          f"layers: feed_analysis.py), {slab_residual * 100:.3g} % by the frames' slabs")
     rows = feed_rows(case, means, pressures)
     print(f"\n{'quantity':<16}{'unit':>6}{'SPH':>10}{'network':>10}  (network at {case.scene.network_flow:g} l/min: "
           "the state the inlets and outlets carry)")
