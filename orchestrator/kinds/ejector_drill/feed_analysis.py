@@ -95,3 +95,22 @@ def tube_slab_flows(frames, case, layout) -> dict[str, float]:
         z = layout.sensors[sensor][2]
         out[key] = float(np.mean([slab_flow(a, mass, z, half, layout.tube.r_out) for a in chosen]))
     return out
+
+
+def gap_storage(frames, case, layout) -> float:
+    """d/dt (m^3/s) of the fluid volume sum m / rho above C1 outside the bore (the gap with the nozzles, eq. 1's
+    control volume, and whatever fluid sits in the walls' layer between their surface and their particles), between
+    the first and the last frame of the last STEADY_FRACTION of the run (NaN with fewer than two)."""
+    t_end = frames[-1][0] if frames else 0.0
+    chosen = [(t, a) for t, a in frames if t >= t_end - STEADY_FRACTION * t_end]
+    if len(chosen) < 2:
+        return math.nan
+    mass, z = case.fluid.density * case.numerics.dx ** 3, layout.sensors["C1"][2]
+
+    def volume(arrays):
+        x = np.asarray(arrays["positions"], dtype=float)
+        inside = (np.asarray(arrays["kind"]) == 0) & (x[:, 2] > z) & (np.hypot(x[:, 0], x[:, 1]) > layout.tube.r_out)
+        return float(np.sum(mass / np.asarray(arrays["densities"], dtype=float)[inside]))
+
+    (t0, a0), (t1, a1) = chosen[0], chosen[-1]
+    return (volume(a1) - volume(a0)) / (t1 - t0)

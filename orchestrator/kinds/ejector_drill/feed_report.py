@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from orchestrator.kinds.ejector_drill.feed_analysis import feed_flows, steady_means, tube_slab_flows
+from orchestrator.kinds.ejector_drill.feed_analysis import feed_flows, gap_storage, steady_means, tube_slab_flows
 from orchestrator.kinds.ejector_drill.analysis import sensor_pressures
 from orchestrator.kinds.ejector_drill.feed_layout import feed_layout
 from orchestrator.kinds.ejector_drill.feed_walls import feed_wall_meshes
@@ -84,6 +84,11 @@ def analyze_feed_run(run_dir, run: dict, case, render: bool = True) -> dict:
           f"eq. 1 V_total - V_AG - V_EN = {means['residual_eq1_share'] * 100:.3g} % of V_total; the tube's "
           f"V_IB + V_EN - V_mixed = {means['residual_tube_share'] * 100:.3g} % of V_total by the discs (quantised by whole "
           f"layers: feed_analysis.py), {slab_residual * 100:.3g} % by the frames' slabs")
+    stored = gap_storage(listed, case, feed_layout(case))
+    if math.isfinite(stored):
+        print(f"eq. 1's control volume (the gap above C1 with the nozzles) stores {stored / total * 100:.3g} % of "
+              f"V_total (frames {case.output.frame_interval * 1e3:g} ms apart): the residual less the storage is "
+              f"{(means['residual_eq1_share'] - stored / total) * 100:.3g} %")
     rows = feed_rows(case, means, pressures)
     print(f"\n{'quantity':<16}{'unit':>6}{'SPH':>10}{'network':>10}  (network at {case.scene.network_flow:g} l/min: "
           "the state the inlets and outlets carry)")
