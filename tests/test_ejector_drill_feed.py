@@ -289,3 +289,23 @@ def test_tiny_feed_run(tmp_path):
     assert abs(delivered - 1e-3 * time[-1]) <= area * dx
     assert np.all(np.abs(b - 28.6e5) < 40e5) and np.all(np.abs(c2 - 0.17e5) < 5e5)
     assert summary.measured["max_density_deviation"] < 0.05
+
+
+@pytest.mark.parametrize("preset, probed", [("feed", True), ("feed_quick", False)])
+def test_the_feed_presets_sizes_and_timing_probe(preset, probed):
+    """The feed scene starts filled (probe.end_particles is its fluid count): feed (dx = 0.25 mm, 4 particles across
+    a nozzle) plans 11,734 steps over 280,460 fluid particles, 3.3e9 particle-steps, and is probed before it starts;
+    feed_quick (2,751 steps over 78,160) is not."""
+    from orchestrator.kinds import bind
+    from orchestrator.kinds.ejector_drill.probe import end_particles
+    from orchestrator.kinds.ejector_drill.sph import PROBE_ABOVE_PARTICLE_STEPS
+
+    case = load_case(CASE, preset=preset).model
+    scene = build_scene(case)
+    assert end_particles(scene) == scene.n_fluid
+    nozzle_d = case.network().d_ejector_nozzle
+    assert nozzle_d / case.numerics.dx >= (4 - 1e-9 if preset == "feed" else 3 - 1e-5)
+    expected = {"feed": (11_734, 280_460), "feed_quick": (2_751, 78_160)}[preset]
+    assert (case.planned_steps, scene.n_fluid) == expected
+    assert (case.planned_steps * scene.n_fluid > PROBE_ABOVE_PARTICLE_STEPS) is probed
+    assert bind("ejector_drill", "sph", scene).wants_probe(scene) is probed
