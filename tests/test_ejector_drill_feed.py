@@ -231,6 +231,15 @@ def test_flows_and_balances_on_synthetic_series():
     assert means["residual_tube"] == pytest.approx(0.0, abs=1e-15)
 
 
+def test_the_feed_inlets_peak_must_fit_under_max_speed():
+    """80 l/min over the gap's 30.63 mm^2 is 43.53 m/s, its annular profile's peak bound 87.06 m/s: above
+    max_speed = 80 (refused, by name), below 100 (the presets')."""
+    load_case(CASE, preset="feed_quick", overrides=["scene.network_flow=80"])
+    with pytest.raises(OrchestratorError) as err:
+        load_case(CASE, preset="feed_quick", overrides=["scene.network_flow=80", "fluid.max_speed=80"])
+    assert "fluid.max_speed" in str(err.value) and "87.06" in str(err.value)
+
+
 def test_a_feed_scene_needs_the_boundary_particles():
     with pytest.raises(OrchestratorError) as err:
         load_case(CASE, preset="feed_quick", overrides=["physics.walls='penalty'"])

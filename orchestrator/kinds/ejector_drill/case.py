@@ -163,6 +163,13 @@ class EjectorDrillCase(Frozen):
         if gap < dx * (1 - 1e-9):
             raise ValueError(f"numerics.dx = {dx:g} m does not fit in {what} = {gap:g} m (the inlet's channel); "
                              f"allowed: dx <= {gap:g} m")
+        if self.scene.area == "feed":  # the engine bounds its inlets' profile peaks (annular: 2 x the mean) by v_max
+            v = self.scene.network_flow * 1e-3 / 60.0 / (0.25 * math.pi * (net.d_outer_tube_id ** 2
+                                                                          - net.d_inner_tube_od ** 2))
+            if 2.0 * v > self.fluid.max_speed:
+                raise ValueError(f"fluid.max_speed = {self.fluid.max_speed:g} m/s is below the feed inlet's peak 2 x "
+                                 f"{v:.4g} m/s (scene.network_flow = {self.scene.network_flow:g} l/min over the gap); "
+                                 f"allowed: fluid.max_speed >= {2.0 * v:.4g} m/s")
         n_gap, n_tube = round(net.d_outer_tube_id / dx), round(net.d_inner_tube_id / dx)
         if self.scene.area == "feed" and (n_gap - n_tube) % 2:
             raise ValueError(f"numerics.dx = {dx:g} m puts the feed inlet's columns (round(d_outer_tube_id / dx) = "
