@@ -89,6 +89,10 @@ def test_layout_puts_the_inlets_on_one_lattice_and_the_sensors_in_order():
     assert layout.z_nozzles == pytest.approx(0.425)
     k = (layout.inlet.center[2] - layout.tube_inlet.center[2]) / dx
     assert k == pytest.approx(round(k), abs=1e-9)
+    for name in ("AG_all", "IB", "mixed"):  # the discs lie midway between two lattice layers
+        k = (layout.inlet.center[2] - layout.planes[name].center[2]) / dx
+        assert k == pytest.approx(round(k), abs=1e-9)
+    assert layout.planes["IB"].center[2] == pytest.approx(z_n - case.scene.c1_distance, abs=0.5 * dx)
     assert layout.sensors["C1"][2] == pytest.approx(z_n - case.scene.c1_distance)
     assert layout.sensors["C2"][2] == pytest.approx(z_n + case.scene.c2_distance)
     assert layout.tube_inlet.center[2] < layout.sensors["C1"][2] - 2 * case.numerics.h
@@ -304,7 +308,7 @@ def test_tiny_feed_run(tmp_path):
 def test_the_feed_presets_sizes_and_timing_probe(preset, probed):
     """The feed scene starts filled (probe.end_particles is its fluid count): feed (dx = 0.25 mm, 4 particles across
     a nozzle) plans 11,734 steps over 280,460 fluid particles, 3.3e9 particle-steps, and is probed before it starts;
-    feed_quick (2,751 steps over 78,160) is not."""
+    feed_quick (2,292 steps over 47,628) is not."""
     from orchestrator.kinds import bind
     from orchestrator.kinds.ejector_drill.probe import end_particles
     from orchestrator.kinds.ejector_drill.sph import PROBE_ABOVE_PARTICLE_STEPS
@@ -313,8 +317,8 @@ def test_the_feed_presets_sizes_and_timing_probe(preset, probed):
     scene = build_scene(case)
     assert end_particles(scene) == scene.n_fluid
     nozzle_d = case.network().d_ejector_nozzle
-    assert nozzle_d / case.numerics.dx >= (4 - 1e-9 if preset == "feed" else 3 - 1e-5)
-    expected = {"feed": (11_734, 280_460), "feed_quick": (2_751, 78_160)}[preset]
+    assert nozzle_d / case.numerics.dx >= (4 - 1e-9 if preset == "feed" else 2.5 - 1e-9)
+    expected = {"feed": (11_734, 280_460), "feed_quick": (2_292, 47_628)}[preset]
     assert (case.planned_steps, scene.n_fluid) == expected
     assert (case.planned_steps * scene.n_fluid > PROBE_ABOVE_PARTICLE_STEPS) is probed
     assert bind("ejector_drill", "sph", scene).wants_probe(scene) is probed

@@ -194,9 +194,12 @@ def feed_layout(case) -> FeedLayout:
     wetted = (replace(gap, z_lo=z_gout - buffer, z_hi=z_in + buffer), *nozzles,
               replace(tube, z_lo=z_tin - buffer, z_hi=z_tout + buffer))
     mid_inner_wall, mid_outer_wall = 0.5 * (r_ii + r_io), 0.5 * (r_oi + r_oo)
-    planes = {"AG_all": Plane("AG_all", (0.0, 0.0, z_c1), (0.0, 0.0, -1.0), mid_outer_wall),
-              "IB": Plane("IB", (0.0, 0.0, z_c1), (0.0, 0.0, 1.0), mid_inner_wall),
-              "mixed": Plane("mixed", (0.0, 0.0, z_c2), (0.0, 0.0, 1.0), mid_inner_wall)}
+    # the discs midway between two lattice layers (z_in + (k + 1/2) dx): a layer lying in a disc's plane at the start
+    # is counted by AG_all (-z) but not by IB (+z) when it moves off (+-1000 l/min in the first record at dx = 0.4 mm)
+    z_ag, z_mixed = (z_in - dx * round((z_in - z) / dx) for z in (z_c1, z_c2))
+    planes = {"AG_all": Plane("AG_all", (0.0, 0.0, z_ag), (0.0, 0.0, -1.0), mid_outer_wall),
+              "IB": Plane("IB", (0.0, 0.0, z_ag), (0.0, 0.0, 1.0), mid_inner_wall),
+              "mixed": Plane("mixed", (0.0, 0.0, z_mixed), (0.0, 0.0, 1.0), mid_inner_wall)}
     planes.update({z.name: z.disc(0.5 * dx) for z in nozzles})
     mid_gap, between = 0.5 * (r_io + r_oi), math.pi / n.n_ejector_nozzles
     sensors = {"B": (mid_gap * math.cos(between), mid_gap * math.sin(between), z_c1), "C1": (0.0, 0.0, z_c1),
