@@ -18,7 +18,8 @@ from orchestrator.kinds.ejector_drill.probe import end_particles, probe_scene
 from orchestrator.reference.drill_network import LITRE_PER_MIN, solve
 
 CASE = Path(__file__).resolve().parent.parent / "cases" / "ejector_drill_canini.toml"
-PRESETS = ("flow_exit", "flow_exit_quick", "flow_exit_filled_quick", "drill_head", "drill_head_quick")
+PRESETS = ("flow_exit", "flow_exit_quick", "flow_exit_filled_quick", "drill_head", "drill_head_quick", "feed",
+           "feed_quick")
 
 
 def test_registered_with_the_sph_engine():
@@ -110,6 +111,7 @@ def test_a_filled_start_holds_every_region_at_rest_and_ramps_the_inlet():
     (["scene.ramp_time=0.0"], "rho0 c0 v_in = 900 bar"),
     (["scene.prefill=1e-3"], "scene.prefill is for start = 'empty'"),
     (["scene.ramp_time=1e-3"], "scene.ramp_time = 0.001 s is longer"),
+    (["scene.area='feed'"], "the feed scene starts filled and moving"),
 ])
 def test_a_filled_start_needs_a_ramp(overrides, words):
     with pytest.raises(OrchestratorError) as err:

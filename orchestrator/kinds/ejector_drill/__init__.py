@@ -1,6 +1,7 @@
 """The ejector deep-hole drill of seed 000 (Canini et al.): its parametric geometry (case_geometry.py), the case
-(case.py), the paper's two SPH scenes (layout.py, build.py) run by sph_flow's adapter (sph.py), and what is
-measured against the 1D hydraulic network (analysis.py, report.py). docs/ejector_drill.md."""
+(case.py), the paper's two SPH scenes (layout.py, build.py) and the feed with the ejector nozzles (feed_*.py), run
+by sph_flow's adapter (sph.py), and what is measured against the 1D hydraulic network (analysis.py, report.py);
+dispatch.py picks by [scene] area. docs/ejector_drill.md."""
 
 from orchestrator.kinds.base import Kind
 
@@ -8,8 +9,8 @@ KIND = Kind(
     name="ejector_drill",
     description="the ejector deep-hole drill's coolant flow (seed 000) on the sph executable, beside the 1D network",
     case_model="orchestrator.kinds.ejector_drill.case:EjectorDrillCase",
-    build_scene="orchestrator.kinds.ejector_drill.build:build_drill_scene",
-    measure="orchestrator.kinds.ejector_drill.analysis:measure_drill",
-    analyze="orchestrator.kinds.ejector_drill.report:analyze_drill_run",
+    build_scene="orchestrator.kinds.ejector_drill.dispatch:build_scene",
+    measure="orchestrator.kinds.ejector_drill.dispatch:measure",
+    analyze="orchestrator.kinds.ejector_drill.dispatch:analyze",
     adapters={"sph": "orchestrator.kinds.ejector_drill.sph:EjectorDrillSph"},
 )

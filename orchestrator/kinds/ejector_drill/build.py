@@ -119,9 +119,8 @@ def inlet_buffer_points(case: EjectorDrillCase, layout: Layout, layers: int) -> 
     return points[(r >= layout.inlet_inner_radius + margin) & (r <= ring.r_out - margin)]
 
 
-def _flow_case(case: EjectorDrillCase, layout: Layout) -> SphFlowCase:
-    """The sph_flow case the deck is written from: its parts validated one by one (the whole is assembled with
-    model_construct: its walls are the drill's meshes, which an sph_flow case file cannot name)."""
+def drill_physics(case: EjectorDrillCase) -> Physics:
+    """The sph_flow Physics of the case's [physics] (terms, artificial viscosity, the penalty scaled with dx)."""
     dx = case.numerics.dx
     pen = case.physics.wall_penalty
     penalty = case.physics.walls == "penalty"
@@ -130,9 +129,15 @@ def _flow_case(case: EjectorDrillCase, layout: Layout) -> SphFlowCase:
         terms.insert(0, "morris_viscosity")
     if case.physics.artificial_viscosity is not None:
         terms.insert(0, "artificial_viscosity")
-    physics = Physics(terms=tuple(terms), artificial_viscosity=case.physics.artificial_viscosity,
-                      wall_penalty=WallPenalty(range=pen.range_over_dx * dx, s=pen.s_over_dx * dx,
-                                               psi=pen.pressure * dx * dx) if penalty else None)
+    return Physics(terms=tuple(terms), artificial_viscosity=case.physics.artificial_viscosity,
+                   wall_penalty=WallPenalty(range=pen.range_over_dx * dx, s=pen.s_over_dx * dx,
+                                            psi=pen.pressure * dx * dx) if penalty else None)
+
+
+def _flow_case(case: EjectorDrillCase, layout: Layout) -> SphFlowCase:
+    """The sph_flow case the deck is written from: its parts validated one by one (the whole is assembled with
+    model_construct: its walls are the drill's meshes, which an sph_flow case file cannot name)."""
+    physics = drill_physics(case)
     margin = prefill_margin(case, layout.channel)  # no inlet column inside the walls' push (as the prefill)
     inlet = Inlet(name=layout.inlet.name, center=layout.inlet.center, normal=layout.inlet.normal,
                   radius=layout.inlet.radius - margin, velocity=case.scene.inlet_velocity, profile="annular",

@@ -24,8 +24,8 @@ from orchestrator.reference.drill_network import DrillNetwork
 
 #: The geometry's parts a user mesh may replace (DrillGeometry.meshes).
 PARTS = ("workpiece", "head", "outer_tube", "inner_tube", "adduction_holes", "ejector_nozzles")
-#: The paper's two scenes (sect. 3.2).
-AREAS = ("flow_exit", "drill_head")
+#: The paper's two scenes (sect. 3.2) and the feed (the ejector nozzles, C1 and C2 of Fig. 5: feed_layout.py).
+AREAS = ("flow_exit", "drill_head", "feed")
 #: DrillGeometry's own fields (the network's come from DrillNetwork).
 GEOMETRY_FIELDS = tuple(f.name for f in dataclasses.fields(DrillGeometry) if f.name != "network")
 
@@ -62,21 +62,25 @@ class PartMesh(Frozen):
 class DrillScene(Frozen):
     """Which part of the drill the SPH scene holds, where the fluid enters and where it leaves."""
 
-    area: Literal["flow_exit", "drill_head"] = Field(
+    area: Literal[AREAS] = Field(
         description="flow_exit: annular gap -> adduction holes -> clearance to the bore (paper Fig. 2); drill_head: "
-                    "head clearance -> cutting zone -> chip mouth (Figs. 3-4)")
-    inlet_velocity: Positive = Field(description="mean inflow speed at the inlet (the laminar annulus profile's "
-                                                 "columns, peak ~1.5 x), m/s")
+                    "head clearance -> cutting zone -> chip mouth (Figs. 3-4); feed: annular gap -> ejector nozzles "
+                    "-> inner tube with C1 and C2 (Fig. 5; feed_layout.py)")
+    inlet_velocity: Positive | None = Field(
+        None, description="mean inflow speed at the inlet (the laminar annulus profile's columns, peak ~1.5 x), m/s; "
+                          "required for flow_exit and drill_head; feed: not used (its inlet carries the network's "
+                          "V_total at network_flow)")
     inlet_distance: Positive = Field(
         description="flow_exit: from the holes' axis up the annular gap to the inlet plane; drill_head: from the "
-                    "holes' axis forward to the inlet plane in the head clearance, m")
+                    "holes' axis forward to the inlet plane in the head clearance; feed: from the nozzle ring up the "
+                    "gap to the feed inlet, m")
     prefill: float = Field(0.0, ge=0, description="start = 'empty': length of the inlet channel downstream of the "
                                                   "inlet filled with fluid moving at inlet_velocity at t = 0, m")
     start: Literal["empty", "filled"] = Field(
         "empty", description="empty: the scene fills from the inlet (the paper's Fig. 2, a front that strikes the "
                              "walls); filled: every fluid region and the outlets' buffers hold fluid at rest at "
                              "t = 0 and the inlet ramps up over ramp_time (the flow's steady state without the "
-                             "filling's water hammer)")
+                             "filling's water hammer). The feed scene always starts filled and moving (feed_build)")
     ramp_time: float = Field(0.0, ge=0, description="the inlet's speed rises as (1 - cos(pi t / ramp_time)) / 2 of "
                                                     "inlet_velocity until ramp_time (engine eq. OB4), s; 0: at once")
     mouth_depth: Positive = Field(5.0e-3, description="the chip-mouth outlet's distance behind the head face, m")
@@ -85,7 +89,12 @@ class DrillScene(Frozen):
     mouth_pressure: Finite = Field(0.0, description="gauge pressure held at the chip-mouth outlet, Pa")
     leak_pressure: Finite = Field(0.0, description="gauge pressure held at the leak outlet (flooded work area), Pa")
     network_flow: Positive = Field(60.0, description="feed flow of the 1D network shown beside the SPH, l/min "
-                                                      "(the paper's standard rate; the range is 50-80)")
+                                                      "(the paper's standard rate; the range is 50-80); feed: the "
+                                                      "network state the inlets and outlets carry")
+    c1_distance: Positive = Field(2.0e-3, description="feed: C1 (and B, the discs AG_all and IB) this far before "
+                                                      "the nozzle ring, toward the head, m")
+    c2_distance: Positive = Field(16.0e-3, description="feed: C2 (and the disc 'mixed') this far behind the nozzle "
+                                                       "ring in the inner tube, m; the tube outlet 2h + 2dx beyond")
 
 
 class DrillPenalty(Frozen):
@@ -143,20 +152,38 @@ class EjectorDrillCase(Frozen):
             self.geometry()
         except ValueError as exc:
             raise ValueError(f"drill: {exc}") from None
+        if self.scene.area == "feed" and (self.parts or self.physics.walls != "particles"):
+            raise ValueError("scene.area = 'feed' is built with boundary particles from the parametric solids only "
+                             "(physics.walls = 'particles', no [parts])")
         if self.parts and self.physics.walls == "particles":
             raise ValueError(f"parts.{next(iter(self.parts))}: user meshes need physics.walls = 'penalty' (the "
                              "boundary particles are cut from the parametric solids in closed form)")
         if self.physics.morris_viscosity != (self.fluid.viscosity is not None):
             raise ValueError("fluid.viscosity is given exactly when physics.morris_viscosity = true")
-        if self.scene.inlet_velocity > self.fluid.max_speed:
+        if self.scene.inlet_velocity is None and self.scene.area != "feed":
+            raise ValueError(f"scene.inlet_velocity is required for scene.area = '{self.scene.area}'")
+        if (self.scene.inlet_velocity or 0.0) > self.fluid.max_speed:
             raise ValueError(f"scene.inlet_velocity = {self.scene.inlet_velocity} m/s is above fluid.max_speed = "
                              f"{self.fluid.max_speed} m/s")
         net, dx = self.network(), self.numerics.dx
-        gap, what = (0.5 * net.d_diff, "the annular gap's radial width d_diff / 2") if self.scene.area == "flow_exit" \
+        gap, what = (0.5 * net.d_diff, "the annular gap's radial width d_diff / 2") if self.scene.area != "drill_head" \
             else (0.5 * (net.d_bore - net.d_head_body), "the head clearance (d_bore - d_head_body) / 2")
         if gap < dx * (1 - 1e-9):
             raise ValueError(f"numerics.dx = {dx:g} m does not fit in {what} = {gap:g} m (the inlet's channel); "
                              f"allowed: dx <= {gap:g} m")
+        if self.scene.area == "feed":  # the engine bounds its inlets' profile peaks (annular: 2 x the mean) by v_max
+            v = self.scene.network_flow * 1e-3 / 60.0 / (0.25 * math.pi * (net.d_outer_tube_id ** 2
+                                                                          - net.d_inner_tube_od ** 2))
+            if 2.0 * v > self.fluid.max_speed:
+                raise ValueError(f"fluid.max_speed = {self.fluid.max_speed:g} m/s is below the feed inlet's peak 2 x "
+                                 f"{v:.4g} m/s (scene.network_flow = {self.scene.network_flow:g} l/min over the gap); "
+                                 f"allowed: fluid.max_speed >= {2.0 * v:.4g} m/s")
+        n_gap, n_tube = round(net.d_outer_tube_id / dx), round(net.d_inner_tube_id / dx)
+        if self.scene.area == "feed" and (n_gap - n_tube) % 2:
+            raise ValueError(f"numerics.dx = {dx:g} m puts the feed inlet's columns (round(d_outer_tube_id / dx) = "
+                             f"{n_gap}) and the tube inlet's ({n_tube}) on different lattices (the engine centres an "
+                             "even count off the axis, an odd one on it); allowed: a dx that makes both even or both "
+                             "odd")
         t_end = self.simulation.duration
         for key in ("frame_interval", "series_interval"):
             if getattr(self.output, key) > t_end:
@@ -167,6 +194,9 @@ class EjectorDrillCase(Frozen):
             if t > t_end * (1 + 1e-9) or abs(k - round(k)) > 1e-6 * max(1.0, k):
                 raise ValueError(f"output.picture_times[{i}] = {t} s is not a frame time (a multiple of "
                                  f"output.frame_interval = {self.output.frame_interval} s up to simulation.duration)")
+        if self.scene.area == "feed" and (self.scene.start == "filled" or self.scene.ramp_time > 0.0):
+            raise ValueError("scene.start and scene.ramp_time are for the flow-exit and drill-head scenes: the feed "
+                             "scene starts filled and moving with its inlets' flows")
         if self.scene.start == "filled" and self.scene.prefill > 0.0:
             raise ValueError("scene.prefill is for start = 'empty' (with 'filled' every region holds fluid at rest): "
                              "set scene.prefill = 0")
@@ -208,5 +238,7 @@ class EjectorDrillCase(Frozen):
     @property
     def planned_steps(self) -> int:
         """Steps of the run at the CFL step with the inflow speed, cfl h / (c0 + v_in) (the engine's bound), -."""
-        dt = self.numerics.adaptive["cfl"] * self.numerics.h / (self.c0 + self.scene.inlet_velocity)
+        # the feed scene's fastest flow is its jets (~75 m/s at 60 l/min), not its inflow: fluid.max_speed there
+        speed = self.fluid.max_speed if self.scene.area == "feed" else self.scene.inlet_velocity
+        dt = self.numerics.adaptive["cfl"] * self.numerics.h / (self.c0 + speed)
         return math.ceil(self.simulation.duration / min(dt, self.timestep_at_rest))

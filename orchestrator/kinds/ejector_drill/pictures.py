@@ -11,12 +11,12 @@ import numpy as np
 from orchestrator.kinds.ejector_drill.build import wall_meshes
 
 
-def draw_sections(frames: dict, case, layout, run_dir: Path) -> dict:
-    """section_<t in ms>.png for each of case.output.picture_times that has a frame; returns {name: path}."""
+def draw_sections(frames: dict, case, layout, run_dir: Path, walls: dict | None = None) -> dict:
+    """section_<t in ms>.png for each of case.output.picture_times that has a frame; returns {name: path}. walls:
+    name -> trimesh drawn cut (default build.wall_meshes)."""
     keys = [k for k in frames if k != "attrs"]
     by_time = {round(float(frames[k]["attrs"]["time"]) * 1e9): k for k in keys}
     out = {}
-    walls = None
     for t in case.output.picture_times:
         key = by_time.get(round(t * 1e9))
         if key is None:

@@ -34,6 +34,8 @@ def end_particles(scene) -> int:
     """Upper bound of the run's fluid particles at its end: prefill + inflow volume over the duration / dx^3 (the
     boundary particles come on top)."""
     case, layout = scene.case, scene.layout
+    if layout.area == "feed":  # it starts filled (feed_build.py): what flows in, flows out
+        return scene.n_fluid
     ring = layout.channel
     inflow = case.scene.inlet_velocity * math.pi * (ring.r_out ** 2 - layout.inlet_inner_radius ** 2) \
         if layout.area == "flow_exit" else case.scene.inlet_velocity * math.pi * (ring.r_out ** 2 - ring.r_in ** 2)

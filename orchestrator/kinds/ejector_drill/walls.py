@@ -124,7 +124,10 @@ def wall_points(points: np.ndarray, layout: Layout) -> np.ndarray:
     best = np.full(points.shape, np.nan)
     best_d = np.full(len(points), np.inf)
     for region in layout.wetted:
-        near = nearest_on_hole(points, region) if isinstance(region, Hole) else nearest_on_ring(points, region)
+        if isinstance(region, (Hole, Ring)):
+            near = nearest_on_hole(points, region) if isinstance(region, Hole) else nearest_on_ring(points, region)
+        else:  # a region with its own closed form (feed_layout.Nozzle)
+            near = region.nearest(points)
         d = np.linalg.norm(near - points, axis=1)
         closer = d < best_d
         best[closer], best_d[closer] = near[closer], d[closer]
@@ -150,16 +153,19 @@ def solid_masks(points: np.ndarray, case, layout: Layout, cut_meshes: dict | Non
     return out
 
 
-def boundary_particles(case, layout: Layout, cut_meshes: dict | None = None, slab: int = 40) -> WallParticles:
+def boundary_particles(case, layout: Layout, cut_meshes: dict | None = None, slab: int = 40,
+                       solids=None) -> WallParticles:
     """The scene's boundary particles (see the module docstring): sites inside a solid, outside the wetted regions,
-    at most 2h from them. slab: lattice planes handled at a time (memory)."""
+    at most 2h from them. slab: lattice planes handled at a time (memory). solids: (part names, points -> {part:
+    mask}) for a scene whose solids are not WALL_PARTS (the feed scene: feed_walls.py)."""
+    parts, masks_of = solids or (WALL_PARTS, lambda sites: solid_masks(sites, case, layout, cut_meshes))
     dx, h = case.numerics.dx, case.numerics.h
     reach = 2.0 * h
     r_max = max(r.r_out for r in layout.wetted if isinstance(r, Ring)) + reach + dx
     z_lo = min(r.z_lo for r in layout.wetted if isinstance(r, Ring)) - reach - dx
     z_top = max(r.z_hi for r in layout.wetted if isinstance(r, Ring)) + reach + dx
     z_lo, z_top = max(z_lo, layout.z_lo), min(z_top, layout.z_hi)
-    positions, points_w, parts = [], [], []
+    positions, points_w, part_of = [], [], []
     z = z_lo
     while z < z_top:
         z_next = min(z_top, z + slab * dx)
@@ -171,14 +177,14 @@ def boundary_particles(case, layout: Layout, cut_meshes: dict | None = None, sla
         near = wall_points(sites, layout)
         keep = np.linalg.norm(near - sites, axis=1) <= reach
         sites, near = sites[keep], near[keep]
-        masks = solid_masks(sites, case, layout, cut_meshes)
+        masks = masks_of(sites)
         part = np.full(len(sites), -1)
-        for k, name in enumerate(WALL_PARTS):
+        for k, name in enumerate(parts):
             part[(part < 0) & masks[name]] = k
         solid = part >= 0
-        positions.append(sites[solid]), points_w.append(near[solid]), parts.append(part[solid])
+        positions.append(sites[solid]), points_w.append(near[solid]), part_of.append(part[solid])
     return WallParticles(positions=np.concatenate(positions), wall_points=np.concatenate(points_w),
-                         part=np.concatenate(parts).astype(np.int8), parts=WALL_PARTS, reach=reach)
+                         part=np.concatenate(part_of).astype(np.int8), parts=tuple(parts), reach=reach)
 
 
 def initial_densities(walls: WallParticles, case, layout: Layout, occupied: np.ndarray, slab: int = 40) -> np.ndarray:
