@@ -13,6 +13,22 @@ import numpy as np
 STEADY_FRACTION = 0.2
 
 
+def run_series(run_dir, run: dict, case, paper_dt: str = "") -> tuple[dict, np.ndarray]:
+    """Print a drill run's header line (status, particles, steps, mean dt with the paper's beside it, c0, CFL, wall
+    time) and return its series (name -> values) and their times (s, empty when fewer than two records: then it
+    says so)."""
+    attrs = run["attrs"]
+    series = {k: v for k, v in run.get("series", {}).items() if k != "attrs"}
+    time = np.asarray(series.pop("time", []), dtype=float)
+    print(f"run {run_dir}: status {attrs['status']}, {attrs.get('n_particles')} particles at the start, "
+          f"{attrs.get('n_steps')} steps, mean dt {attrs.get('dt', float('nan')):.4g} s{paper_dt}, c0 {case.c0:g} m/s, "
+          f"CFL {case.numerics.adaptive['cfl']:g}, wall time {attrs.get('wall_time_s', 0):.1f} s")
+    if time.size < 2:
+        print("the run recorded fewer than two series records: nothing to analyse")
+        return series, np.zeros(0)
+    return series, time
+
+
 def flow_series(series: dict, time: np.ndarray) -> dict[str, np.ndarray]:
     """V_AG, V_IB, V_loss, V_holes, V_front, V_in, V_mouth_out, V_leak_out (m^3/s) against time from the run's
     series (flow_rate_<plane>, inflow_<inlet>, outflow_<outlet>); V_loss = rear + AG (the rear disc covers the gap,

@@ -137,16 +137,22 @@ def drill_physics(case: EjectorDrillCase) -> Physics:
 def _flow_case(case: EjectorDrillCase, layout: Layout) -> SphFlowCase:
     """The sph_flow case the deck is written from: its parts validated one by one (the whole is assembled with
     model_construct: its walls are the drill's meshes, which an sph_flow case file cannot name)."""
-    physics = drill_physics(case)
     margin = prefill_margin(case, layout.channel)  # no inlet column inside the walls' push (as the prefill)
     inlet = Inlet(name=layout.inlet.name, center=layout.inlet.center, normal=layout.inlet.normal,
                   radius=layout.inlet.radius - margin, velocity=case.scene.inlet_velocity, profile="annular",
                   inner_radius=layout.inlet_inner_radius + margin, pressure="extrapolated",
                   ramp_time=case.scene.ramp_time)
     pressures = {"mouth": case.scene.mouth_pressure, "leak": case.scene.leak_pressure}
+    probes = tuple(Probe(name=k, point=v) for k, v in layout.sensors.items() if layout.in_scene(v))
+    return assemble_flow_case(case, layout, (inlet,), pressures, probes)
+
+
+def assemble_flow_case(case, layout, inlets: tuple, pressures: dict, probes: tuple) -> SphFlowCase:
+    """A drill scene's sph_flow case from its inlets, the outlets' held pressures (role -> Pa, the layout's outlets)
+    and its probes: the layout's flow planes, the output intervals, the box around the layout (r_max, z_lo..z_hi),
+    drill_physics. Assembled with model_construct: its walls are the drill's, which an sph_flow case cannot name."""
     outlets = tuple(Outlet(name=p.name, center=p.center, normal=p.normal, radius=p.radius,
                            pressure=pressures[role]) for role, p in layout.outlets.items())
-    probes = tuple(Probe(name=k, point=v) for k, v in layout.sensors.items() if layout.in_scene(v))
     planes = tuple(Patch(name=p.name, center=p.center, normal=p.normal, radius=p.radius)
                    for p in layout.planes.values())
     output = SphOutput(frame_interval=case.output.frame_interval, series_interval=case.output.series_interval,
@@ -155,10 +161,10 @@ def _flow_case(case: EjectorDrillCase, layout: Layout) -> SphFlowCase:
     domain = Domain(dimension=3, lo=(-r, -r, layout.z_lo), hi=(r, r, layout.z_hi))
     meta = CaseMeta.model_construct(kind="sph_flow", name=case.case.name, description=case.case.description,
                                     engine="sph", seed=0)
-    return SphFlowCase.model_construct(case=meta, domain=domain, fluid=case.fluid, materials=(), physics=physics,
-                                       blocks=(), walls=(), inlets=(inlet,), outlets=outlets,
-                                       numerics=case.numerics, simulation=case.simulation, output=output,
-                                       expected=())
+    return SphFlowCase.model_construct(case=meta, domain=domain, fluid=case.fluid, materials=(),
+                                       physics=drill_physics(case), blocks=(), walls=(), inlets=inlets,
+                                       outlets=outlets, numerics=case.numerics, simulation=case.simulation,
+                                       output=output, expected=())
 
 
 def build_drill_scene(case: EjectorDrillCase) -> DrillSphScene:

@@ -19,16 +19,15 @@ import math
 
 import numpy as np
 
-from orchestrator.case.common import CaseMeta
-from orchestrator.kinds.ejector_drill.build import DrillSphScene, drill_physics
+from orchestrator.kinds.ejector_drill.build import DrillSphScene, assemble_flow_case
 from orchestrator.kinds.ejector_drill.feed_layout import FeedLayout, feed_layout
 from orchestrator.kinds.ejector_drill.feed_network import FeedBoundary, feed_boundary
 from orchestrator.kinds.ejector_drill.feed_walls import feed_boundary_particles
 from orchestrator.kinds.ejector_drill.probe import probe_scene
 from orchestrator.kinds.ejector_drill.walls import scene_lattice
 from orchestrator.kinds.sph_flow.case import SphFlowCase
-from orchestrator.kinds.sph_flow.case_open import Inlet, Outlet
-from orchestrator.kinds.sph_flow.case_parts import Domain, Patch, Probe, SphOutput
+from orchestrator.kinds.sph_flow.case_open import Inlet
+from orchestrator.kinds.sph_flow.case_parts import Probe
 from orchestrator.kinds.sph_flow.scene import BOUNDARY, FLUID, SphScene
 
 
@@ -41,21 +40,8 @@ def feed_flow_case(case, layout: FeedLayout, boundary: FeedBoundary) -> SphFlowC
               Inlet(name=layout.tube_inlet.name, center=layout.tube_inlet.center, normal=layout.tube_inlet.normal,
                     radius=tube.r_out, velocity=boundary.tube_speed, profile="parabolic", pressure="extrapolated"))
     pressures = {"gap": boundary.gap_outlet_pressure, "tube": boundary.tube_outlet_pressure}
-    outlets = tuple(Outlet(name=p.name, center=p.center, normal=p.normal, radius=p.radius, pressure=pressures[role])
-                    for role, p in layout.outlets.items())
     probes = tuple(Probe(name=k, point=v) for k, v in layout.sensors.items())
-    planes = tuple(Patch(name=p.name, center=p.center, normal=p.normal, radius=p.radius)
-                   for p in layout.planes.values())
-    output = SphOutput(frame_interval=case.output.frame_interval, series_interval=case.output.series_interval,
-                       probes=probes, flow_planes=planes)
-    r = layout.r_max
-    domain = Domain(dimension=3, lo=(-r, -r, layout.z_lo), hi=(r, r, layout.z_hi))
-    meta = CaseMeta.model_construct(kind="sph_flow", name=case.case.name, description=case.case.description,
-                                    engine="sph", seed=0)
-    return SphFlowCase.model_construct(case=meta, domain=domain, fluid=case.fluid, materials=(),
-                                       physics=drill_physics(case), blocks=(), walls=(), inlets=inlets,
-                                       outlets=outlets, numerics=case.numerics, simulation=case.simulation,
-                                       output=output, expected=())
+    return assemble_flow_case(case, layout, inlets, pressures, probes)
 
 
 def start_pressure(layout: FeedLayout, boundary: FeedBoundary, points: np.ndarray) -> np.ndarray:

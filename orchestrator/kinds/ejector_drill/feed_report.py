@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from orchestrator.kinds.ejector_drill.feed_analysis import feed_flows, gap_storage, steady_means, tube_slab_flows
-from orchestrator.kinds.ejector_drill.analysis import sensor_pressures
+from orchestrator.kinds.ejector_drill.analysis import run_series, sensor_pressures
 from orchestrator.kinds.ejector_drill.feed_layout import feed_layout
 from orchestrator.kinds.ejector_drill.feed_walls import feed_wall_meshes
 from orchestrator.kinds.ejector_drill.feed_network import feed_boundary, gap_pressure_below_feed
@@ -61,14 +61,8 @@ def analyze_feed_run(run_dir, run: dict, case, render: bool = True) -> dict:
     """Print the feed run's flows, balances and pressures beside the network; write series.png, comparison.png and
     (render) section_<t>.png. Returns {name: path}."""
     run_dir = Path(run_dir)
-    attrs = run["attrs"]
-    series = {k: v for k, v in run.get("series", {}).items() if k != "attrs"}
-    time = np.asarray(series.pop("time", []), dtype=float)
-    print(f"run {run_dir}: status {attrs['status']}, {attrs.get('n_particles')} particles at the start, "
-          f"{attrs.get('n_steps')} steps, mean dt {attrs.get('dt', float('nan')):.4g} s, c0 {case.c0:g} m/s, "
-          f"CFL {case.numerics.adaptive['cfl']:g}, wall time {attrs.get('wall_time_s', 0):.1f} s")
+    series, time = run_series(run_dir, run, case)
     if time.size < 2:
-        print("the run recorded fewer than two series records: nothing to analyse")
         return {}
     flows = feed_flows(series)
     means = steady_means(time, flows)

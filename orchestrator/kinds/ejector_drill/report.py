@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from orchestrator.kinds.ejector_drill.analysis import (STILL_SHARE, balance, filling_times, flow_series,
+from orchestrator.kinds.ejector_drill.analysis import (STILL_SHARE, balance, filling_times, flow_series, run_series,
                                                        sensor_pressures, stored_volume_rate, zones)
 from orchestrator.kinds.ejector_drill.comparison import comparison_rows, network_at_gap_flow, stored_volume
 from orchestrator.kinds.ejector_drill.layout import drill_layout
@@ -55,15 +55,9 @@ def analyze_drill_run(run_dir, run: dict, case, render: bool = True) -> dict:
     """Print the run's flows, balance, pressures, filling times and the comparison with the network and the paper;
     write series.png, comparison.png and (render) section_<t>.png. Returns {name: path}."""
     run_dir = Path(run_dir)
-    attrs = run["attrs"]
     layout = drill_layout(case)
-    series = {k: v for k, v in run.get("series", {}).items() if k != "attrs"}
-    time = np.asarray(series.pop("time", []), dtype=float)
-    print(f"run {run_dir}: status {attrs['status']}, {attrs.get('n_particles')} particles at the start, "
-          f"{attrs.get('n_steps')} steps, mean dt {attrs.get('dt', float('nan')):.4g} s (paper: 1.403e-08 s), "
-          f"c0 {case.c0:g} m/s, CFL {case.numerics.adaptive['cfl']:g}, wall time {attrs.get('wall_time_s', 0):.1f} s")
+    series, time = run_series(run_dir, run, case, " (paper: 1.403e-08 s)")
     if time.size < 2:
-        print("the run recorded fewer than two series records: nothing to analyse")
         return {}
     flows = flow_series(series, time)
     frames = run.get("frames", {})
