@@ -53,16 +53,18 @@ def test_parts_are_watertight_with_closed_form_volumes():
 
 
 def test_a_deep_groove_is_a_collector_chamber():
-    """groove_depth cuts the groove out to the outer tube's wall: the head loses the ring r_oi..r_oi + depth over the
-    groove's length (closed form), the layout gains it as the region 'collector' and the holes start at its outer
-    wall; deeper than the tube's wall is refused."""
+    """groove_depth cuts a chamber round the holes' entrances: the head loses the ring r_oi..r_oi + depth from the
+    groove's floor to the holes' upper edge (closed form), and at least 2 mm of head stays between the chamber and
+    the head's rear face (behind which lies the tube/bore clearance); deeper than the tube's wall is refused."""
     from orchestrator.kinds.ejector_drill.case_geometry import DrillGeometry as G
 
     flat, deep = G(), G(groove_depth=2.0e-3)
     n = flat.network
     r_oi = n.d_outer_tube_id / 2
+    height = deep.hole_z + 0.5 * n.d_hole - deep.groove_start
     assert flat.meshes()["head"].volume - deep.meshes()["head"].volume == pytest.approx(
-        _ring(r_oi, r_oi + 2.0e-3, flat.groove_length) * _ngon(flat.sections), rel=1e-9)
+        _ring(r_oi, r_oi + 2.0e-3, height) * _ngon(flat.sections), rel=1e-9)
+    assert deep.collector_top == pytest.approx(deep.head_length - 2.0e-3)
     assert deep.groove_outer_radius == pytest.approx(r_oi + 2.0e-3)
     with pytest.raises(ValueError, match="groove_depth"):
         G(groove_depth=2.5e-3)

@@ -33,9 +33,12 @@ class DrillGeometry:
     # reconstruction: the head reaches over the tube joint; 8 mm of it is the groove that carries the annular gap
     # to the holes (twice the hole diameter, so a hole fits in the groove with 2 mm to spare)
     groove_length: float = 8.0e-3
-    # the groove's radial depth beyond the gap's outer radius (a collector chamber cut into the head around the
-    # holes' entrances, out to at most the outer tube's OD, whose end face closes it): 0 keeps the groove the gap's
-    # own 0.5 mm, from which the Ø4 mm holes must be fed through a 0.5 mm sheet round their rims
+    # the groove's radial depth beyond the gap's outer radius: a collector chamber cut into the head around the
+    # holes' entrances, from the groove's floor up to the holes' upper edge (the head's material above it keeps
+    # the chamber off the tube/bore clearance behind the head's rear face: a chamber up to that face, as deep as
+    # the outer tube's wall, met the clearance in a corner of no thickness, through which the paper-resolution
+    # run leaked). 0 keeps the groove the gap's own 0.5 mm, from which the Ø4 mm holes must be fed through a
+    # 0.5 mm sheet round their rims
     groove_depth: float = 0.0
     # reconstruction: the chip mouth's edge is 0.5 mm behind the bore bottom (the cutting edges stand out of the
     # head's face by this much)
@@ -86,6 +89,11 @@ class DrillGeometry:
         return self.network.d_outer_tube_id / 2 + self.groove_depth
 
     @property
+    def collector_top(self) -> float:
+        """z of the collector chamber's top (groove_depth > 0): the holes' upper edge, m."""
+        return self.hole_z + 0.5 * self.network.d_hole
+
+    @property
     def hole_z(self) -> float:
         """z of the adduction holes' axes: the middle of the groove, m."""
         return self.groove_start + 0.5 * self.groove_length
@@ -98,8 +106,9 @@ class DrillGeometry:
         z_g, z_feed = self.groove_start, L + n.tube_length
         inner_end = z_feed + n.mixing_length + n.discharge_length  # the inner tube runs on to the chip outlet
         c, w = self.front_clearance, self.workpiece_wall
-        r_g = self.groove_outer_radius
-        head = [(r_m, 0.0), (r_h, 0.0), (r_h, L), (r_g, L), (r_g, z_g), (r_io, z_g), (r_io, L), (r_m, L)]
+        r_g, z_c = self.groove_outer_radius, self.collector_top
+        chamber = [(r_oi, z_c), (r_g, z_c)] if self.groove_depth > 0 else []
+        head = [(r_m, 0.0), (r_h, 0.0), (r_h, L), (r_oi, L), *chamber, (r_g, z_g), (r_io, z_g), (r_io, L), (r_m, L)]
         return {
             "workpiece": [(0.0, -c - w), (r_b + w, -c - w), (r_b + w, n.bore_depth), (r_b, n.bore_depth),
                           (r_b, -c), (0.0, -c)],

@@ -135,7 +135,7 @@ def drill_layout(case) -> Layout:
         r_g = g.groove_outer_radius
         holes = tuple(Hole(f"hole{k}", 2 * math.pi * k / n.n_holes, z_hole, n.d_hole, r_g, r_h)
                       for k in range(n.n_holes))
-        collector = (Ring("collector", r_oi, r_g, z_g, L),) if r_g > r_oi else ()
+        collector = (Ring("collector", r_oi, r_g, z_g, g.collector_top),) if r_g > r_oi else ()
         regions = (channel, *collector, *holes, Ring("head_clearance", r_h, r_b, 0.0, L), front, mouth,
                    Ring("tube_clearance", r_oo, r_b, L, z_leak))
         inlet = Plane("gap_inlet", (0.0, 0.0, z_in), (0.0, 0.0, -1.0), r_oi)
