@@ -54,11 +54,14 @@ class Hole:
         return 0.25 * math.pi * self.d ** 2 * (self.r_out - self.r_in)
 
     def contains(self, points: np.ndarray) -> np.ndarray:
-        """Mask of the points within the cylinder r_in <= s < r_out along the hole's axis."""
+        """Mask of the points within the cylinder along the hole's axis from r_in less the sagitta (d/2)^2 / (2 r_in)
+        to r_out: the hole is drilled through the wall of radius r_in, so its rim there lies up to the sagitta
+        below r_in along the axis (the overlap with the region inside r_in is that region's already)."""
         e = np.array([math.cos(self.angle), math.sin(self.angle), 0.0])
         s = points @ e
         off = points - np.outer(s, e) - np.array([0.0, 0.0, self.z])
-        return (s >= self.r_in) & (s < self.r_out) & (np.linalg.norm(off, axis=1) < 0.5 * self.d)
+        start = self.r_in - 0.125 * self.d ** 2 / self.r_in
+        return (s >= start) & (s < self.r_out) & (np.linalg.norm(off, axis=1) < 0.5 * self.d)
 
 
 @dataclass(frozen=True)
