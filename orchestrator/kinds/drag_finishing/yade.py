@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import zipfile
 from pathlib import Path
 
 import numpy as np
@@ -138,8 +139,21 @@ def _load_npz(path: Path) -> dict[str, np.ndarray]:
     try:
         with np.load(path) as data:
             return {k: data[k] for k in data.files}
-    except (OSError, ValueError) as exc:
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile) as exc:
         raise ReadError(f"cannot read {path}: {exc}") from None
+
+
+def _load_npz_written(path: Path) -> dict[str, np.ndarray] | None:
+    """_load_npz, or None for the newest .npz of its directory when it cannot be read: the file Yade was writing
+    when a timeout or a signal stopped it (a truncated zip); the data recorded before it is kept. Any other
+    unreadable file is a ReadError."""
+    try:
+        return _load_npz(path)
+    except ReadError:
+        newest = max(path.parent.glob("*.npz"), key=lambda p: p.stat().st_mtime_ns)
+        if newest == path:
+            return None
+        raise
 
 
 def _drop_rows_after(path: Path, step: int) -> None:
@@ -209,7 +223,9 @@ def read_drag_finishing_output(scene, workdir: Path) -> Result:
         path = out / f"network_{k}.npz"
         if not path.is_file():
             break
-        net = _load_npz(path)
+        net = _load_npz_written(path)
+        if net is None:
+            break
         result.contacts.append(
             (
                 float(net["time"]),
@@ -228,19 +244,21 @@ def read_drag_finishing_output(scene, workdir: Path) -> Result:
             )
         )
         frame = out / f"frame_{k}.npz"
-        if frame.is_file():
-            result.frames.append(_frame(_load_npz(frame)))
+        data = _load_npz_written(frame) if frame.is_file() else None
+        if data is not None:
+            result.frames.append(_frame(data))
     for name in ("settled.npz", "final.npz"):
-        if (out / name).is_file():
-            result.frames.append(_frame(_load_npz(out / name)))
+        data = _load_npz_written(out / name) if (out / name).is_file() else None
+        if data is not None:
+            result.frames.append(_frame(data))
     result.frames.sort(key=lambda item: item[0])
     bowl = scene.meshes["bowl"].mesh
     result.meshes["bowl"] = {"vertices": np.asarray(bowl.vertices), "faces": np.asarray(bowl.faces)}
     rod = scene.meshes["rod"].mesh
     rod_entry = {"vertices": np.asarray(rod.vertices, dtype=float).copy(), "faces": np.asarray(rod.faces)}
     last = out / "final.npz"
-    if last.is_file():
-        final = _load_npz(last)
+    final = _load_npz_written(last) if last.is_file() else None
+    if final is not None:
         soup = final["rod_vertices"]
         rod_entry["vertices"][rod_entry["faces"].ravel()] = soup.reshape(-1, 3)
         rod_entry["contact_intensity"] = final["rod_intensity"]
