@@ -36,9 +36,8 @@ class DrillGeometry:
     # the groove's radial depth beyond the gap's outer radius: a collector chamber cut into the head around the
     # holes' entrances, from the groove's floor up to the holes' upper edge (the head's material above it keeps
     # the chamber off the tube/bore clearance behind the head's rear face: a chamber up to that face, as deep as
-    # the outer tube's wall, met the clearance in a corner of no thickness, through which the paper-resolution
-    # run leaked). 0 keeps the groove the gap's own 0.5 mm, from which the Ø4 mm holes must be fed through a
-    # 0.5 mm sheet round their rims
+    # the outer tube's wall, met the clearance in a corner of no thickness). 0 keeps the groove the gap's own
+    # 0.5 mm, from which the Ø4 mm holes must be fed through a 0.5 mm sheet round their rims
     groove_depth: float = 0.0
     # reconstruction: the chip mouth's edge is 0.5 mm behind the bore bottom (the cutting edges stand out of the
     # head's face by this much)
