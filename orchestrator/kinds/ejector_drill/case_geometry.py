@@ -64,8 +64,8 @@ class DrillGeometry:
                              f"{self.groove_length * 1e3:g} mm")
         if not 0.0 <= self.groove_depth <= (n.d_outer_tube_od - n.d_outer_tube_id) / 2:
             raise ValueError(f"groove_depth = {self.groove_depth * 1e3:g} mm must lie between 0 and the outer tube's "
-                             f"wall, {(n.d_outer_tube_od - n.d_outer_tube_id) / 2 * 1e3:g} mm (its end face closes "
-                             "the groove)")
+                             f"wall, {(n.d_outer_tube_od - n.d_outer_tube_id) / 2 * 1e3:g} mm (the chamber stays inside "
+                             "the head, below the tube's end)")
         if n.head_rear_length <= self.groove_length:
             raise ValueError("head_rear_length must exceed groove_length (the head's solid front)")
         if self.sections < 8:
