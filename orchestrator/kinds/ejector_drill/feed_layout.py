@@ -28,7 +28,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from orchestrator.kinds.ejector_drill.layout import Plane, Ring
+from orchestrator.kinds.ejector_drill.layout import Plane, Ring, union_contains
 
 
 @dataclass(frozen=True)
@@ -148,17 +148,11 @@ class FeedLayout:
 
     def wetted_contains(self, points: np.ndarray) -> np.ndarray:
         """Mask of the points in any wetted region."""
-        mask = np.zeros(len(points), dtype=bool)
-        for region in self.wetted:
-            mask |= region.contains(points)
-        return mask
+        return union_contains(self.wetted, points)
 
     def contains(self, points: np.ndarray) -> np.ndarray:
         """Mask of the points in any fluid region."""
-        mask = np.zeros(len(points), dtype=bool)
-        for region in self.regions:
-            mask |= region.contains(points)
-        return mask
+        return union_contains(self.regions, points)
 
     def in_scene(self, point) -> bool:
         """True if a point lies in one of the fluid regions."""

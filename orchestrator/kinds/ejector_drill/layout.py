@@ -18,6 +18,14 @@ from dataclasses import dataclass
 import numpy as np
 
 
+def union_contains(regions, points: np.ndarray) -> np.ndarray:
+    """Mask of the points (n, 3) m inside any of the regions (each with a contains(points) mask)."""
+    mask = np.zeros(len(points), dtype=bool)
+    for region in regions:
+        mask |= region.contains(points)
+    return mask
+
+
 @dataclass(frozen=True)
 class Ring:
     """Fluid between radii r_in and r_out for z_lo <= z <= z_hi, m."""
@@ -95,10 +103,7 @@ class Layout:
 
     def wetted_contains(self, points: np.ndarray) -> np.ndarray:
         """Mask of the points in any wetted region (the fluid regions and the open boundaries' buffers)."""
-        mask = np.zeros(len(points), dtype=bool)
-        for region in self.wetted:
-            mask |= region.contains(points)
-        return mask
+        return union_contains(self.wetted, points)
 
     def in_scene(self, point) -> bool:
         """True if a sensor point lies in one of the scene's fluid regions."""
@@ -110,10 +115,7 @@ class Layout:
 
     def contains(self, points: np.ndarray) -> np.ndarray:
         """Mask of the points in any fluid region."""
-        mask = np.zeros(len(points), dtype=bool)
-        for region in self.regions:
-            mask |= region.contains(points)
-        return mask
+        return union_contains(self.regions, points)
 
 
 def drill_layout(case) -> Layout:
