@@ -5,6 +5,7 @@ from __future__ import annotations
 import dataclasses
 import datetime as _dt
 import math
+import sys
 import time
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
@@ -217,10 +218,13 @@ def _run_engine(backend, scene, run_dir: Path, clock: PhaseClock, timeout_s, pro
                 raise OrchestratorError(f"cannot write the engine's input into {run_dir}: {os_problem(exc)}") from None
             command, env = backend.command(scene, run_dir)
         clock.lap("input")
-        if not resume and backend.wants_probe(scene):
-            _run_probe(backend, scene, run_dir, on_timing)
+        probed = _run_probe(backend, scene, run_dir, on_timing) if not resume and backend.wants_probe(scene) else None
         clock.skip()  # the timing probe is the engine's time
-        execution = execute(command, env, run_dir, timeout_s, progress, label=label, on_timing=on_timing)
+        # The probe's estimate stands: the run's first steps are what it was made to look past.
+        execution = execute(command, env, run_dir, timeout_s, progress, label=label,
+                            on_timing=None if probed else on_timing)
+        if probed:
+            execution = dataclasses.replace(execution, timing=probed)
         clock.skip()
         return command, execution, None
     except KeyboardInterrupt as exc:
@@ -240,20 +244,28 @@ def _keep_log(log: Path) -> None:
         log.rename(log.with_name(f"{log.stem}.{k}{log.suffix}"))
 
 
-def _run_probe(backend, scene, run_dir: Path, on_timing) -> None:
-    """A few steps of the same script on a dense lattice in run_dir/probe: estimates the whole run's time."""
-    probe_dir = run_dir / "probe"
+def _run_probe(backend, scene, run_dir: Path, on_timing):
+    """A few steps of the same script on a dense lattice in run_dir/probe: estimates the whole run's time. Returns
+    its Timing (given to on_timing too), or None with a warning on stderr that names the probe's log and its last
+    line (the run goes on; its estimate then comes from its own first steps)."""
+    probe_dir = (run_dir / "probe").resolve()  # absolute: the probe runs with it as its working directory
     probe_dir.mkdir(exist_ok=True)
     for name in run_dir.iterdir():
         if name.is_file() and name.suffix in (".py", ".npz", ".stl"):
             (probe_dir / name.name).write_bytes(name.read_bytes())
     probe_cmd, probe_env = backend.probe_command(scene, probe_dir)
     try:
-        execute(probe_cmd, probe_env, probe_dir, timeout_s=600, progress=False, label="timing probe",
-                on_timing=on_timing)
+        probe = execute(probe_cmd, probe_env, probe_dir, timeout_s=600, progress=False, label="timing probe",
+                        on_timing=on_timing)
     except KeyboardInterrupt as exc:
         exc.execution = None  # the run itself never started
         raise
+    if probe.timing is not None and probe.returncode == 0:
+        return probe.timing
+    last = probe.log_tail(1).strip() or f"exit code {probe.returncode}"
+    print(f"warning: the timing probe gave no estimate ({last}; {probe.log_path}); the run goes on, its estimate "
+          "comes from its own first steps", file=sys.stderr, flush=True)
+    return None
 
 
 def _read_result(backend, scene, run_dir: Path, execution, interrupted, timeout_s):

@@ -41,6 +41,7 @@ class EjectorDrillSph(SphFlow):
     def probe_command(self, engine, scene, workdir: Path, steps: int = 200):
         """The probe deck (probe.py: the fluid regions filled with the run's end count) in workdir and the command
         that runs it and prints the run's estimated wall time as a TIMING line."""
+        workdir = Path(workdir).resolve()  # the probe runs with workdir as its cwd: a relative path would not exist there
         info = write_probe(scene, workdir, engine.threads, steps)
         command = [sys.executable, "-m", "orchestrator.kinds.ejector_drill.probe", "--deck-dir", str(workdir),
                    "--planned", str(info["planned_steps"]), str(info["start"]), str(info["end"]),
