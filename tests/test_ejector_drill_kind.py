@@ -152,9 +152,31 @@ def test_balance_of_eq2_on_synthetic_series():
     assert times["t_gap"] == pytest.approx(1e-6, abs=1e-5) and times["t_holes"] == pytest.approx(time[1])
 
 
+def test_the_window_balance_counts_volumes_from_frame_to_frame():
+    """Eq. 2 as volumes: records every 1e-5 s, each the mean flow since the one before (V_AG 1e-3 m^3/s, V_IB
+    0.6e-3, V_loss 0.1e-3 from t = 0.3 ms on), frames every 1e-4 s holding a volume that gains 0.4e-3 m^3/s before
+    and 0.3e-3 after 0.3 ms: over the last 20 % (frames 0.8..1.0 ms) the planes count 2e-7, 1.2e-7, 2e-8 m^3 and the
+    storage 6e-8: nothing missing; a volume series that misses 1 % of V_AG is named."""
+    from orchestrator.kinds.ejector_drill.analysis import window_balance
+
+    time = np.linspace(0.0, 1e-3, 101)
+    flows = {"V_AG": np.full_like(time, 1e-3), "V_IB": np.full_like(time, 0.6e-3),
+             "V_loss": np.where(time > 0.3e-3 + 1e-12, 0.1e-3, 0.0)}
+    t_frames = np.linspace(0.0, 1e-3, 11)
+    volumes = np.where(t_frames <= 0.3e-3, 0.4e-3 * t_frames, 0.12e-6 + 0.3e-3 * (t_frames - 0.3e-3))
+    win = window_balance(time, flows, t_frames, volumes)
+    assert (win["t_a"], win["t_b"]) == pytest.approx((0.8e-3, 1e-3))
+    assert (win["V_AG"], win["V_IB"], win["V_loss"], win["stored"]) == pytest.approx((2e-7, 1.2e-7, 2e-8, 6e-8))
+    assert abs(win["closure_share"]) < 1e-12 and win["stored_share"] == pytest.approx(0.3)
+    short = window_balance(time, flows, t_frames, volumes - 0.01 * 1e-3 * t_frames)
+    assert short["closure_share"] == pytest.approx(0.01)
+    assert window_balance(time, flows, t_frames[:1], volumes[:1]) == {}
+
+
 @pytest.mark.parametrize("residual, storage, words", [
     (0.004, math.nan, "closes within 1 %"),
     (0.5, 0.495, "still filling the scene"),
+    (-0.456, -0.462, "draining from the scene"),
     (0.05, 0.001, "5 % of V_AG, of which the control volume's storage accounts for 0.1 %"),
 ])
 def test_the_balance_verdict_says_where_the_volume_is(residual, storage, words):

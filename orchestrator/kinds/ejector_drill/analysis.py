@@ -79,6 +79,32 @@ def balance(time: np.ndarray, flows: dict, stored: np.ndarray | None = None) -> 
     return out
 
 
+def window_balance(time: np.ndarray, flows: dict, t_frames: np.ndarray, volumes: np.ndarray) -> dict[str, float]:
+    """Eq. 2 as volumes over the steady window's frames: from the first frame at or after the window's start (the
+    last STEADY_FRACTION of the run) to the last frame, t_a..t_b (s). V_AG, V_IB, V_loss are the volumes (m^3) the
+    planes counted over (t_a, t_b] (each series record is the mean flow since the one before, so the sum of rate x
+    interval is exact), stored the change of the control volume's fluid volume between the two frames (m^3), and
+    closure_share = (V_AG - V_IB - V_loss - stored) / V_AG (-): what neither the planes nor the storage account for.
+    Empty when fewer than two frames lie in the window."""
+    if len(time) < 2 or len(t_frames) < 2:
+        return {}
+    tol = 1e-9 * (time[-1] - time[0])
+    start = time[-1] - STEADY_FRACTION * (time[-1] - time[0])
+    inside = np.nonzero(t_frames >= start - tol)[0]
+    if len(inside) < 2:
+        return {}
+    t_a, t_b = float(t_frames[inside[0]]), float(t_frames[inside[-1]])
+    step = np.diff(time, prepend=time[0])
+    counted = (time > t_a + tol) & (time <= t_b + tol)
+    out = {"t_a": t_a, "t_b": t_b, "stored": float(volumes[inside[-1]] - volumes[inside[0]])}
+    for key in ("V_AG", "V_IB", "V_loss"):
+        out[key] = float(np.sum(flows[key][counted] * step[counted])) if key in flows else 0.0
+    out["closure_share"] = (out["V_AG"] - out["V_IB"] - out["V_loss"] - out["stored"]) / out["V_AG"] \
+        if out["V_AG"] else math.nan
+    out["stored_share"] = out["stored"] / out["V_AG"] if out["V_AG"] else math.nan
+    return out
+
+
 def first_time(time: np.ndarray, values: np.ndarray, threshold: float) -> float:
     """First time (s) the series reaches `threshold` (NaN if never)."""
     hit = np.nonzero(np.asarray(values) >= threshold)[0]

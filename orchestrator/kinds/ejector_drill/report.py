@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from orchestrator.kinds.ejector_drill.analysis import (STILL_SHARE, balance, filling_times, flow_series, run_series,
-                                                       sensor_pressures, stored_volume_rate, zones)
+                                                       sensor_pressures, stored_volume_rate, window_balance, zones)
 from orchestrator.kinds.ejector_drill.comparison import comparison_rows, network_at_gap_flow, stored_volume
 from orchestrator.kinds.ejector_drill.layout import drill_layout
 from orchestrator.kinds.ejector_drill.pictures import draw_sections
@@ -30,10 +30,29 @@ def balance_verdict(residual_share: float, filling_share: float) -> str:
     if abs(residual_share) <= 0.01:
         return "the balance closes within 1 %"
     if math.isfinite(filling_share) and abs(residual_share - filling_share) <= 0.01:
-        return ("the balance does not close within 1 %: the missing volume is the fluid still filling the scene "
-                "(the control volume's storage above), not yet a steady state")
+        where = "still filling the scene" if filling_share > 0 else "draining from the scene"
+        return (f"the balance does not close within 1 %: the missing volume is the fluid {where} (the control "
+                "volume's storage above), not yet a steady state")
     return (f"the balance does not close within 1 %: {residual_share * 100:.3g} % of V_AG, of which the control "
             f"volume's storage accounts for {filling_share * 100:.3g} %")
+
+
+def print_window_balance(bal: dict, win: dict) -> None:
+    """Print eq. 2 as volumes between the steady window's first and last frames (analysis.window_balance) and the
+    verdict; without two frames in the window, the means of `bal` (analysis.balance) and its storage rate."""
+    if not win:
+        print(f"residual V_AG - V_IB - V_loss = {bal['residual_share'] * 100:.3g} % of V_AG; the control volume "
+              f"stores {bal.get('filling_share', math.nan) * 100:.3g} % of V_AG (d volume / dt from the frames)")
+        print(balance_verdict(bal["residual_share"], bal.get("filling_share", math.nan)))
+        return
+    ag = win["V_AG"]
+    residual = (ag - win["V_IB"] - win["V_loss"]) / ag if ag else math.nan
+    print(f"as volumes from frame to frame, {win['t_a'] * 1e3:.4g}..{win['t_b'] * 1e3:.4g} ms (ml): V_AG "
+          f"{ag * 1e6:.4g}, V_IB {win['V_IB'] * 1e6:.4g}, V_loss {win['V_loss'] * 1e6:.4g}, stored in the control "
+          f"volume {win['stored'] * 1e6:+.4g}")
+    print(f"residual V_AG - V_IB - V_loss = {residual * 100:.3g} % of V_AG; the storage {win['stored_share'] * 100:.3g} "
+          f"%; what neither accounts for: {win['closure_share'] * 100:.2g} %")
+    print(balance_verdict(residual, win["stored_share"]))
 
 
 def print_zones(layout, frames: dict, v_in: float) -> None:
@@ -66,12 +85,7 @@ def analyze_drill_run(run_dir, run: dict, case, render: bool = True) -> dict:
     bal = balance(time, flows, stored)
     print(f"\neq. 2 over the last 20 % of the run (l/min): V_AG {bal.get('V_AG', math.nan) / LITRE_PER_MIN:.4g}, "
           f"V_IB {bal.get('V_IB', math.nan) / LITRE_PER_MIN:.4g}, V_loss {bal.get('V_loss', 0.0) / LITRE_PER_MIN:.4g}")
-    print(f"residual V_AG - V_IB - V_loss = {bal['residual_share'] * 100:.3g} % of V_AG; the control volume stores "
-          f"{bal.get('filling_share', math.nan) * 100:.3g} % of V_AG (d volume / dt from the frames)")
-    if math.isfinite(bal.get("filling_share", math.nan)):
-        print(f"residual minus storage: {(bal['residual_share'] - bal['filling_share']) * 100:.3g} % of V_AG (what the "
-              f"planes and the frames, {case.output.frame_interval * 1e3:g} ms apart, do not account for)")
-    print(balance_verdict(bal["residual_share"], bal.get("filling_share", math.nan)))
+    print_window_balance(bal, window_balance(time, flows, t_frames, volumes))
     if case.scene.start == "filled":
         print(f"\nstarted filled at rest, the inlet ramped over {case.scene.ramp_time * 1e3:g} ms: no filling times")
     else:
