@@ -298,6 +298,7 @@ BAD_INPUTS = [
     (["verify", "sph", "--timestep-factors", "0.1", "--out", "@OUT"], 2, "--timestep-factors"),
     *[(["verify", "dem", "--timestep-factors", f, "--out", "@OUT"], 2, "--timestep-factors") for f in ("0", "2", "nan")],
     *[(["verify", s, "--workers", n, "--out", "@OUT"], 2, "--workers") for s in ("dem", "sph") for n in ("0", "-1")],
+    *[(["verify", s, "--timeout", t, "--out", "@OUT"], 2, "--timeout") for s in ("dem", "sph") for t in ("0", "nan")],
     # calibrate
     *[(["calibrate", "restitution", "--csv", CSV + name], 6, *words) for name, words in {
         "missing.csv": ("no CSV file",), "short.csv": ("fewer than 10",), "text.csv": ("of numbers",),

@@ -177,3 +177,25 @@ def test_cli_verify_sph_json_and_plot(tmp_path, capsys):
 def test_cli_verify_sph_refuses_another_engine(capsys):
     assert main(["verify", "sph", "--engine", "yade"]) == 2
     assert "sph engine only" in capsys.readouterr().err
+
+
+def test_cli_verify_timeout_reaches_every_run(tmp_path, monkeypatch):
+    """--timeout S is each run's wall-time limit (the fine annulus needs more than the suite's 900 s); without it the
+    suite keeps its default. Also: the fine scene validates and is outside the default suite's directory."""
+    from orchestrator.workflows import verify_sph
+
+    seen = []
+
+    def fake(**kwargs):
+        seen.append(kwargs.get("timeout_s", "default"))
+        return []
+
+    monkeypatch.setattr(verify_sph, "run_verification", fake)
+    monkeypatch.setattr("orchestrator.cli.verify.plot_scenes", lambda runs, path: path)
+    for extra in (["--timeout", "7200"], []):
+        main(["verify", "sph", "--out", str(tmp_path / "out"), *extra])
+    assert seen == [7200.0, "default"]
+    fine = CASES / "fine" / "sph_annulus_laminar_fine.toml"
+    case = load_case(fine).model
+    assert case.numerics.dx == 0.0005 and case.simulation.duration == 1.2
+    assert not list(CASES.glob("sph_annulus_laminar_fine*"))

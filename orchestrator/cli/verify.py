@@ -41,6 +41,9 @@ def add_parser(sub) -> None:
     verify.add_argument("--cases", metavar="DIR", help="directory of scenes (default: the shipped cases/verification)")
     verify.add_argument("--out", metavar="DIR", help="run directories and the PNG (default: runs/verify-<suite>-<time>)")
     verify.add_argument("--workers", type=int, metavar="N", help="parallel runs (default: the number of cores)")
+    verify.add_argument("--timeout", type=float, metavar="S",
+                        help="wall-time limit of each run, s (default 900 for sph, 600 for dem; a run stopped by it "
+                        "fails its checks, run.h5 keeps what it recorded)")
     verify.add_argument("--json", action="store_true",
                         help="print the rows as a JSON list of objects with the keys scene, engine, quantity, value, "
                         "expected, rel_error, tolerance, passed (SI units; null where not measured)")
@@ -49,6 +52,11 @@ def add_parser(sub) -> None:
                         "of the critical step, e.g. 0.01 0.05 0.2 1) and print, per engine and F, the worst relative "
                         "error, the checks passed and the engine compute time in s; saves timestep_sweep.png")
     verify.set_defaults(func=cmd_verify)
+
+
+def _timeout(args) -> dict:
+    """{'timeout_s': --timeout} when given (the suites' own defaults otherwise)."""
+    return {} if args.timeout is None else {"timeout_s": args.timeout}
 
 
 def cmd_verify(args) -> int:
@@ -63,7 +71,7 @@ def cmd_verify(args) -> int:
         print(f"verify: {count}/{total} {run.scene} on {run.engine}: {run.status}", file=sys.stderr, flush=True)
 
     runs = dem.run_verification(engines=args.engines, out_dir=out_dir, cases_dir=args.cases, overrides=args.overrides,
-                            workers=args.workers, on_done=done)
+                                workers=args.workers, on_done=done, **_timeout(args))
     png = plot_force_curves(runs, Path(out_dir) / "verify_dem.png")
     rows = json_rows(runs)
     failed = sum(not row["passed"] for row in rows)
@@ -90,7 +98,7 @@ def _verify_sph(args) -> int:
         print(f"verify: {count}/{total} {run.scene} on {run.engine}: {run.status}", file=sys.stderr, flush=True)
 
     runs = sph.run_verification(out_dir=out_dir, cases_dir=args.cases, overrides=args.overrides, workers=args.workers,
-                            on_done=done)
+                                on_done=done, **_timeout(args))
     png = plot_scenes(runs, out_dir / "verify_sph.png")
     rows = json_rows(runs)
     failed = sum(not row["passed"] for row in rows)
