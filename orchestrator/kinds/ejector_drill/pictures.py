@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from orchestrator.kinds.ejector_drill.build import wall_meshes
+from orchestrator.plots import quiet_headless_vtk
 
 
 def draw_sections(frames: dict, case, layout, run_dir: Path, walls: dict | None = None) -> dict:
@@ -24,7 +25,8 @@ def draw_sections(frames: dict, case, layout, run_dir: Path, walls: dict | None 
         if walls is None:
             walls = wall_meshes(case, layout)
         name = f"section_{t * 1e3:.2f}ms"
-        out[name] = draw_section(frames[key], t, walls, case.numerics.dx, Path(run_dir) / f"{name}.png")
+        with quiet_headless_vtk():  # no 'bad X server connection' warning on a headless machine
+            out[name] = draw_section(frames[key], t, walls, case.numerics.dx, Path(run_dir) / f"{name}.png")
     return out
 
 
