@@ -171,6 +171,10 @@ def test_the_window_balance_counts_volumes_from_frame_to_frame():
     short = window_balance(time, flows, t_frames, volumes - 0.01 * 1e-3 * t_frames)
     assert short["closure_share"] == pytest.approx(0.01)
     assert window_balance(time, flows, t_frames[:1], volumes[:1]) == {}
+    # a stop frame 4e-6 s after the last regular one (no series record between them): no window
+    frames = np.append(t_frames[:8], [0.9e-3, 0.904e-3])
+    stop = window_balance(time[:91], {k: v[:91] for k, v in flows.items()}, frames, np.append(volumes[:8], [0.2e-6, 0.3e-6]))
+    assert stop == {}
 
 
 @pytest.mark.parametrize("residual, storage, words", [

@@ -85,7 +85,8 @@ def window_balance(time: np.ndarray, flows: dict, t_frames: np.ndarray, volumes:
     planes counted over (t_a, t_b] (each series record is the mean flow since the one before, so the sum of rate x
     interval is exact), stored the change of the control volume's fluid volume between the two frames (m^3), and
     closure_share = (V_AG - V_IB - V_loss - stored) / V_AG (-): what neither the planes nor the storage account for.
-    Empty when fewer than two frames lie in the window."""
+    Empty when fewer than two frames lie in the window, or no series record or no inflow between them (a run's
+    stop frame a few steps after its last regular one)."""
     if len(time) < 2 or len(t_frames) < 2:
         return {}
     tol = 1e-9 * (time[-1] - time[0])
@@ -96,6 +97,8 @@ def window_balance(time: np.ndarray, flows: dict, t_frames: np.ndarray, volumes:
     t_a, t_b = float(t_frames[inside[0]]), float(t_frames[inside[-1]])
     step = np.diff(time, prepend=time[0])
     counted = (time > t_a + tol) & (time <= t_b + tol)
+    if "V_AG" not in flows or not np.any(flows["V_AG"][counted]):
+        return {}
     out = {"t_a": t_a, "t_b": t_b, "stored": float(volumes[inside[-1]] - volumes[inside[0]])}
     for key in ("V_AG", "V_IB", "V_loss"):
         out[key] = float(np.sum(flows[key][counted] * step[counted])) if key in flows else 0.0
