@@ -76,7 +76,11 @@ namespace sph {
 // at a negative gauge pressure (a jet at 200 m/s leaving the drill's holes: -2,400 bar in the quick
 // flow-exit run) otherwise gave the wall's particles that tension, and the pairs' p_a/rho_a^2 + p_b/rho_b^2
 // then pulled the fluid into the wall: 860 fluid particles inside the drill's solids at 0.39 ms, where
-// the run went unstable; with the floor 286 at 0.40 ms (its end), none deeper than 0.8 dx.
+// the run went unstable; with the floor 286 at 0.40 ms (its end), none deeper than 0.8 dx. The density
+// that goes with the floor is rho_rest (rho0): at the stretched fluid's Shepard density (630-750 kg/m^3
+// beside the drill head in the paper-resolution run) V_b = m_b / rho_b made the wall look 1.6x its size in
+// the fluid's continuity sums, and a fluid particle gliding past at 560 m/s went to 818 kg/m^3 (-2,429 bar)
+// and stopped the run at 1.154 ms.
 // Measured limits of WP2: max_fit_gain, the fit's noise gain
 // sum_f W_bf e^T N^-1 e (N the normal matrix, e = (-d_b, d_b^2, 0, ...); a
 // mirror-like linear fit gives (d_b / d_f)^2): the open pipe at h = 1.5 dx went
@@ -177,7 +181,8 @@ bool quadratic_ghost(const WallFit<D>& fit, double d_b, double weight, const Vec
 }
 
 template <int D>
-void no_slip_velocity(Particles<D>& P, const std::vector<double>& shepard, std::ptrdiff_t b, double p_rest) {
+void no_slip_velocity(Particles<D>& P, const std::vector<double>& shepard, std::ptrdiff_t b, double p_rest,
+                      double rho_rest) {
   if (P.kind[b] != Kind::boundary) {
     P.v_noslip[b] = P.v[b];
     return;
@@ -195,7 +200,7 @@ void no_slip_velocity(Particles<D>& P, const std::vector<double>& shepard, std::
     P.wall_fit[b] = WallFit<D>{};
     if (weight > 0.0 && !std::isnan(offset[0])) {
       P.p[b] = std::max(fit.pressure / weight, p_rest);  // eq. WP3; a wall never pulls
-      P.rho[b] = fit.density / weight;  // the density that goes with that pressure (Adami et al. 2012)
+      P.rho[b] = std::max(fit.density / weight, rho_rest);  // the density that goes with it (Adami et al. 2012)
       P.vol[b] = P.mass[b] / P.rho[b];
       P.p_rho2[b] = P.p[b] / (P.rho[b] * P.rho[b]);
       const double d_b = P.wall_frame[b].depth;  // |offset|

@@ -245,7 +245,7 @@ class Simulation {
   // Tensor configurations: also its extra stress (eq. W1) and so its sigma / rho^2 (eq. T1).
   void no_slip_velocity_at(std::ptrdiff_t b) {
     const TaitEos& eos = materials_.eos(P_.material[b]);
-    no_slip_velocity(P_, shepard_, b, eos.pressure(eos.rho0));  // a wall's pressure floor: its rest pressure
+    no_slip_velocity(P_, shepard_, b, eos.pressure(eos.rho0), eos.rho0);  // a wall's floor: its rest state
     if constexpr (tensor)
       if (P_.kind[b] == Kind::boundary) wall_stress<Models>(P_, shepard_, b), equation_of_state_at(b);
   }
