@@ -42,8 +42,8 @@ def add_parser(sub) -> None:
     verify.add_argument("--out", metavar="DIR", help="run directories and the PNG (default: runs/verify-<suite>-<time>)")
     verify.add_argument("--workers", type=int, metavar="N", help="parallel runs (default: the number of cores)")
     verify.add_argument("--timeout", type=float, metavar="S",
-                        help="wall-time limit of each run, s (default 900 for sph, 600 for dem; a run stopped by it "
-                        "fails its checks, run.h5 keeps what it recorded)")
+                        help="wall-time limit of each run, s (default 3600 for sph: its 3D annulus takes ~750 s on "
+                        "one core; 600 for dem; a run stopped by it fails its checks, run.h5 keeps what it recorded)")
     verify.add_argument("--json", action="store_true",
                         help="print the rows as a JSON list of objects with the keys scene, engine, quantity, value, "
                         "expected, rel_error, tolerance, passed (SI units; null where not measured)")

@@ -43,7 +43,7 @@ def evaluate(case, run):
 
 
 # ---------------------------------------------------------------------------------------------------- runs
-def run_scene(case_file: Path, out_dir: Path, overrides=(), timeout_s: float | None = 900.0,
+def run_scene(case_file: Path, out_dir: Path, overrides=(), timeout_s: float | None = 3600.0,
               preset: str | None = None) -> SphSceneRun:
     """Run one SPH verification scene on the sph executable and check it (never raises for a failed run)."""
 
@@ -103,7 +103,7 @@ def scene_jobs(path: Path, overrides=(), preset: str | None = None) -> list[tupl
 
 
 def run_verification(out_dir=None, cases_dir=None, overrides=(), workers: int | None = None,
-                     timeout_s: float | None = 900.0, on_done=None, only=None, preset: str | None = None
+                     timeout_s: float | None = 3600.0, on_done=None, only=None, preset: str | None = None
                      ) -> list[SphSceneRun]:
     """Every SPH scene (or those whose stem is in `only`) on the sph executable; runs under out_dir/<scene>.
 
