@@ -18,8 +18,8 @@ from orchestrator.kinds.ejector_drill.probe import end_particles, probe_scene
 from orchestrator.reference.drill_network import LITRE_PER_MIN, solve
 
 CASE = Path(__file__).resolve().parent.parent / "cases" / "ejector_drill_canini.toml"
-PRESETS = ("flow_exit", "flow_exit_quick", "flow_exit_filled_quick", "drill_head", "drill_head_quick", "feed",
-           "feed_quick")
+PRESETS = ("flow_exit", "flow_exit_quick", "flow_exit_filled", "flow_exit_filled_quick", "drill_head",
+           "drill_head_quick", "feed", "feed_quick")
 
 
 def test_registered_with_the_sph_engine():
@@ -29,7 +29,8 @@ def test_registered_with_the_sph_engine():
 @pytest.mark.parametrize("preset", PRESETS)
 def test_presets_load_with_the_papers_resolution(preset):
     case = load_case(CASE, preset=preset).model
-    paper = {"flow_exit": (0.3e-3, 0.45e-3), "drill_head": (0.4e-3, 0.6e-3)}.get(preset)
+    paper = {"flow_exit": (0.3e-3, 0.45e-3), "flow_exit_filled": (0.3e-3, 0.45e-3),
+             "drill_head": (0.4e-3, 0.6e-3)}.get(preset)
     if paper:
         assert case.numerics.dx == pytest.approx(paper[0]) and case.numerics.h == pytest.approx(paper[1])
     assert case.network().d_bore == 0.030 and case.network().d_diff == 1.0e-3

@@ -98,12 +98,14 @@ def estimate(workdir: Path, executable: str, planned_steps: int, start: int, end
 def main(argv=None) -> int:
     """Command line (see the module docstring)."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("case", nargs="?")
-    parser.add_argument("--preset")
-    parser.add_argument("--steps", type=int, default=200)
-    parser.add_argument("--dir", type=Path, default=Path("ejector_drill_probe"))
+    parser.add_argument("case", nargs="?", help="an ejector_drill case file (TOML)")
+    parser.add_argument("--preset", help="one of the case file's presets")
+    parser.add_argument("--steps", type=int, default=200, help="engine steps the probe runs (default 200)")
+    parser.add_argument("--dir", type=Path, default=Path("runs/ejector_drill_probe"),
+                        help="where the probe writes its deck and output (default runs/ejector_drill_probe)")
     parser.add_argument("--deck-dir", type=Path, help="run a probe deck written by EjectorDrillSph.probe_command")
-    parser.add_argument("--planned", type=int, nargs=3, metavar=("STEPS", "START", "END"))
+    parser.add_argument("--planned", type=int, nargs=3, metavar=("STEPS", "START", "END"),
+                        help="with --deck-dir: the run's planned steps and its particles at the start and the end")
     parser.add_argument("--sph", default=None, help="the sph executable (default $ORCHESTRATOR_SPH, else "
                         "engines/sph/build/sph, else sph on PATH)")
     args = parser.parse_args(argv)
