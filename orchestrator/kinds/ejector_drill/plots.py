@@ -29,14 +29,14 @@ def plot_drill_series(time, flows: dict, series: dict, stored, path: Path, names
         top.plot(t, stored / LITRE_PER_MIN, "k--", lw=1, label="d(stored)/dt")
     top.set_ylabel("flow [l/min]")
     top.set_title(titles[0], fontsize=10)
-    top.legend(fontsize=8, ncol=3)
+    top.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))  # beside the axes: never over a curve
     for name in sorted(series):
         if name.startswith("pressure_probe_"):
             bottom.plot(t, np.asarray(series[name], dtype=float) / 1e5, label=name.removeprefix("pressure_probe_"))
     bottom.set_ylabel("p [bar, gauge]")
     bottom.set_xlabel("t [ms]")
     bottom.set_title(titles[1], fontsize=10)
-    bottom.legend(fontsize=8)
+    bottom.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     fig.savefig(path)
     return Path(path)
 
