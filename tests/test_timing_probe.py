@@ -59,3 +59,46 @@ def test_the_drill_probe_deck_dir_is_absolute(tmp_path, monkeypatch):
     deck_dir = Path(command[command.index("--deck-dir") + 1])
     assert deck_dir.is_absolute() and deck_dir == tmp_path / "run" / "probe"
     assert (deck_dir / "deck.json").is_file() and (deck_dir / "particles.h5").is_file()
+    # the scene fills from its prefill: the start state is probed too (probe.START)
+    assert (deck_dir / "start" / "deck.json").is_file() and (deck_dir / "start" / "particles.h5").is_file()
+
+
+def test_a_filled_start_probes_its_end_state_only(tmp_path):
+    from orchestrator.case import load_case
+    from orchestrator.kinds import build_scene
+    from orchestrator.kinds.ejector_drill.probe import write_probe
+
+    case = load_case(Path(__file__).parents[1] / "cases" / "ejector_drill_canini.toml",
+                     preset="flow_exit_filled_quick").model
+    info = write_probe(build_scene(case), tmp_path, 1, 10)
+    assert (tmp_path / "deck.json").is_file() and not (tmp_path / "start").exists()
+    assert info["planned_steps"] == case.planned_steps
+
+
+def _fake_sph(tmp_path) -> str:
+    """An 'sph executable' that writes out.h5 with 100 steps at the s/step its deck.json names ('cost')."""
+    script = tmp_path / "fake_sph"
+    script.write_text(f"#!{sys.executable}\nimport json, h5py\ncost = json.load(open('deck.json'))['cost']\n"
+                      "with h5py.File('out.h5', 'w') as h5:\n    h5.attrs['wall_time_s'] = 100 * cost\n"
+                      "    h5.attrs['n_steps'] = 100\n")
+    script.chmod(0o755)
+    return str(script)
+
+
+def test_the_estimate_is_the_planned_steps_at_the_mean_of_the_start_and_end_states(tmp_path):
+    """A filling run's step cost grows from its start state's to its end state's (linearly with the inflow): the
+    estimate is the planned steps at their mean, the bound the dearer one throughout. Without a start deck the end's
+    cost is scaled by the particle counts."""
+    from orchestrator.kinds.ejector_drill.probe import estimate
+
+    import json
+
+    (tmp_path / "start").mkdir()
+    (tmp_path / "deck.json").write_text(json.dumps({"cost": 0.2}))
+    (tmp_path / "start" / "deck.json").write_text(json.dumps({"cost": 0.05}))
+    per_end, per_start, typical, upper = estimate(tmp_path, _fake_sph(tmp_path), 1000, 10, 20)
+    assert (per_end, per_start) == (0.2, 0.05)
+    assert abs(typical - 125.0) < 1e-9 and abs(upper - 200.0) < 1e-9
+    (tmp_path / "start" / "deck.json").unlink()
+    per_end, per_start, typical, upper = estimate(tmp_path, _fake_sph(tmp_path), 1000, 10, 20)
+    assert per_start is None and abs(typical - 150.0) < 1e-9 and abs(upper - 200.0) < 1e-9

@@ -1,13 +1,18 @@
-"""Timing probe of an ejector-drill run: the scene's fluid regions filled, in flow order, with as many particles as
-the run can hold at its end (the prefill plus the inflow's volume over the whole duration), run for a few steps on
-the same deck; one 'TIMING s_per_step=... planned_steps=... estimate_s=...' line (runner protocol) gives the run's
-wall time as s/step of that state x the planned steps x (start + end particles) / (2 end particles), the mean of a
-count that grows linearly while the scene fills.
+"""Timing probe of an ejector-drill run: a few steps of the run's start (the scene as it is written) and of its end
+(the scene's fluid regions filled, in flow order, with as many particles as the run can hold at its end: the prefill
+plus the inflow's volume over the whole duration), each on the run's deck; one 'TIMING s_per_step=...
+planned_steps=... estimate_s=...' line (runner protocol) gives the run's wall time as the planned steps x the mean
+of the two states' s/step: a step's cost grows with the wetted walls and the fluid, linearly while the scene fills.
+A scene that starts filled (nothing to grow) probes its end state only. Measured on the paper-resolution flow-exit
+run (2026-11-27): start 0.05 s, end 0.211 s per step, so ~36 min against the run's 37 min (the end state's cost
+scaled by the particle count, (start + end) / (2 end), had announced 55 min: the boundary particles dominate the
+count but not the cost).
 
     python -m orchestrator.kinds.ejector_drill.probe CASE [--preset NAME] [--steps 200] [--dir DIR]
 
 prints the estimate for a case (the sph executable from $ORCHESTRATOR_SPH); EjectorDrillSph.probe_command runs
-`python -m orchestrator.kinds.ejector_drill.probe --deck-dir DIR ...` on a probe deck it wrote."""
+`python -m orchestrator.kinds.ejector_drill.probe --deck-dir DIR ...` on the probe decks it wrote (DIR the end
+state's, DIR/start the start's)."""
 
 from __future__ import annotations
 
@@ -62,10 +67,13 @@ def probe_scene(scene, limit: int | None = None):
                                wall_point=wall_point)
 
 
-def write_probe(scene, workdir: Path, threads: int, steps: int) -> dict:
-    """Write the probe's particles, meshes and deck into workdir; returns what the estimate needs."""
-    workdir = Path(workdir)
-    flow = probe_scene(scene)
+#: The start state's deck directory inside a probe's directory (the end state's deck is the directory's own).
+START = "start"
+
+
+def _write_deck(flow, workdir: Path, threads: int, steps: int) -> None:
+    """flow's particles, meshes and deck in workdir, the deck stopping after `steps` steps with one frame."""
+    workdir.mkdir(parents=True, exist_ok=True)
     write_particles(flow, workdir / "particles.h5")
     if flow.meshes:  # penalty walls
         write_meshes(flow, workdir / "meshes.h5")
@@ -74,11 +82,21 @@ def write_probe(scene, workdir: Path, threads: int, steps: int) -> dict:
     deck["output"]["frame_interval"] = deck["t_end"]
     deck["output"]["series_interval"] = deck["t_end"]
     (workdir / DECK).write_text(json.dumps(deck, indent=1))
+
+
+def write_probe(scene, workdir: Path, threads: int, steps: int) -> dict:
+    """The end state's deck in workdir and, for a scene that fills (fewer fluid particles at its start than at its
+    end), the start state's (the scene's own flow) in workdir/START; returns what the estimate needs."""
+    workdir = Path(workdir)
+    flow = probe_scene(scene)
+    _write_deck(flow, workdir, threads, steps)
+    if flow.n_fluid > scene.flow.n_fluid:
+        _write_deck(scene.flow, workdir / START, threads, steps)
     return {"planned_steps": scene.case.planned_steps, "start": scene.n_particles, "end": flow.n_particles}
 
 
-def estimate(workdir: Path, executable: str, planned_steps: int, start: int, end: int) -> tuple[float, float, float]:
-    """Run the probe deck in workdir; (s per step at `end` particles, estimate s, upper bound s)."""
+def _seconds_per_step(workdir: Path, executable: str) -> float:
+    """Run the probe deck in workdir; its engine wall time per step, s."""
     try:
         done = subprocess.run([executable, DECK], cwd=workdir, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
                               text=True)
@@ -90,9 +108,19 @@ def estimate(workdir: Path, executable: str, planned_steps: int, start: int, end
     import h5py
 
     with h5py.File(Path(workdir) / "out.h5", "r") as h5:
-        per_step = float(h5.attrs["wall_time_s"]) / max(1, int(h5.attrs["n_steps"]))
-    upper = per_step * planned_steps
-    return per_step, upper * (start + end) / (2.0 * end), upper
+        return float(h5.attrs["wall_time_s"]) / max(1, int(h5.attrs["n_steps"]))
+
+
+def estimate(workdir: Path, executable: str, planned_steps: int, start: int, end: int
+             ) -> tuple[float, float | None, float, float]:
+    """Run the probe decks in workdir; (s per step at the end state, s per step at the start state or None, estimate
+    s, upper bound s). Without a start deck the end's cost is scaled by the particle counts start, end."""
+    per_end = _seconds_per_step(workdir, executable)
+    upper = per_end * planned_steps
+    if (Path(workdir) / START / DECK).is_file():
+        per_start = _seconds_per_step(Path(workdir) / START, executable)
+        return per_end, per_start, 0.5 * (per_start + per_end) * planned_steps, max(upper, per_start * planned_steps)
+    return per_end, None, upper * (start + end) / (2.0 * end), upper
 
 
 def main(argv=None) -> int:
@@ -119,11 +147,13 @@ def main(argv=None) -> int:
         args.dir.mkdir(parents=True, exist_ok=True)
         info = write_probe(scene, args.dir, case.numerics.threads, args.steps)
         steps, start, end, workdir = info["planned_steps"], info["start"], info["end"], args.dir
-    per_step, typical, upper = estimate(workdir, executable, steps, start, end)
-    print(f"TIMING s_per_step={per_step:.6g} planned_steps={steps} estimate_s={typical:.6g}", flush=True)
-    print(f"probe: {end} particles (the run's end), {per_step * 1e3:.3g} ms per step; {steps} steps planned; the run "
-          f"takes about {typical / 60:.1f} min (at most {upper / 60:.1f} min with the end's particles throughout)",
-          file=sys.stderr)
+    per_step, per_start, typical, upper = estimate(workdir, executable, steps, start, end)
+    print(f"TIMING s_per_step={typical / max(1, steps):.6g} planned_steps={steps} estimate_s={typical:.6g}",
+          flush=True)
+    at_start = "" if per_start is None else f" ({per_start * 1e3:.3g} ms per step at its start)"
+    print(f"probe: {end} particles (the run's end), {per_step * 1e3:.3g} ms per step{at_start}; {steps} steps planned; "
+          f"the run takes about {typical / 60:.1f} min (at most {upper / 60:.1f} min with the end's particles "
+          "throughout)", file=sys.stderr)
     return 0
 
 
