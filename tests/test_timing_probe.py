@@ -102,3 +102,20 @@ def test_the_estimate_is_the_planned_steps_at_the_mean_of_the_start_and_end_stat
     (tmp_path / "start" / "deck.json").unlink()
     per_end, per_start, typical, upper = estimate(tmp_path, _fake_sph(tmp_path), 1000, 10, 20)
     assert per_start is None and abs(typical - 150.0) < 1e-9 and abs(upper - 200.0) < 1e-9
+
+
+def test_the_probe_command_line_names_bad_input(tmp_path, capsys):
+    """No case, an unknown case file or preset, --deck-dir without --planned: one error line and exit code 2."""
+    import pytest
+
+    from orchestrator.kinds.ejector_drill.probe import main
+
+    case = str(Path(__file__).parents[1] / "cases" / "ejector_drill_canini.toml")
+    assert main([str(tmp_path / "nosuch.toml")]) == 2
+    assert "case file not found" in capsys.readouterr().err
+    assert main([case, "--preset", "nope", "--dir", str(tmp_path / "p")]) == 2
+    assert "unknown preset 'nope'" in capsys.readouterr().err
+    for argv, words in (([], "name a case file"), (["--deck-dir", str(tmp_path)], "--deck-dir needs --planned")):
+        with pytest.raises(SystemExit) as stop:
+            main(argv)
+        assert stop.value.code == 2 and words in capsys.readouterr().err

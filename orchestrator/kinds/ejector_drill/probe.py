@@ -28,6 +28,7 @@ import numpy as np
 
 from orchestrator.case.loader import load_case
 from orchestrator.engines.sph import Sph
+from orchestrator.errors import OrchestratorError
 from orchestrator.kinds import build_scene
 from orchestrator.kinds.ejector_drill.build import filled_sites
 from orchestrator.kinds.sph_flow.scene import FLUID
@@ -137,14 +138,21 @@ def main(argv=None) -> int:
     parser.add_argument("--sph", default=None, help="the sph executable (default $ORCHESTRATOR_SPH, else "
                         "engines/sph/build/sph, else sph on PATH)")
     args = parser.parse_args(argv)
+    if args.deck_dir is not None and args.planned is None:
+        parser.error("--deck-dir needs --planned STEPS START END")
+    if args.deck_dir is None and args.case is None:
+        parser.error("name a case file (or --deck-dir with --planned)")
     executable = args.sph or Sph().executable or "sph"
     if args.deck_dir is not None:
         steps, start, end = args.planned
         workdir = args.deck_dir
     else:
-        case = load_case(args.case, preset=args.preset).model
+        try:
+            case = load_case(args.case, preset=args.preset).model
+        except OrchestratorError as err:
+            print(f"error: {err}", file=sys.stderr)
+            return 2
         scene = build_scene(case)
-        args.dir.mkdir(parents=True, exist_ok=True)
         info = write_probe(scene, args.dir, case.numerics.threads, args.steps)
         steps, start, end, workdir = info["planned_steps"], info["start"], info["end"], args.dir
     per_step, per_start, typical, upper = estimate(workdir, executable, steps, start, end)
