@@ -110,7 +110,8 @@ def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float |
     out_dir must be new, empty or a run directory of ours (rundir.RunDirectory: locked while the run lasts;
     force empties it first). extra_attrs are added to run.h5's root attributes (a study's run_id); mpi_ranks runs
     the engine under mpirun (engines whose profile takes it: liggghts). resume continues the stopped run in
-    out_dir from its last checkpoint (engines with resume_input: liggghts drag finishing).
+    out_dir from its last checkpoint (adapters with resume_input: drag finishing on liggghts and yade, sph runs
+    from their last frame).
     Raises EngineNotFound before anything runs; EngineTimeout / EngineFailed / EngineUnstable after run.h5 is
     written (with status and what was measured before); KeyboardInterrupt (signals.Interrupted for SIGINT,
     SIGTERM, SIGHUP) after the engine was stopped, with `kept` (what is on disk) set on it when run.h5 was written.

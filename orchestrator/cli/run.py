@@ -22,7 +22,8 @@ def add_parser(sub) -> None:
                      help="TOML case file, e.g. cases/drag_finishing_uhlmann2015.toml (not with --resume)")
     run.add_argument("--resume", metavar="RUN_DIR",
                      help="continue a stopped run from its last checkpoint (drag finishing on LIGGGHTS or Yade with "
-                     "output.checkpoint_interval set), with its own case, engine and MPI ranks; into the same run.h5")
+                     "output.checkpoint_interval set; sph runs stopped by --timeout or a signal, from their last "
+                     "frame), with its own case, engine and MPI ranks; into the same run.h5")
     run.add_argument("--engine", help="engine name (default: the case's case.engine); see 'orchestrator doctor'")
     run.add_argument("--preset", help="named override set from the case's [presets.NAME] (e.g. quick, full)")
     run.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE",

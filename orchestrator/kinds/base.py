@@ -68,7 +68,8 @@ class Adapter(abc.ABC):
     def resume_input(self, engine, scene, workdir: Path) -> tuple[list[str], dict[str, str]]:
         """Write the input that continues a stopped run in workdir from its last checkpoint; returns its command."""
         raise OrchestratorError(f"--resume: {self.engine} runs of {scene.case.case.kind} cases cannot be resumed from a "
-                                "checkpoint; LIGGGHTS and Yade drag-finishing runs can (output.checkpoint_interval)")
+                                "checkpoint; LIGGGHTS and Yade drag-finishing runs can (output.checkpoint_interval), and "
+                                "sph runs from their last frame")
 
     @property
     def probes(self) -> bool:

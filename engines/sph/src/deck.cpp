@@ -248,7 +248,7 @@ std::string Deck::terms_string() const {
 Deck parse_deck(const json& j, const std::string& deck_dir) {
   check_keys(j, "", {"dimension", "particles_file", "physics", "rho0", "c0", "gamma", "background_pressure", "v_max",
                      "viscosity", "alpha", "beta", "artificial_viscosity", "h", "dx", "body_force", "meshes", "wall", "periodic", "inlets",
-                     "outlets", "dt", "time_step", "t_end", "max_steps", "stability", "output", "threads",
+                     "outlets", "dt", "time_step", "t_end", "t_start", "step_start", "max_steps", "stability", "output", "threads",
                      "materials", "lees_edwards", "neighbour_skin", "viscosity_correction"});
   Deck d;
   d.deck_dir = deck_dir;
@@ -361,6 +361,15 @@ Deck parse_deck(const json& j, const std::string& deck_dir) {
     if (t.contains("force")) d.force_factor = positive(t, "time_step", "force");
   }
   d.t_end = positive(j, "", "t_end");
+  if (j.contains("t_start")) {  // a resumed run: its particle file holds the state at t_start
+    d.t_start = number(j["t_start"], "t_start");
+    if (!(d.t_start >= 0.0 && d.t_start < d.t_end)) fail("'t_start' must be >= 0 s and below 't_end'");
+  }
+  if (j.contains("step_start")) {
+    if (!j["step_start"].is_number_integer() || j["step_start"].get<long>() < 0)
+      fail("'step_start' must be an integer >= 0, got " + j["step_start"].dump());
+    d.step_start = j["step_start"].get<long>();
+  }
   if (j.contains("max_steps")) {
     if (!j["max_steps"].is_number_integer() || j["max_steps"].get<long>() < 1)
       fail("'max_steps' must be a positive integer, got " + j["max_steps"].dump());

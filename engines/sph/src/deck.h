@@ -148,6 +148,9 @@ struct Deck {
   double cfl = 0.25, viscous_factor = 0.125, force_factor = 0.25;
   double t_end = 0;                                          // s
   long max_steps = 0;                                        // 0: no limit
+  // resumed run (the particle file holds a stopped run's last frame): its time and step, s
+  double t_start = 0;
+  long step_start = 0;
   // stability
   double max_density_deviation = 0.1;  // |rho/rho0 - 1| allowed
   // output

@@ -1,5 +1,6 @@
 #include "input_h5.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "deck.h"
@@ -72,6 +73,15 @@ ParticleInput read_particles(const std::string& path, int dimension) {
     for (double x : p.wall_point)
       if (std::isinf(x)) fail("dataset 'wall_point' in '" + path + "' holds an infinite value (NaN rows mean none)");
   }
+  // Optional: the ids of a resumed run's frame (unique, >= 0), so particles keep their ids across the parts.
+  if (H5Lexists(f, "ids", H5P_DEFAULT) > 0) {
+    p.ids = read<std::int64_t>(f, path, "ids", H5T_NATIVE_INT64, n, 0);
+    std::vector<std::int64_t> sorted = p.ids;
+    std::sort(sorted.begin(), sorted.end());
+    if (!sorted.empty() && sorted.front() < 0) fail("dataset 'ids' in '" + path + "' holds a negative id");
+    if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
+      fail("dataset 'ids' in '" + path + "' holds an id twice");
+  }
   p.n = n;
   all_finite(p.positions, path, "positions");
   all_finite(p.velocities, path, "velocities");
@@ -80,8 +90,9 @@ ParticleInput read_particles(const std::string& path, int dimension) {
   for (std::size_t i = 0; i < n; ++i) {
     if (!(p.masses[i] > 0)) fail("masses[" + std::to_string(i) + "] in '" + path + "' must be > 0");
     if (!(p.densities[i] > 0)) fail("densities[" + std::to_string(i) + "] in '" + path + "' must be > 0");
-    if (p.kind[i] != 0 && p.kind[i] != 1)
-      fail("kind[" + std::to_string(i) + "] in '" + path + "' must be 0 (fluid) or 1 (boundary)");
+    if (p.kind[i] < 0 || p.kind[i] > 3)
+      fail("kind[" + std::to_string(i) + "] in '" + path + "' must be 0 (fluid), 1 (boundary), 2 (inlet) or 3 (outlet)");
+    p.has_buffers = p.has_buffers || p.kind[i] >= 2;
   }
   return p;
 }

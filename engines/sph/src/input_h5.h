@@ -18,6 +18,8 @@ struct ParticleInput {
   std::vector<std::int8_t> kind;
   std::vector<std::int32_t> material;  // optional dataset `material` (n): index into the deck's materials
   std::vector<double> wall_point;      // optional dataset `wall_point` (n,D) m, row-major; NaN rows: none
+  std::vector<std::int64_t> ids;       // optional dataset `ids` (n): a resumed run's particle ids (default: row)
+  bool has_buffers = false;            // kind 2 (inlet) or 3 (outlet) rows: a resumed run's open-boundary buffers
 };
 
 // A mesh group: vertices (nv,D) m, faces (nf,D) vertex indices (triangles in 3D, segments in 2D).

@@ -115,6 +115,13 @@ class OpenBoundaries {
     return next_id;
   }
 
+  // A resumed run's inlets at its start time t (s): the ramp factor of eq. OB4 there (the buffers come from
+  // the particle file, as they were).
+  void start_at(double t) {
+    for (auto& in : inlets_)
+      in.factor = in.ramp_time > 0.0 && t < in.ramp_time ? 0.5 * (1.0 - std::cos(M_PI * t / in.ramp_time)) : 1.0;
+  }
+
   // Fluid that starts inside an outlet buffer is outlet fluid from the start
   // (not counted as outflow).
   void classify_initial(Particles<D>& P) const {

@@ -38,12 +38,20 @@ int run_simulation(const Deck& deck, Particles<D> particles, WallPenalty<D> wall
   std::signal(SIGINT, request_stop);
 
   const bool fixed = deck.dt.has_value();
-  long step = 0, series_count = 0, frame_count = 0;
-  double t = 0.0, dt = fixed ? *deck.dt : 0.0, dt_sum = 0.0;
+  // A resumed run starts at its frame's time and step (deck t_start, step_start); max_steps and the
+  // n_steps, dt_mean it reports count its own steps.
+  const long step0 = deck.step_start;
+  const auto intervals_done = [&](double interval) {
+    return static_cast<long>(std::floor(deck.t_start / interval * (1.0 + 1e-9)));
+  };
+  long step = step0, series_count = intervals_done(deck.series_interval),
+       frame_count = intervals_done(deck.frame_interval);
+  double t = deck.t_start, dt = fixed ? *deck.dt : 0.0, dt_sum = 0.0;
   auto planned = [&] {
     const double left = std::max(0.0, deck.t_end - t);
-    const double dt_typical = fixed || step == 0 ? dt : dt_sum / step;
-    long m = step + static_cast<long>(std::ceil(left / std::max(dt_typical, 1e-300) - 1e-9));
+    const long done = step - step0;
+    const double dt_typical = fixed || done == 0 ? dt : dt_sum / done;
+    long m = done + static_cast<long>(std::ceil(left / std::max(dt_typical, 1e-300) - 1e-9));
     return deck.max_steps ? std::min(m, deck.max_steps) : m;
   };
   rec.series(t);
@@ -54,7 +62,7 @@ int run_simulation(const Deck& deck, Particles<D> particles, WallPenalty<D> wall
   bool sorted = true, timing_printed = false;  // sorted: binned at the current positions
   auto last_progress = started;
 
-  while (t < deck.t_end * (1.0 - 1e-12) && !(deck.max_steps && step >= deck.max_steps)) {
+  while (t < deck.t_end * (1.0 - 1e-12) && !(deck.max_steps && step - step0 >= deck.max_steps)) {
     if (stop_requested) {
       status = "terminated", message = "stopped by a signal", code = exit_terminated;
       break;
@@ -72,7 +80,7 @@ int run_simulation(const Deck& deck, Particles<D> particles, WallPenalty<D> wall
                             : sim.step(dt, NoCrossings{});
     ++step;
     const double t_before = t;
-    t = fixed ? step * dt : t + dt;
+    t = fixed ? deck.t_start + (step - step0) * dt : t + dt;
     dt_sum += dt;
     sorted = false;
     const StabilityReport report = binned ? sim.check_stability() : StabilityReport{false, "particles blew apart"};
@@ -110,9 +118,9 @@ int run_simulation(const Deck& deck, Particles<D> particles, WallPenalty<D> wall
     const auto now = Clock::now();
     if (std::chrono::duration<double>(now - last_progress).count() >= deck.progress_interval) {
       last_progress = now;
-      std::fprintf(stderr, "PROGRESS step=%ld of %ld phase=run t=%.6g\n", step, planned(), t);
+      std::fprintf(stderr, "PROGRESS step=%ld of %ld phase=run t=%.6g\n", step - step0, planned(), t);
       if (!timing_printed) {
-        const double per_step = std::chrono::duration<double>(now - started).count() / step;
+        const double per_step = std::chrono::duration<double>(now - started).count() / (step - step0);
         std::fprintf(stderr, "TIMING s_per_step=%.6g planned_steps=%ld estimate_s=%.6g\n", per_step, planned(),
                      per_step * planned());
         timing_printed = true;
@@ -127,14 +135,16 @@ int run_simulation(const Deck& deck, Particles<D> particles, WallPenalty<D> wall
     if (rec.last_frame_time() < t) rec.frame(t, step);
   }
   const double wall = std::chrono::duration<double>(Clock::now() - started).count();
-  std::fprintf(stderr, "PROGRESS step=%ld of %ld phase=done t=%.6g\n", step, step, t);
+  const long steps = step - step0;
+  std::fprintf(stderr, "PROGRESS step=%ld of %ld phase=done t=%.6g\n", steps, steps, t);
   out.attr("status", status);
   out.attr("message", message);
-  out.attr("n_steps", step);
-  out.attr("dt_mean", step ? dt_sum / step : 0.0);
+  out.attr("n_steps", steps);
+  out.attr("dt_mean", steps ? dt_sum / steps : 0.0);
+  out.attr("t_start", deck.t_start);
   out.attr("t_final", t);
   out.attr("wall_time_s", wall);
-  out.attr("particle_steps_per_s", wall > 0 ? static_cast<double>(sim.particles().size()) * step / wall : 0.0);
+  out.attr("particle_steps_per_s", wall > 0 ? static_cast<double>(sim.particles().size()) * steps / wall : 0.0);
   // Where the time went (wall s per stage; output includes the re-binning before each record).
   const StageTimes& st = sim.stage_times();
   const std::pair<const char*, double> stages[] = {
@@ -200,8 +210,17 @@ int run_dimension(const Deck& deck) {
   configure_parallel();
   const ParticleInput in = read_particles(deck.particles_file, D);
   OpenBoundaries<D> open(deck);
-  Particles<D> P = make_particles<D>(deck, in, open.extra_capacity(deck.t_end));
-  open.fill(P, static_cast<std::int64_t>(in.n));
+  Particles<D> P = make_particles<D>(deck, in, open.extra_capacity(deck.t_end - deck.t_start));
+  if (in.has_buffers) {  // a resumed run: its frame holds the buffers as they were
+    for (std::size_t i = 0; i < in.n; ++i)
+      if ((in.kind[i] == 2 && deck.inlets.empty()) || (in.kind[i] == 3 && deck.outlets.empty()))
+        throw InputError("particle " + std::to_string(i) + " is an " + (in.kind[i] == 2 ? "inlet" : "outlet") +
+                         " particle (kind " + std::to_string(in.kind[i]) + ") but the deck has no " +
+                         (in.kind[i] == 2 ? "inlets" : "outlets"));
+    open.start_at(deck.t_start);
+  } else {
+    open.fill(P, static_cast<std::int64_t>(in.n));
+  }
   open.classify_initial(P);
   WallPenalty<D> walls = make_walls<D>(deck);
   return dispatch<D>(wanted_by(deck), deck, std::move(P), std::move(walls), std::move(open));

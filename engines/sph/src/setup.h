@@ -38,7 +38,7 @@ Particles<D> make_particles(const Deck& deck, const ParticleInput& in, std::size
     if (deck.lees_edwards.on && P.kind[i] != Kind::fluid)
       throw InputError("particle " + std::to_string(i) + " is not fluid (kind " + std::to_string(in.kind[i]) +
                        "): a 'lees_edwards' cell takes fluid particles only");
-    P.id[i] = static_cast<std::int64_t>(i);
+    P.id[i] = in.ids.empty() ? static_cast<std::int64_t>(i) : in.ids[i];
     const std::int32_t mat = in.material.empty() ? 0 : in.material[i];
     if (mat < 0 || static_cast<std::size_t>(mat) >= nm)
       throw InputError("material[" + std::to_string(i) + "] = " + std::to_string(mat) + " in the particle file is not an index into 'materials' (0.." +

@@ -28,6 +28,9 @@ class EjectorDrillSph(SphFlow):
     def read_output(self, engine, scene, workdir: Path):
         return super().read_output(engine, scene.flow, workdir)
 
+    def resume_input(self, engine, scene, workdir: Path):
+        return super().resume_input(engine, scene.flow, workdir)
+
     def planned_steps(self, engine, scene) -> int:
         """Steps at the CFL bound with the inflow speed, cfl h / (c0 + v_in): an upper bound while nothing in the
         scene runs faster than the inflow."""

@@ -10,6 +10,7 @@ import numpy as np
 
 from orchestrator.engines.base import Result, Series
 from orchestrator.kinds.base import Adapter
+from orchestrator.kinds.sph_flow.resume import FRAME_ARRAYS, merge_parts, part_files, write_resume_input
 from orchestrator.runh5 import _plain
 from orchestrator.runner import LOG_NAME, tail
 from orchestrator.templating import render
@@ -38,6 +39,11 @@ class SphFlow(Adapter):
 
     def read_output(self, engine, scene, workdir: Path) -> Result:
         return read_sph_output(workdir, scene)
+
+    def resume_input(self, engine, scene, workdir: Path) -> tuple[list[str], dict[str, str]]:
+        """Continue the stopped run in workdir from its last frame (resume.py): its deck from that frame's time."""
+        deck = write_resume_input(Path(workdir), DECK, OUTPUT)
+        return [engine.executable or "sph", deck], engine.environment(scene.case.numerics.thread_wait)
 
 
 def deck_context(scene, threads: int = 1) -> dict:
@@ -158,23 +164,30 @@ SERIES_DESCRIPTIONS = {
 ENGINE_ATTRS = {"n_steps": "n_steps", "dt_mean": "dt", "t_final": "simulated_time", "wall_time_s": "engine_wall_time_s",
                 "particle_steps_per_s": "particle_steps_per_s", "physics": "physics", "h": "h", "dx": "dx",
                 "dimension": "dimension", "last_good_frame": "last_good_frame"}
-FRAME_ARRAYS = ("ids", "kind", "positions", "velocities", "densities", "pressures")
 
 
 def read_sph_output(workdir: Path, scene=None) -> Result:
-    """Parse out.h5 of a run (complete, partial or missing) into a Result; meshes from the scene."""
-    import h5py
-
-    result = Result()
-    path = Path(workdir) / OUTPUT
+    """Parse out.h5 of a run (complete, partial or missing) into a Result; meshes from the scene. A resumed run's
+    earlier parts (out.1.h5, ...: resume.py) are read first and merged with it."""
     material = None if scene is None or not scene.case.materials else np.asarray(scene.material, dtype=np.int32)
+    parts = [_read_part(path, workdir, material) for path in part_files(workdir, OUTPUT)]
+    result = merge_parts(parts)
     if scene is not None:
         result.meshes = {name: {"vertices": np.asarray(m.vertices), "faces": np.asarray(m.faces)}
                          for name, m in scene.meshes.items()}
+    return result
+
+
+def _read_part(path: Path, workdir: Path, material) -> tuple[Result, dict]:
+    """(Result, out.h5's root attributes) of one engine output file."""
+    import h5py
+
+    result = Result()
+    attrs: dict = {}
     if not path.is_file():
         result.status = "failed"
         result.message = _engine_error(workdir) or f"the engine wrote no {OUTPUT}"
-        return result
+        return result, attrs
     try:
         with h5py.File(path, "r") as h5:
             attrs = {k: _plain(v) for k, v in h5.attrs.items()}
@@ -204,7 +217,7 @@ def read_sph_output(workdir: Path, scene=None) -> Result:
     except (OSError, KeyError, ValueError) as exc:
         result.status = "failed"
         result.message = f"cannot read {path}: {exc}"
-        return result
+        return result, attrs
     status = attrs.get("status", "running")
     message = attrs.get("message", "")
     if status == "ok":
@@ -216,7 +229,7 @@ def read_sph_output(workdir: Path, scene=None) -> Result:
     else:
         result.status = "failed"
         result.message = _engine_error(workdir) or "the engine ended without finishing (status 'running' in out.h5)"
-    return result
+    return result, attrs
 
 
 def _frame_material(material: np.ndarray, ids: np.ndarray) -> np.ndarray:
