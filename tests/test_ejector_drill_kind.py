@@ -11,7 +11,7 @@ import pytest
 from orchestrator.case.loader import load_case
 from orchestrator.errors import OrchestratorError
 from orchestrator.kinds import build_scene, get_kind, kind_names
-from orchestrator.kinds.ejector_drill.analysis import balance, filling_times, flow_series
+from orchestrator.kinds.ejector_drill.analysis import balance, filling_times, flow_series, spaced_frames
 from orchestrator.kinds.ejector_drill.comparison import comparison_rows, network_at_gap_flow
 from orchestrator.kinds.ejector_drill.build import prefill_margin, wall_meshes
 from orchestrator.kinds.ejector_drill.probe import end_particles, probe_scene
@@ -322,3 +322,10 @@ def test_zones_find_the_still_fluid_and_the_pressure_peak():
     count, mean, top, where, r, z = found["peak"]
     assert (count, where, top, mean) == (len(hot), "head_clearance", 5e7, 5e7)
     assert r == pytest.approx(np.hypot(x[hot, 0], x[hot, 1]).mean()) and z == pytest.approx(x[hot, 2].mean())
+
+
+def test_spaced_frames_leave_out_a_stop_frame_close_to_the_grid():
+    # frames every 1 ms, the stop's extra frame 0.0095 ms after 7 ms (a run stopped and resumed there), and a
+    # final frame 0.6 ms after the last regular one (kept: more than half an interval)
+    t = np.array([0.0, 1.0, 2.0, 7.0, 7.0095, 8.0, 9.0, 9.6]) * 1e-3
+    np.testing.assert_array_equal(spaced_frames(t, 1e-3), [True, True, True, True, False, True, True, True])

@@ -22,7 +22,7 @@ def run_series(run_dir, run: dict, case, paper_dt: str = "") -> tuple[dict, np.n
     time = np.asarray(series.pop("time", []), dtype=float)
     print(f"run {run_dir}: status {attrs['status']}, {attrs.get('n_particles')} particles at the start, "
           f"{attrs.get('n_steps')} steps, mean dt {attrs.get('dt', float('nan')):.4g} s{paper_dt}, c0 {case.c0:g} m/s, "
-          f"CFL {case.numerics.adaptive['cfl']:g}, wall time {attrs.get('wall_time_s', 0):.1f} s")
+          f"CFL {case.numerics.adaptive['cfl']:g}, wall time {attrs.get('wall_time_s', 0):.1f} s{_parts(attrs)}")
     if time.size < 2:
         print("the run recorded fewer than two series records: nothing to analyse")
         return series, np.zeros(0)
@@ -54,6 +54,25 @@ def flow_series(series: dict, time: np.ndarray) -> dict[str, np.ndarray]:
     if "V_AG" not in out and "V_in" in out:  # the drill-head scene: the inlet is the gap's flow
         out["V_AG"] = out["V_in"]
     return out
+
+
+def _parts(attrs: dict) -> str:
+    """' (the last of N parts; the engine's X s over all)' for a resumed run, '' otherwise."""
+    parts = int(attrs.get("engine_parts", 1))
+    if parts < 2:
+        return ""
+    return f" (the last of {parts} parts: resumed; the engine's {float(attrs.get('engine_wall_time_s', 0)):.1f} s over all)"
+
+
+def spaced_frames(t_frames: np.ndarray, interval: float) -> np.ndarray:
+    """Mask of the frames at least interval / 2 (s) after the last kept one: leaves out the extra frame a stopped
+    (and resumed) run wrote at its stop, whose short interval would make a storage rate spike."""
+    keep = np.zeros(len(t_frames), dtype=bool)
+    last = -math.inf
+    for i, t in enumerate(t_frames):
+        if t - last >= 0.5 * interval:
+            keep[i], last = True, t
+    return keep
 
 
 def stored_volume_rate(time: np.ndarray, volume: np.ndarray) -> np.ndarray:

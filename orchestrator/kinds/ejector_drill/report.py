@@ -11,7 +11,8 @@ from pathlib import Path
 import numpy as np
 
 from orchestrator.kinds.ejector_drill.analysis import (STILL_SHARE, balance, filling_times, flow_series, run_series,
-                                                       sensor_pressures, stored_volume_rate, window_balance, zones)
+                                                       sensor_pressures, spaced_frames, stored_volume_rate,
+                                                       window_balance, zones)
 from orchestrator.kinds.ejector_drill.comparison import comparison_rows, network_at_gap_flow, stored_volume
 from orchestrator.kinds.ejector_drill.layout import drill_layout
 from orchestrator.kinds.ejector_drill.pictures import draw_sections
@@ -81,7 +82,9 @@ def analyze_drill_run(run_dir, run: dict, case, render: bool = True) -> dict:
     flows = flow_series(series, time)
     frames = run.get("frames", {})
     t_frames, volumes = stored_volume(layout, frames, case.fluid.density * case.numerics.dx ** 3)
-    stored = np.interp(time, t_frames, stored_volume_rate(t_frames, volumes)) if t_frames.size >= 2 else None
+    grid = spaced_frames(t_frames, case.output.frame_interval)
+    stored = (np.interp(time, t_frames[grid], stored_volume_rate(t_frames[grid], volumes[grid]))
+              if grid.sum() >= 2 else None)
     bal = balance(time, flows, stored)
     print(f"\neq. 2 over the last 20 % of the run (l/min): V_AG {bal.get('V_AG', math.nan) / LITRE_PER_MIN:.4g}, "
           f"V_IB {bal.get('V_IB', math.nan) / LITRE_PER_MIN:.4g}, V_loss {bal.get('V_loss', 0.0) / LITRE_PER_MIN:.4g}")
