@@ -195,6 +195,14 @@ def test_an_early_ctrl_c_is_never_swallowed(tmp_path):
             with h5py.File(out / "run.h5") as h5:
                 assert h5.attrs["status"] == "ok"
             continue
+        if proc.returncode == -signal.SIGINT:  # on a loaded machine: before the interpreter had its handler (or
+            # after it gave it back on exit), so the default action ended it, as a shell shows Ctrl-C: nothing of
+            # ours had started, or the run had finished
+            assert "error:" not in err, err
+            if (out / "run.h5").is_file():
+                with h5py.File(out / "run.h5") as h5:
+                    assert h5.attrs["status"] == "ok"
+            continue
         assert proc.returncode == 130, err
         assert "Traceback" not in err and err.count("error:") == 1
         written = (out / "run.h5").is_file()
