@@ -277,3 +277,19 @@ TEST(ptt_material_and_lees_edwards_are_parsed_and_checked) {
   not_periodic["periodic"] = json::parse(R"({"axes": [0], "lo": [0], "hi": [0.01]})");
   CHECK(mentions(rejection(not_periodic), "'periodic.axes' must list axes 0 and 1"));
 }
+
+TEST(a_resumed_runs_start_is_checked) {
+  json j = good_deck();
+  j["t_start"] = 0.04;
+  j["step_start"] = 1200;
+  const Deck d = parse_deck(j, deck_dir().string());
+  CHECK(d.t_start == 0.04 && d.step_start == 1200);
+  CHECK(parse_deck(good_deck(), deck_dir().string()).t_start == 0.0);
+  j["t_start"] = 0.1;  // = t_end: nothing left to run
+  CHECK(mentions(rejection(j), "'t_start' must be >= 0 s and below 't_end'"));
+  j["t_start"] = -1e-3;
+  CHECK(mentions(rejection(j), "'t_start' must be >= 0 s and below 't_end'"));
+  j = good_deck();
+  j["step_start"] = -3;
+  CHECK(mentions(rejection(j), "'step_start' must be an integer >= 0"));
+}
