@@ -105,6 +105,18 @@ inline constexpr double max_wall_extrapolation = 8.0;
 inline constexpr double min_fit_pivot = 1e-6;  // smallest LDLT pivot / largest of the scaled fit (eq. WP2)
 inline constexpr double max_fit_gain = 1e4;    // largest noise gain of the fit (eq. WP2), see no_slip_velocity
 
+// Whether every fixed boundary particle has the same velocity (pairs of two of them are then left out of the list).
+template <int D>
+bool walls_move_together(const Particles<D>& P) {
+  const Vec<D>* first = nullptr;
+  for (std::size_t i = 0; i < P.size(); ++i)
+    if (P.kind[i] == Kind::boundary) {
+      if (!first) first = &P.v[i];
+      if (!(P.v[i] == *first)) return false;
+    }
+  return true;
+}
+
 // Add a fluid neighbour at r_fb = x_f - x_b, weight w, with velocity v_f - v_b = dv, pressure p_f and
 // density rho_f, to the fit sums `fit` of a boundary particle of wall frame `frame` (eq. WP2). Each
 // sum takes w a_i a_j as (w a_i) a_j (as Eigen's w * (a * a^T) rounds it), the lower triangle only.

@@ -245,11 +245,15 @@ std::string Deck::terms_string() const {
   return viscosity_correction ? out + " with viscosity_correction" : out;
 }
 
+bool Deck::inlets_extrapolated() const {
+  return !inlets.empty() && std::all_of(inlets.begin(), inlets.end(), [](const InletSpec& in) { return in.extrapolated; });
+}
+
 Deck parse_deck(const json& j, const std::string& deck_dir) {
   check_keys(j, "", {"dimension", "particles_file", "physics", "rho0", "c0", "gamma", "background_pressure", "v_max",
                      "viscosity", "alpha", "beta", "artificial_viscosity", "h", "dx", "body_force", "meshes", "wall", "periodic", "inlets",
                      "outlets", "dt", "time_step", "t_end", "t_start", "step_start", "max_steps", "stability", "output", "threads",
-                     "materials", "lees_edwards", "neighbour_skin", "viscosity_correction"});
+                     "materials", "lees_edwards", "neighbour_skin", "viscosity_correction", "open_boundary_list"});
   Deck d;
   d.deck_dir = deck_dir;
   const auto& dim = need(j, "", "dimension");
@@ -387,6 +391,12 @@ Deck parse_deck(const json& j, const std::string& deck_dir) {
     d.threads = j["threads"].get<int>();
   }
   if (j.contains("neighbour_skin")) d.neighbour_skin = positive(j, "", "neighbour_skin");
+  if (j.contains("open_boundary_list")) {
+    const auto& v = j["open_boundary_list"];
+    if (!v.is_string() || (v.get<std::string>() != "kept" && v.get<std::string>() != "rebuilt"))
+      fail("'open_boundary_list' must be \"kept\" or \"rebuilt\", got " + v.dump());
+    d.open_boundary_list = v.get<std::string>();
+  }
   return d;
 }
 

@@ -163,9 +163,13 @@ struct Deck {
   // Verlet skin as a fraction of the support 2h (LAMMPS's 0.3 mm on a 3 mm cutoff is 0.1): the list
   // holds pairs closer than (1 + skin) 2h and is rebuilt when a particle has moved skin/2 since the build.
   double neighbour_skin = 0.1;
+  // Open boundaries' conversions: "kept" re-sorts the list's rows and lets additions and removals wait
+  // for the next build where that is exact (open_boundaries.h); "rebuilt" rebuilds the list at each change.
+  std::string open_boundary_list = "kept";
 
   std::string resolve(const std::string& path) const;
   std::string terms_string() const;
+  bool inlets_extrapolated() const;  // there are inlets and every one extrapolates its pressure
   // The run's materials: `materials`, or the one Newtonian material of the top-level keys.
   std::vector<MaterialSpec> material_list() const;
 };

@@ -221,6 +221,35 @@ class NeighbourList {
     reset_queue();  // published to the other threads by the barrier before the next pass
   }
 
+  // The particles `changed` turned fluid or from fluid into buffer particles since the build (open
+  // boundaries' conversions; kind: now): move each one's entries to the right part of every row that
+  // lists it ([begin, mid) fluid, [mid, end) the others), so the list holds without a rebuild. x_build:
+  // the positions at the build, whose binning `cells` still holds; a row that lists c belongs to a
+  // particle of the stencil around c's cell. A row's entries change order (one swap each), not the pairs.
+  void reclassify(const CellList<D>& cells, const std::vector<Vec<D>>& x_build, const std::vector<Kind>& kind,
+                  const std::vector<std::size_t>& changed) {
+    for (std::size_t c : changed) reclassify_one(cells, x_build[c], static_cast<int>(c), kind[c] == Kind::fluid);
+  }
+  void reclassify_one(const CellList<D>& cells, const Vec<D>& x_build_c, int c, bool now_fluid) {
+    using Run = typename CellList<D>::Run;
+    Run runs[CellList<D>::max_runs];
+    const int nr = cells.runs(x_build_c, runs);
+    const std::uint32_t target = static_cast<std::uint32_t>(c);
+    for (int q = 0; q < nr; ++q)
+      for (int a = cells.item_begin(runs[q]), end = cells.item_end(runs[q]); a < end; ++a) {
+        Row& row = rows_[a];
+        std::uint32_t* e = lists_[block_of_[a]].data();
+        if (now_fluid) {
+          for (int j = row.mid; j < row.end; ++j)
+            if ((e[j] >> shift_bits) == target) std::swap(e[j], e[row.mid++]);
+        } else {
+          for (int j = row.begin; j < row.mid;)
+            if ((e[j] >> shift_bits) == target) std::swap(e[j], e[--row.mid]);
+            else ++j;
+        }
+      }
+  }
+
   int blocks() const { return blocks_; }
   int block_begin(int k) const { return begin_[k]; }
   int block_end(int k) const { return begin_[k + 1]; }

@@ -31,6 +31,21 @@
 //   step at the new time; the inflow starts at rest without a jump in
 //   acceleration, so a scene filled at rest is not struck by a water hammer
 //   of rho0 c0 U.
+//
+// List-keeping updates (deck open_boundary_list = "kept", the default): a
+// conversion changes a particle's kind only, and Simulation::kinds_changed
+// re-sorts its entries in the Verlet list, which then holds; the particles an
+// inlet adds and those leaving an outlet's buffer wait for the next build (at
+// an output, or when the list is about to be rebuilt anyway: flush). That is
+// exact, the fluid sees the same particles, where nothing reads a buffer
+// particle's neighbours: every inlet extrapolated (its buffer's density is
+// set from the fluid ahead, its velocity prescribed), every outlet holding a
+// pressure, and boundary particles with wall points (their pressure and
+// density are the fluid's Shepard averages) or none. A waiting inlet particle
+// lies (layers - 2) dx or more behind the patch, and is added at once when it
+// comes within the list's range 2h (1 + skin) of the patch or of fluid behind
+// it; a leaving one is layers dx >= 2h past its patch and moves on. Otherwise
+// (and with "rebuilt") every change rebuilds the list, as each one did before.
 #pragma once
 #include <algorithm>
 #include <cmath>
@@ -40,6 +55,8 @@
 
 #include "deck.h"
 #include "particles.h"
+#include "inlet_buffer.h"
+#include "outlet_buffer.h"
 #include "plane_patch.h"
 
 namespace sph {
@@ -47,7 +64,9 @@ namespace sph {
 template <int D>
 class OpenBoundaries {
  public:
-  explicit OpenBoundaries(const Deck& deck) : dx_(deck.dx), rho0_(deck.rho0) {
+  explicit OpenBoundaries(const Deck& deck)
+      : dx_(deck.dx), rho0_(deck.rho0), reach_(2.0 * deck.h * (1.0 + deck.neighbour_skin)),
+        t_last_(deck.t_start), keep_list_(deck.open_boundary_list == "kept") {
     const auto materials = deck.material_list();
     for (const auto& s : deck.inlets) {
       Inlet in(Patch<D>(s.patch), s.velocity, s.layers);
@@ -59,7 +78,7 @@ class OpenBoundaries {
       in.ramp_time = s.ramp_time;
       in.factor = s.ramp_time > 0.0 ? 0.0 : 1.0;  // eq. OB4 at t = 0
       in.reference_volumes = in.profile != Profile::plug || in.extrapolated || s.material != 0;
-      if (in.profile != Profile::plug) normalise(in);
+      if (in.profile != Profile::plug) in.normalise(dx_);
       inlets_.push_back(in);
     }
     for (const auto& s : deck.outlets) {
@@ -107,9 +126,9 @@ class OpenBoundaries {
         continue;
       }
       const double m = in.rho_ref * std::pow(dx_, D);
-      for (const auto& q : columns(in))
+      for (const auto& q : in.columns(dx_))
         for (int l = 0; l < in.layers; ++l)
-          P.append(in.patch.c + q - (l + 0.5) * dx_ * in.patch.n, in.factor * speed(in, q) * in.patch.n, in.rho_ref, m,
+          P.append(in.patch.c + q - (l + 0.5) * dx_ * in.patch.n, in.factor * in.speed(q) * in.patch.n, in.rho_ref, m,
                    Kind::inlet, next_id++, in.material);
     }
     return next_id;
@@ -121,6 +140,16 @@ class OpenBoundaries {
     for (auto& in : inlets_)
       in.factor = in.ramp_time > 0.0 && t < in.ramp_time ? 0.5 * (1.0 - std::cos(M_PI * t / in.ramp_time)) : 1.0;
   }
+
+  // Whether conversions keep the Verlet list and additions and removals wait (see the top), given the
+  // particles: with boundary particles only if they have wall points.
+  void decide_list_keeping(const Particles<D>& P) {
+    bool exact = keep_list_ && new_options_only_;
+    for (const auto& in : inlets_) exact = exact && in.extrapolated;
+    const bool walls = std::any_of(P.kind.begin(), P.kind.end(), [](Kind k) { return k == Kind::boundary; });
+    defer_ = exact && (P.has_wall_points || !walls);
+  }
+  bool keeps_list() const { return defer_; }
 
   // Fluid that starts inside an outlet buffer is outlet fluid from the start
   // (not counted as outflow).
@@ -155,9 +184,21 @@ class OpenBoundaries {
     for (auto& in : inlets_)
       if (in.extrapolated) in.rho_fluid = fluid_density_ahead(P, in), extrapolate = true;
     for (auto& out : outlets_)
-      if (out.holds) gather_fluid_behind(P, out);
+      if (out.holds) out.gather_fluid_behind(P, dx_);
     kept_ = new_options_only_;
+    changed_.clear();
+    candidates_.clear();
+    for (auto& w : waiting_) {  // they move as the buffer does (their velocity: the ramp's at the last update)
+      w.x += (t - t_last_) * w.v;
+      const Inlet& in = inlets_[w.inlet];
+      if (in.ramping) {
+        const Vec<D> q = w.x - in.patch.c;
+        w.v = in.factor * in.speed(q - q.dot(in.patch.n) * in.patch.n) * in.patch.n;
+      }
+    }
+    t_last_ = t;
     for (std::size_t i = 0; i < n; ++i) {
+      if (defer_ && P.kind[i] == Kind::fluid) note_fluid_behind(P.x[i]);
       if (P.kind[i] == Kind::inlet) {
         if (extrapolate) hold_inlet_density(P, i);
         if (ramping) ramp_inlet_velocity(P, i);
@@ -165,9 +206,14 @@ class OpenBoundaries {
           const double s = in.patch.height(P.x[i]);
           if (s < 0.0 || s > 2.0 * dx_ || !in.patch.contains(P.x[i] - in.patch.c)) continue;
           P.kind[i] = Kind::fluid;
-          kept_ = false;
           in.volume += P.mass[i] / (in.reference_volumes ? in.rho_ref : P.rho[i]);
           const Vec<D> spawn = P.x[i] - in.layers * dx_ * in.patch.n;
+          if (defer_) {
+            changed_.push_back(i);
+            waiting_.push_back({spawn, P.v[i], P.mass[i], next_id++, static_cast<std::size_t>(&in - inlets_.data())});
+            break;
+          }
+          kept_ = false;
           event(spawn, P.mass[i], 1.0);
           if (in.reference_volumes)
             P.append(spawn, P.v[i], in.extrapolated ? in.rho_fluid : in.rho_ref, P.mass[i], Kind::inlet, next_id++,
@@ -181,7 +227,8 @@ class OpenBoundaries {
           const double s = out.patch.height(P.x[i]);
           if (s < 0.0 || s > out.layers * dx_ || !out.patch.contains(P.x[i] - out.patch.c)) continue;
           P.kind[i] = Kind::outlet;
-          kept_ = false;
+          if (defer_) changed_.push_back(i);
+          else kept_ = false;
           P.v[i] = std::max(P.v[i].dot(out.patch.n), 0.0) * out.patch.n;  // straight out, not into walls
           if (out.holds) {
             out.volume += P.mass[i] / out.rho0[P.material[i]];
@@ -196,6 +243,10 @@ class OpenBoundaries {
           if (!out.patch.contains(P.x[i] - out.patch.c)) continue;
           const double s = out.patch.height(P.x[i]);
           if (s >= out.layers * dx_) {
+            if (defer_) {  // it moves on until the next flush, beyond the reach of the fluid
+              leaving_ = true;
+              break;
+            }
             event(P.x[i], P.mass[i], -1.0);
             P.mass[i] = 0.0;  // marks it for removal (real particles have mass > 0)
             removals = true;
@@ -203,15 +254,41 @@ class OpenBoundaries {
           }
           if (out.holds && s >= 0.0) {
             P.rho[i] = out.rho_ref[P.material[i]];  // the reference pressure, held
-            P.v[i] = velocity_behind(out, P.x[i] - out.patch.c) * out.patch.n;
+            P.v[i] = out.velocity_behind(P.x[i] - out.patch.c, dx_) * out.patch.n;
             break;
           }
         }
       }
     }
     if (removals) P.compact([&](std::size_t i) { return P.mass[i] > 0.0; }), kept_ = false;
+    if (defer_ && waiting_too_close()) flush(P, event);
     return next_id;
   }
+
+  // Add the waiting inlet particles and remove those that left the outlets' buffers (each with its
+  // event); kept_ false if anything changed (the list must be rebuilt). Call before the particles are
+  // sorted for an output or when the list is about to be rebuilt anyway.
+  template <class Event>
+  bool flush(Particles<D>& P, Event&& event) {
+    if (waiting_.empty() && !leaving_) return false;
+    if (leaving_) {
+      for (std::size_t i = 0; i < P.size(); ++i)
+        if (P.kind[i] == Kind::outlet && past_buffer(P.x[i])) event(P.x[i], P.mass[i], -1.0), P.mass[i] = 0.0;
+      P.compact([&](std::size_t i) { return P.mass[i] > 0.0; });
+      leaving_ = false;
+    }
+    for (const auto& w : waiting_) {
+      const Inlet& in = inlets_[w.inlet];
+      event(w.x, w.mass, 1.0);
+      P.append(w.x, w.v, in.rho_fluid > 0.0 ? in.rho_fluid : in.rho_ref, w.mass, Kind::inlet, w.id, in.material);
+    }
+    waiting_.clear();
+    kept_ = false;
+    return true;
+  }
+  bool has_waiting() const { return !waiting_.empty() || leaving_; }
+  // The particles whose kind the last update changed (kept list only; indices into the particles).
+  const std::vector<std::size_t>& changed() const { return changed_; }
 
   // Whether the last update left every particle in place with its kind
   // (only the buffers' density and velocity changed), so the Verlet list
@@ -228,111 +305,49 @@ class OpenBoundaries {
   }
 
  private:
-  enum class Profile { plug, parabolic, annular };
-  struct Inlet {
-    Inlet(const Patch<D>& p, double v, int l) : patch(p), velocity(v), layers(l) {}
-    Patch<D> patch;
-    double velocity;  // plug speed, or mean speed of a profile, m/s
-    int layers;
-    double volume = 0.0;
-    Profile profile = Profile::plug;
-    double inner_radius = 0.0;  // m (annular)
-    double scale = 1.0;         // U / <f> over the lattice columns, m/s per unit of f
-    bool extrapolated = false;
-    bool reference_volumes = false;  // count m / rho_ref (any option set)
-    std::uint8_t material = 0;
-    double rho_ref = 0.0;    // rho0 of the material, kg/m^3
-    double rho_fluid = 0.0;  // mean density of the fluid ahead (extrapolated), kg/m^3
-    double ramp_time = 0.0;  // s (eq. OB4)
-    double factor = 1.0;     // g(t) of eq. OB4 at the last update
-    bool ramping = false;    // this update sets the buffer's speed
-  };
-  struct Outlet {
-    Outlet(const Patch<D>& p, int l) : patch(p), layers(l) {}
-    Patch<D> patch;
-    int layers;
-    double volume = 0.0;
-    bool holds = false;                 // holds a reference pressure
-    std::vector<double> rho0, rho_ref;  // per material, kg/m^3
-    std::vector<Vec<D>> behind_q;       // in-plane offsets of the fluid within layers dx before the patch
-    std::vector<double> behind_v;       // and their speeds along the normal, m/s
-  };
+  using Profile = InletProfile;
+  using Inlet = InletBuffer<D>;
+  using Outlet = OutletBuffer<D>;
   bool new_options_only_ = false, kept_ = false;
+  struct Waiting {  // an inlet particle still to be added
+    Vec<D> x, v;
+    double mass;
+    std::int64_t id;
+    std::size_t inlet;
+  };
+  std::vector<Waiting> waiting_;
+  std::vector<std::size_t> changed_;
+  std::vector<Vec<D>> candidates_;  // fluid behind an inlet's patch, near it (this update)
+  bool leaving_ = false;            // outlet particles past their buffer wait for the flush
 
-  // The fluid within layers dx before an outlet's patch: in-plane offsets and normal speeds.
-  void gather_fluid_behind(const Particles<D>& P, Outlet& out) const {
-    out.behind_q.clear(), out.behind_v.clear();
-    for (std::size_t i = 0; i < P.size(); ++i) {
-      if (P.kind[i] != Kind::fluid) continue;
-      const Vec<D> q = P.x[i] - out.patch.c;
-      const double s = q.dot(out.patch.n);
-      if (s >= 0.0 || s < -out.layers * dx_ || !out.patch.contains(q)) continue;
-      out.behind_q.push_back(q - s * out.patch.n);
-      out.behind_v.push_back(P.v[i].dot(out.patch.n));
-    }
+  // Whether an outlet particle lies past the whole buffer of the outlet it is in.
+  bool past_buffer(const Vec<D>& x) const {
+    for (const auto& out : outlets_)
+      if (out.patch.contains(x - out.patch.c) && out.patch.height(x) >= out.layers * dx_) return true;
+    return false;
   }
-  // Normal speed of an outlet buffer particle at in-plane offset q (normal part
-  // ignored): the fluid's normal speed before the patch averaged over the
-  // in-plane distance d < 2 dx with weight (1 - d / 2dx)^2 (zero-gradient
-  // velocity, as the outlets of Tafuni et al. 2018), not below 0, m/s.
-  double velocity_behind(const Outlet& out, const Vec<D>& x_rel) const {
-    const Vec<D> q = x_rel - x_rel.dot(out.patch.n) * out.patch.n;
-    const double reach = 2.0 * dx_;
-    double sum = 0.0, weight = 0.0;
-    for (std::size_t j = 0; j < out.behind_q.size(); ++j) {
-      const double d = (out.behind_q[j] - q).norm();
-      if (d >= reach) continue;
-      const double w = (1.0 - d / reach) * (1.0 - d / reach);
-      sum += w * out.behind_v[j], weight += w;
-    }
-    return weight > 0.0 ? std::max(sum / weight, 0.0) : 0.0;
-  }
-
-  // Radius of the in-plane offset q (disc patches), m.
-  static double radial(const Patch<D>& patch, const Vec<D>& q) {
-    const double a = q.dot(patch.u);
-    if constexpr (D == 2) return std::abs(a);
-    const double b = q.dot(patch.w);
-    return std::sqrt(a * a + b * b);
-  }
-  // The profile's shape f at in-plane offset q (unscaled):
-  //   parabolic disc (pipe, Hagen-Poiseuille):  f = 1 - r^2 / R^2                           (OB1)
-  //   parabolic rectangle / 2D segment (plates): f = 1 - a^2 / a_max^2, a = q . u             (OB2)
-  //   annular (Ri <= r <= R):  f = R^2 - r^2 + (R^2 - Ri^2) ln(r/R) / ln(R/Ri)              (OB3)
-  // (OB3 is the laminar annulus profile u = G f / (4 mu), Bird, Stewart & Lightfoot 2.4.)
-  static double shape(const Inlet& in, const Vec<D>& q) {
-    const Patch<D>& p = in.patch;
-    if (in.profile == Profile::plug) return 1.0;
-    if (in.profile == Profile::parabolic) {
-      if (D == 3 && p.radius > 0.0) {
-        const double r = radial(p, q) / p.radius;
-        return std::max(1.0 - r * r, 0.0);
+  // A fluid particle at x behind an inlet's patch and near it (within its buffer's depth and the reach):
+  // a waiting inlet particle must not come within reach of it.
+  void note_fluid_behind(const Vec<D>& x) {
+    for (const auto& in : inlets_) {
+      const double s = in.patch.height(x);
+      if (s < 0.0 && s > -(in.layers + 1.0) * dx_ - reach_ && in.near(x - in.patch.c, reach_)) {
+        candidates_.push_back(x);
+        return;
       }
-      const double a = q.dot(p.u) / p.half_u;
-      return std::max(1.0 - a * a, 0.0);
     }
-    const double R = p.radius, Ri = in.inner_radius, r = std::max(radial(p, q), Ri);
-    return std::max(R * R - r * r + (R * R - Ri * Ri) * std::log(r / R) / std::log(R / Ri), 0.0);
   }
-  // The lattice columns of an inlet (the annulus without its core).
-  std::vector<Vec<D>> columns(const Inlet& in) const {
-    std::vector<Vec<D>> out;
-    for (const auto& q : in.patch.lattice(dx_))
-      if (in.profile != Profile::annular || radial(in.patch, q) >= in.inner_radius) out.push_back(q);
-    return out;
+  // Whether a waiting inlet particle is within reach of its patch or of fluid behind it: it must be
+  // added now, or the fluid would miss it before the next build.
+  bool waiting_too_close() const {
+    for (const auto& w : waiting_) {
+      if (inlets_[w.inlet].patch.height(w.x) > -reach_) return true;
+      for (const auto& x : candidates_)
+        if ((x - w.x).squaredNorm() < reach_ * reach_) return true;
+    }
+    return false;
   }
-  // The speed of the column at in-plane offset q, m/s (a plug's is its velocity).
-  double speed(const Inlet& in, const Vec<D>& q) const {
-    return in.profile == Profile::plug ? in.velocity : in.scale * shape(in, q);
-  }
-  // Scale of a profile so that the columns carry U times the patch area: sum_j v_j dx^(D-1) = U A.
-  void normalise(Inlet& in) const {
-    double sum = 0.0;
-    for (const auto& q : columns(in)) sum += shape(in, q);
-    double area = in.patch.area();
-    if (in.profile == Profile::annular) area -= M_PI * in.inner_radius * in.inner_radius;
-    in.scale = sum > 0.0 ? in.velocity * area / (sum * std::pow(dx_, D - 1)) : 0.0;
-  }
+
   // Mean density of the fluid within layers dx ahead of the inlet's patch, kg/m^3 (rho_ref if none).
   double fluid_density_ahead(const Particles<D>& P, const Inlet& in) const {
     double sum = 0.0;
@@ -352,7 +367,7 @@ class OpenBoundaries {
       if (!in.ramping || !in.patch.contains(q)) continue;
       const double s = q.dot(in.patch.n);
       if (s < -(in.layers + 1.0) * dx_ || s > 2.0 * dx_) continue;
-      P.v[i] = in.factor * speed(in, q - s * in.patch.n) * in.patch.n;
+      P.v[i] = in.factor * in.speed(q - s * in.patch.n) * in.patch.n;
       return;
     }
   }
@@ -367,6 +382,9 @@ class OpenBoundaries {
     }
   }
   double dx_, rho0_;
+  double reach_;   // the Verlet list's range 2h (1 + skin), m
+  double t_last_;  // s, of the last update
+  bool keep_list_ = true, defer_ = false;
   std::vector<Inlet> inlets_;
   std::vector<Outlet> outlets_;
 };

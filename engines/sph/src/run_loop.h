@@ -54,6 +54,9 @@ int run_simulation(const Deck& deck, Particles<D> particles, WallPenalty<D> wall
     long m = done + static_cast<long>(std::ceil(left / std::max(dt_typical, 1e-300) - 1e-9));
     return deck.max_steps ? std::min(m, deck.max_steps) : m;
   };
+  // A particle the open boundaries add (sign +1) or remove (-1) at x, of mass m, kg.
+  const auto booking = [&](const Vec<D>& x, double m, double sign) { sim.boundary_density_event(x, m, sign); };
+  open.decide_list_keeping(sim.particles());
   rec.series(t);
   rec.frame(t, step);
   std::string status = "ok", message;
@@ -92,15 +95,16 @@ int run_simulation(const Deck& deck, Particles<D> particles, WallPenalty<D> wall
       break;
     }
     if (!open.empty()) {
-      next_id = open.update(sim.particles(), next_id, t, [&](const Vec<D>& x, double m, double sign) {
-        sim.boundary_density_event(x, m, sign);
-      });
-      if (open.particles_kept()) sim.forget_step_maxima();  // only buffer densities and velocities changed
-      else sim.forget_maxima();  // particles came in, turned fluid or left
+      next_id = open.update(sim.particles(), next_id, t, booking);
+      if (open.particles_kept()) sim.kinds_changed(open.changed());  // the list holds (open_boundaries.h)
+      else sim.forget_maxima();  // particles came in or left: the list is rebuilt
     }
     const double tol = 1e-6 * dt;
     const bool series_due = t >= (series_count + 1) * deck.series_interval - tol;
     const bool frame_due = t >= (frame_count + 1) * deck.frame_interval - tol;
+    // The particles that wait to come in or go join before an output sort or a build that is due anyway.
+    if (open.has_waiting() && (series_due || frame_due || sim.rebuild_near()) && open.flush(sim.particles(), booking))
+      sim.forget_maxima();
     const double t_output = omp_get_wtime();
     if (series_due || frame_due) {
       sorted = sim.sort_particles();
@@ -129,6 +133,7 @@ int run_simulation(const Deck& deck, Particles<D> particles, WallPenalty<D> wall
     }
   }
   if (code != exit_unstable && (rec.last_series_time() < t || rec.last_frame_time() < t)) {
+    if (open.flush(sim.particles(), booking)) sorted = false;
     if (!sorted) sim.sort_particles();
     sim.equation_of_state();
     if (rec.last_series_time() < t) rec.series(t);

@@ -60,6 +60,7 @@ class Simulation {
     model_.artificial = {deck.alpha, deck.beta, deck.h, eta2, deck.av_walls ? 1.0 : 0.0};
     body_force_on_ = deck.terms & term::body_force;
     walls_on_ = deck.terms & term::wall_penalty;
+    hold_inlets_ = deck.inlets_extrapolated();
     if (!deck.body_force.empty())
       for (int d = 0; d < D; ++d) model_.body.g[d] = deck.body_force[d];
     PeriodicBox<D> box;
@@ -70,13 +71,7 @@ class Simulation {
     images_ = Images(box);
     if (deck.lees_edwards.on) images_.set_lees_edwards(deck.lees_edwards), cells_.set_lees_edwards(true);
     for (std::size_t i = 0; i < P_.size(); ++i) images_.wrap(P_.x[i], P_.v[i]);
-    walls_together_ = true;
-    const Vec<D>* wall_velocity = nullptr;
-    for (std::size_t i = 0; i < P_.size(); ++i)
-      if (P_.kind[i] == Kind::boundary) {
-        if (!wall_velocity) wall_velocity = &P_.v[i];
-        walls_together_ = walls_together_ && P_.v[i] == *wall_velocity;
-      }
+    walls_together_ = walls_move_together(P_);
     const std::size_t n = P_.size(), capacity = P_.x.capacity();
     P_.has_stress = Models::any_single_stress;
     P_.modes = Models::any_modes ? modes : 0;
@@ -223,9 +218,9 @@ class Simulation {
     }
     if constexpr (tensor) P_.grad_v[i].setZero(), P_.shape[i].setZero();
   }
-  // close_rates of particle a: body force and wall penalty of a fluid particle; the velocity gradient
-  // G M^-1 (eq. T2) and the constitutive rate d tau/dt of its material (constitutive_rates.h); an
-  // outlet particle keeps the density it left with (a zero-gradient outlet).
+  // close_rates of particle a: body force and wall penalty of a fluid particle; the velocity gradient G M^-1
+  // (eq. T2) and the rate d tau/dt of its material (constitutive_rates.h); an outlet particle keeps the density
+  // it left with (zero-gradient), an extrapolating inlet's the one the last update gave it.
   void close_rates_at(std::ptrdiff_t a) {
     if (P_.moves(a)) {
       if (body_force_on_) model_.body.add(P_.acc[a]);
@@ -235,7 +230,7 @@ class Simulation {
         P_.acc[a] += walls_.force(xa) / P_.mass[a];
       }
       if constexpr (tensor) close_constitutive_rates<Models>(P_, materials_, a, correct_gradient_);
-    } else if (P_.kind[a] == Kind::outlet) {
+    } else if (P_.kind[a] == Kind::outlet || (hold_inlets_ && P_.kind[a] == Kind::inlet)) {
       P_.drho[a] = 0.0;
     }
   }
@@ -250,10 +245,8 @@ class Simulation {
       if (P_.kind[b] == Kind::boundary) wall_stress<Models>(P_, shepard_, b), equation_of_state_at(b);
   }
   // A particle of mass m appears (sign +1) or disappears (-1) at x (boundary_particles.h).
-  void boundary_density_event(const Vec<D>& x, double m, double sign) {
-    Vec<D> xj = x;
-    images_.wrap(xj);
-    book_boundary_density(P_, cells_, kernel_, xj, m, sign);
+  void boundary_density_event(Vec<D> x, double m, double sign) {
+    images_.wrap(x), book_boundary_density(P_, cells_, kernel_, x, m, sign);
   }
 
   // Time step of eq. 13 extended by the viscous and force criteria, from the rates just computed:
@@ -262,10 +255,14 @@ class Simulation {
 
   // Forget the maxima (call after adding, removing or changing particles: the list is rebuilt before use).
   void forget_maxima() { maxima_.valid = false, list_stale_ = true; }
-  // Forget the maxima only (call after changing velocities or densities of particles that stay).
-  void forget_step_maxima() { maxima_.valid = false; }
-  // Rates of the initial state, before the first step (later steps reuse the
-  // rates of the previous step's half-step evaluation); cells must be binned.
+  // Open boundaries changed these particles' kinds, nothing came or went: their entries re-sorted, the list holds.
+  void kinds_changed(const std::vector<std::size_t>& changed) {
+    maxima_.valid = false;
+    if (!list_stale_) list_.reclassify(cells_, x_build_, P_.kind, changed), non_fluid_ = non_fluid_ || !changed.empty();
+  }
+  // Whether the list will probably be rebuilt within a step (3/4 of the allowed displacement used up).
+  bool rebuild_near() const { return list_stale_ || last_moved_ > 0.75 * last_allowed_; }
+  // Rates of the initial state before the first step (later: the last half step's); cells must be binned.
   void ensure_rates() { rates_ready_ ? void() : compute_rates(); }
 
   // One full step (stages.h), one rate evaluation at the half step. While the
@@ -303,6 +300,8 @@ class Simulation {
           },
           [](double& total, double part) { total = std::max(total, part); });
       stamp_time(par, t[1]);
+#pragma omp master
+      if (check) last_moved_ = std::sqrt(moved), last_allowed_ = allowed;
       if (!check || moved > allowed * allowed) return;  // the same on every thread
       evaluate_and_correct(par, true, dt, t + 1);  // sets maxima_ (valid)
     };
@@ -379,6 +378,7 @@ class Simulation {
   PairLoop<D, Terms, Models> pairs_;
   NoBodies bodies_;
   bool body_force_on_ = false, walls_on_ = false;
+  bool hold_inlets_ = false;  // every inlet extrapolates: its particles' density rate is 0 (close_rates_at)
   bool walls_together_ = false;  // every fixed boundary particle has the same velocity
   bool non_fluid_ = true;  // tensor path: a particle is not fluid (the no-slip pass runs), at the last list build
   bool correct_gradient_ = true;
@@ -390,6 +390,7 @@ class Simulation {
   int maxima_threads_ = 0;  // threads whose maxima_partials_ finish_maxima has still to combine
   std::vector<Vec<D>> x_build_;  // positions at the last Verlet list build
   double skin_ = 0.0;
+  double last_moved_ = 0.0, last_allowed_ = 1.0;  // m: the last step's largest displacement since the build, its bound
   double time_ = 0.0;  // s
   bool list_stale_ = true;  // the list must be rebuilt before the next evaluation
   StageTimes times_;

@@ -40,6 +40,7 @@ struct ParticleRows {
   std::vector<double> x, v, m, rho;
   std::vector<std::int8_t> kind;
   std::vector<std::int32_t> material;  // written only when some row gives one
+  std::vector<double> wall_point;      // dim per row (NaN: none), written when some row gives one
   void add(std::vector<double> pos, std::vector<double> vel, double mass, double density, int k, int mat = -1) {
     x.insert(x.end(), pos.begin(), pos.end());
     v.insert(v.end(), vel.begin(), vel.end());
@@ -59,6 +60,7 @@ struct ParticleRows {
       all.resize(size(), 0);
       put(f, "material", H5T_NATIVE_INT32, all, size(), 0);
     }
+    if (!wall_point.empty()) put(f, "wall_point", H5T_NATIVE_DOUBLE, wall_point, size(), dim);
     H5Fclose(f);
   }
 };

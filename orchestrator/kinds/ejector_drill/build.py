@@ -16,7 +16,7 @@ import numpy as np
 
 from orchestrator.case.common import CaseMeta
 from orchestrator.kinds.ejector_drill.case import EjectorDrillCase
-from orchestrator.kinds.ejector_drill.layout import Layout, drill_layout
+from orchestrator.kinds.ejector_drill.layout import Layout, drill_layout, inlet_layers
 from orchestrator.kinds.sph_flow.case import SphFlowCase
 from orchestrator.kinds.sph_flow.case_open import Inlet, Outlet
 from orchestrator.kinds.sph_flow.case_parts import Domain, Patch, Physics, Probe, SphOutput, WallPenalty
@@ -141,7 +141,7 @@ def _flow_case(case: EjectorDrillCase, layout: Layout) -> SphFlowCase:
     inlet = Inlet(name=layout.inlet.name, center=layout.inlet.center, normal=layout.inlet.normal,
                   radius=layout.inlet.radius - margin, velocity=case.scene.inlet_velocity, profile="annular",
                   inner_radius=layout.inlet_inner_radius + margin, pressure="extrapolated",
-                  ramp_time=case.scene.ramp_time)
+                  ramp_time=case.scene.ramp_time, layers=inlet_layers(case.numerics.dx, case.numerics.h))
     pressures = {"mouth": case.scene.mouth_pressure, "leak": case.scene.leak_pressure}
     probes = tuple(Probe(name=k, point=v) for k, v in layout.sensors.items() if layout.in_scene(v))
     return assemble_flow_case(case, layout, (inlet,), pressures, probes)

@@ -118,6 +118,14 @@ class Layout:
         return union_contains(self.regions, points)
 
 
+def inlet_layers(dx: float, h: float, skin: float = 0.1) -> int:
+    """Buffer layers of a drill scene's inlet: 3, or more where the particles the inlet adds (`layers` dx behind
+    its plane) would lie within the Verlet list's range 2h (1 + skin) of it (h = 1.5 dx: 4). Beyond it with dx/4
+    to spare, the engine lets them wait for the next list build (engines/sph open_boundaries.h) instead of
+    rebuilding the list for each one (dx, h in m; skin: the engine's neighbour_skin, a fraction of 2h)."""
+    return max(3, math.ceil(2.0 * h * (1.0 + skin) / dx + 0.25))
+
+
 def drill_layout(case) -> Layout:
     """The layout of an EjectorDrillCase's scene."""
     g = case.geometry()
@@ -126,7 +134,8 @@ def drill_layout(case) -> Layout:
     r_m, r_ii, r_io = n.d_chip_mouth / 2, n.d_inner_tube_id / 2, n.d_inner_tube_od / 2
     r_oi, r_oo, r_h, r_b = n.d_outer_tube_id / 2, n.d_outer_tube_od / 2, n.d_head_body / 2, n.d_bore / 2
     L, z_g, z_hole, c = g.head_length, g.groove_start, g.hole_z, g.front_clearance
-    buffer = 3 * dx + 2 * h  # an open boundary's buffer (3 layers) and the kernel support behind it
+    buffer = 3 * dx + 2 * h  # an outlet's buffer (3 layers) and the kernel support behind it
+    in_buffer = inlet_layers(dx, h) * dx + 2 * h  # the inlet's
     mouth = Ring("chip_mouth", 0.0, r_m, 0.0, sc.mouth_depth)
     front = Ring("front_gap", 0.0, r_b, -c, 0.0)
     mid_gap, mid_clear = 0.5 * (r_io + r_oi), 0.5 * (r_h + r_b)
@@ -161,7 +170,7 @@ def drill_layout(case) -> Layout:
         sensors["A"] = (mid_clear, 0.0, z_hole)
         sensors["B"] = (mid_gap * math.cos(math.pi / n.n_holes), mid_gap * math.sin(math.pi / n.n_holes), z_ag)
         z_front = 0.5 * (sc.mouth_depth + z_hole - 0.5 * n.d_hole)
-        extended = {"annular_gap": z_in + buffer, "chip_mouth": sc.mouth_depth + buffer,
+        extended = {"annular_gap": z_in + in_buffer, "chip_mouth": sc.mouth_depth + buffer,
                     "tube_clearance": z_leak + buffer}
     else:
         z_in = z_hole - sc.inlet_distance
@@ -172,7 +181,7 @@ def drill_layout(case) -> Layout:
         sensors["A"] = (mid_clear, 0.0, min(z_hole, z_in - 2 * dx))
         sensors["B"] = (mid_gap, 0.0, L + 0.5 * sc.inlet_distance)
         z_front = 0.5 * (sc.mouth_depth + z_in)
-        extended = {"head_clearance": z_in + buffer, "chip_mouth": sc.mouth_depth + buffer}
+        extended = {"head_clearance": z_in + in_buffer, "chip_mouth": sc.mouth_depth + buffer}
     planes["front"] = Plane("front", (0.0, 0.0, z_front), (0.0, 0.0, -1.0), r_b + 2 * h)  # into the wall, as 'rear'
     wetted = tuple(dataclasses.replace(r, z_hi=extended[r.name]) if r.name in extended else r for r in regions)
     # the walls reach 2h beyond the wetted regions (walls.py); the meshes are cut two layers above that

@@ -1,0 +1,93 @@
+// An inlet's buffer (open_boundaries.h): its patch, speed and profile, options and state, and the
+// profile's column speeds (eqs. OB1-OB3).
+#pragma once
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "plane_patch.h"
+#include "vec.h"
+
+namespace sph {
+
+enum class InletProfile { plug, parabolic, annular };
+
+// Radius of the in-plane offset q on a patch (disc patches; |q . u| in 2D), m.
+template <int D>
+double patch_radius(const Patch<D>& patch, const Vec<D>& q) {
+  const double a = q.dot(patch.u);
+  if constexpr (D == 2) return std::abs(a);
+  const double b = q.dot(patch.w);
+  return std::sqrt(a * a + b * b);
+}
+
+// An inlet: `layers` layers of lattice columns behind its patch, each moving at its speed along the normal.
+template <int D>
+struct InletBuffer {
+  InletBuffer(const Patch<D>& p, double v, int l) : patch(p), velocity(v), layers(l) {}
+  Patch<D> patch;
+  double velocity;  // plug speed, or mean speed of a profile, m/s
+  int layers;
+  double volume = 0.0;
+  InletProfile profile = InletProfile::plug;
+  double inner_radius = 0.0;  // m (annular)
+  double scale = 1.0;         // U / <f> over the lattice columns, m/s per unit of f
+  bool extrapolated = false;
+  bool reference_volumes = false;  // count m / rho_ref (any option set)
+  std::uint8_t material = 0;
+  double rho_ref = 0.0;    // rho0 of the material, kg/m^3
+  double rho_fluid = 0.0;  // mean density of the fluid ahead (extrapolated), kg/m^3
+  double ramp_time = 0.0;  // s (eq. OB4)
+  double factor = 1.0;     // g(t) of eq. OB4 at the last update
+  bool ramping = false;    // this update sets the buffer's speed
+
+  // The profile's shape f at in-plane offset q (unscaled):
+  //   parabolic disc (pipe, Hagen-Poiseuille):  f = 1 - r^2 / R^2                           (OB1)
+  //   parabolic rectangle / 2D segment (plates): f = 1 - a^2 / a_max^2, a = q . u             (OB2)
+  //   annular (Ri <= r <= R):  f = R^2 - r^2 + (R^2 - Ri^2) ln(r/R) / ln(R/Ri)              (OB3)
+  // (OB3 is the laminar annulus profile u = G f / (4 mu), Bird, Stewart & Lightfoot 2.4.)
+  double shape(const Vec<D>& q) const {
+    const Patch<D>& p = patch;
+    if (profile == InletProfile::plug) return 1.0;
+    if (profile == InletProfile::parabolic) {
+      if (D == 3 && p.radius > 0.0) {
+        const double r = patch_radius(p, q) / p.radius;
+        return std::max(1.0 - r * r, 0.0);
+      }
+      const double a = q.dot(p.u) / p.half_u;
+      return std::max(1.0 - a * a, 0.0);
+    }
+    const double R = p.radius, Ri = inner_radius, r = std::max(patch_radius(p, q), Ri);
+    return std::max(R * R - r * r + (R * R - Ri * Ri) * std::log(r / R) / std::log(R / Ri), 0.0);
+  }
+  // The lattice columns of an inlet (the annulus without its core).
+  std::vector<Vec<D>> columns(double dx) const {
+    std::vector<Vec<D>> out;
+    for (const auto& q : patch.lattice(dx))
+      if (profile != InletProfile::annular || patch_radius(patch, q) >= inner_radius) out.push_back(q);
+    return out;
+  }
+  // The speed of the column at in-plane offset q, m/s (a plug's is its velocity).
+  double speed(const Vec<D>& q) const {
+    return profile == InletProfile::plug ? velocity : scale * shape(q);
+  }
+  // Whether the in-plane offset q lies within `reach` (m) of the patch laterally (the patch grown by it).
+  bool near(const Vec<D>& q, double reach) const {
+    const double a = q.dot(patch.u);
+    if constexpr (D == 2) return std::abs(a) <= patch.half_u + reach;
+    const double b = q.dot(patch.w);
+    if (patch.radius > 0.0) return std::sqrt(a * a + b * b) <= patch.radius + reach;
+    return std::abs(a) <= patch.half_u + reach && std::abs(b) <= patch.half_w + reach;
+  }
+  // Scale of a profile so that the columns carry U times the patch area: sum_j v_j dx^(D-1) = U A.
+  void normalise(double dx) {
+    double sum = 0.0;
+    for (const auto& q : columns(dx)) sum += shape(q);
+    double area = patch.area();
+    if (profile == InletProfile::annular) area -= M_PI * inner_radius * inner_radius;
+    scale = sum > 0.0 ? velocity * area / (sum * std::pow(dx, D - 1)) : 0.0;
+  }
+};
+
+}  // namespace sph
