@@ -307,7 +307,7 @@ def test_tiny_feed_run(tmp_path):
 @pytest.mark.parametrize("preset, probed", [("feed", True), ("feed_quick", False)])
 def test_the_feed_presets_sizes_and_timing_probe(preset, probed):
     """The feed scene starts filled (probe.end_particles is its fluid count): feed (dx = 0.25 mm, 4 particles across
-    a nozzle) plans 11,734 steps over 280,460 fluid particles, 3.3e9 particle-steps, and is probed before it starts;
+    a nozzle) plans 11,734 steps over 280,936 fluid particles (its inlets 4 layers deep: layout.inlet_layers), 3.3e9 particle-steps, and is probed before it starts;
     feed_quick (2,292 steps over 47,628) is not."""
     from orchestrator.kinds import bind
     from orchestrator.kinds.ejector_drill.probe import end_particles
@@ -318,7 +318,7 @@ def test_the_feed_presets_sizes_and_timing_probe(preset, probed):
     assert end_particles(scene) == scene.n_fluid
     nozzle_d = case.network().d_ejector_nozzle
     assert nozzle_d / case.numerics.dx >= (4 - 1e-9 if preset == "feed" else 2.5 - 1e-9)
-    expected = {"feed": (11_734, 280_460), "feed_quick": (2_292, 47_628)}[preset]
+    expected = {"feed": (11_734, 280_936), "feed_quick": (2_292, 47_628)}[preset]
     assert (case.planned_steps, scene.n_fluid) == expected
     assert (case.planned_steps * scene.n_fluid > PROBE_ABOVE_PARTICLE_STEPS) is probed
     assert bind("ejector_drill", "sph", scene).wants_probe(scene) is probed

@@ -21,6 +21,7 @@ import numpy as np
 
 from orchestrator.kinds.ejector_drill.build import DrillSphScene, assemble_flow_case
 from orchestrator.kinds.ejector_drill.feed_layout import FeedLayout, feed_layout
+from orchestrator.kinds.ejector_drill.layout import inlet_layers
 from orchestrator.kinds.ejector_drill.feed_network import FeedBoundary, feed_boundary
 from orchestrator.kinds.ejector_drill.feed_walls import feed_boundary_particles
 from orchestrator.kinds.ejector_drill.probe import probe_scene
@@ -35,10 +36,13 @@ def feed_flow_case(case, layout: FeedLayout, boundary: FeedBoundary) -> SphFlowC
     """The sph_flow case of the feed scene's deck: the annular feed inlet (the laminar annulus profile) and the
     tube's parabolic inlet, both with the extrapolated buffer pressure; the outlets at the network's pressures."""
     gap, tube = layout.gap, layout.tube
+    layers = inlet_layers(case.numerics.dx, case.numerics.h)
     inlets = (Inlet(name=layout.inlet.name, center=layout.inlet.center, normal=layout.inlet.normal, radius=gap.r_out,
-                    velocity=boundary.gap_speed, profile="annular", inner_radius=gap.r_in, pressure="extrapolated"),
+                    velocity=boundary.gap_speed, profile="annular", inner_radius=gap.r_in, pressure="extrapolated",
+                    layers=layers),
               Inlet(name=layout.tube_inlet.name, center=layout.tube_inlet.center, normal=layout.tube_inlet.normal,
-                    radius=tube.r_out, velocity=boundary.tube_speed, profile="parabolic", pressure="extrapolated"))
+                    radius=tube.r_out, velocity=boundary.tube_speed, profile="parabolic", pressure="extrapolated",
+                    layers=layers))
     pressures = {"gap": boundary.gap_outlet_pressure, "tube": boundary.tube_outlet_pressure}
     probes = tuple(Probe(name=k, point=v) for k, v in layout.sensors.items())
     return assemble_flow_case(case, layout, inlets, pressures, probes)

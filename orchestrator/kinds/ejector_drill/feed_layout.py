@@ -28,7 +28,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from orchestrator.kinds.ejector_drill.layout import Plane, Ring, union_contains
+from orchestrator.kinds.ejector_drill.layout import Plane, Ring, inlet_layers, union_contains
 
 
 @dataclass(frozen=True)
@@ -170,7 +170,7 @@ def feed_layout(case) -> FeedLayout:
     sc, dx, h = case.scene, case.numerics.dx, case.numerics.h
     r_ii, r_io, r_oi, r_oo = n.d_inner_tube_id / 2, n.d_inner_tube_od / 2, n.d_outer_tube_id / 2, n.d_outer_tube_od / 2
     z_n = g.head_length + n.tube_length
-    buffer = 3 * dx + 2 * h  # an open boundary's buffer (3 layers) and the kernel support behind it
+    buffer = inlet_layers(dx, h) * dx + 2 * h  # an open boundary's buffer (the inlets' layers) and the kernel support
     z_in = z_n + sc.inlet_distance
     z_c1 = z_n - sc.c1_distance
     # the tube inlet on the lattice of the feed inlet (its layers lie a whole number of spacings apart: walls.py),
