@@ -208,6 +208,28 @@ def test_network_at_the_sph_gap_flow_and_the_table():
         standard.V_AG / (net.cd_hole * net.hole_area)) ** 2 / 1e5 - 1e-9
 
 
+
+@pytest.mark.parametrize("feed", [50.0, 80.0, 167.0])
+def test_element_flows_return_the_networks_own_split(feed):
+    """At a solved network state, its leak path driven from p_A to ambient carries its V_loss (negative: the ejector
+    draws), and its way into the chip mouth driven from p_A to the pressure just inside the mouth carries its V_IB;
+    and a drop of 1/2 rho v^2 (1.5 + 0.57 (80/113.1)^2) at 11.6 m/s on the 80 mm^2 front gives 55.7 l/min."""
+    from orchestrator.kinds.ejector_drill.comparison import element_flows
+    from orchestrator.reference.drill_network import front_pressure_drop
+
+    net = load_case(CASE, preset="drill_head").model.network()
+    state = solve(net, feed * LITRE_PER_MIN)
+    p_a = state.p_A - net.p_ambient
+    p_mouth = p_a - front_pressure_drop(net, state.V_IB)
+    flows = element_flows(net, p_a, p_mouth, 0.0)
+    assert flows["V_loss"] == pytest.approx(state.V_loss, rel=1e-7, abs=1e-12)
+    assert flows["V_IB"] == pytest.approx(state.V_IB, rel=1e-7)
+    assert state.V_loss < 0  # this case file: the ejector draws at every feed flow
+    k_sum = net.k_cutting_zone + net.k_chip_mouth_entry * (net.front_area / (0.25 * math.pi * net.d_chip_mouth ** 2)) ** 2
+    assert element_flows(net, 1.2e5, 0.0, 0.0)["V_IB"] == pytest.approx(
+        net.front_area * math.sqrt(2 * 1.2e5 / (net.rho * k_sum)), rel=1e-9)
+
+
 @pytest.mark.sph
 def test_tiny_flow_exit_run(tmp_path):
     from orchestrator.run import run_case

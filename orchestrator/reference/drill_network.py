@@ -166,6 +166,29 @@ class NetworkState:
         return getattr(self, name) / LITRE_PER_MIN
 
 
+def leak_pressure_drop(net, v_loss):
+    """Pressure drop (Pa) of the leak path at the flow v_loss (m^3/s, negative: drawn in): A -> head clearance (the
+    guide pads block part of its circumference: the same gap speed over a full circumference carries
+    v_loss / (1 - pad_blockage)) -> sudden expansion into the tube clearance (Borda-Carnot on the area ratio) ->
+    tube clearance over the drilled depth -> bore mouth (free exit into the flooded work area)."""
+    rho, mu = net.rho, net.mu
+    head, tube_c = net.head_clearance(), net.tube_clearance()
+    q_head = v_loss / (1.0 - net.pad_blockage)  # flow of the full-circumference duct with the same gap speed
+    return (head.pressure_drop(q_head, rho, mu)
+            + loss_pressure_drop(q_head, head.area, sudden_expansion_k(
+                equivalent_diameter((1.0 - net.pad_blockage) * head.area), equivalent_diameter(tube_c.area)), rho)
+            + tube_c.pressure_drop(v_loss, rho, mu) + loss_pressure_drop(v_loss, tube_c.area, free_exit_k(), rho))
+
+
+def front_pressure_drop(net, v_ib):
+    """Pressure drop (Pa) from A into the chip mouth at the flow v_ib (m^3/s): the turns round the cutting edges
+    (k_cutting_zone on front_area) and the mouth's sharp entrance (k_chip_mouth_entry on its area); the inner tube
+    beyond is not in it."""
+    mouth = 0.25 * math.pi * net.d_chip_mouth**2
+    return (loss_pressure_drop(v_ib, net.front_area, net.k_cutting_zone, net.rho)
+            + loss_pressure_drop(v_ib, mouth, net.k_chip_mouth_entry, net.rho))
+
+
 def _pressures(net, v_total, v_en, v_ib):
     """Walk the network for given V_EN, V_IB (m^3/s); return (residuals in Pa, state fields)."""
     rho, mu = net.rho, net.mu
@@ -183,23 +206,16 @@ def _pressures(net, v_total, v_en, v_ib):
     tube_i = net.inner_tube(net.tube_length)
     p_a = (p_c1 + tube_i.pressure_drop(v_ib, rho, mu)
            + loss_pressure_drop(v_ib, mouth, sudden_expansion_k(net.d_chip_mouth, net.d_inner_tube_id), rho)
-           + loss_pressure_drop(v_ib, mouth, net.k_chip_mouth_entry, rho)
-           + loss_pressure_drop(v_ib, net.front_area, net.k_cutting_zone, rho))
+           + front_pressure_drop(net, v_ib))
     # supply path: feed -> sharp entrance -> annular gap -> holes -> A
     gap = net.annular_gap()
     entrance = loss_pressure_drop(v_ag, gap.area, sharp_entrance_k(), rho)
     p_feed_ag = (p_a + orifice_pressure_drop(v_ag, net.hole_area, net.cd_hole, rho) + gap.pressure_drop(v_ag, rho, mu)
                  + entrance)
     p_b = p_feed - entrance - net.annular_gap(net.sensor_b_from_feed).pressure_drop(v_ag, rho, mu)
-    # leak path: A -> head clearance (pads block part of its circumference) -> sudden expansion into the
-    # tube clearance -> bore mouth (free exit into the flooded work area)
     head, tube_c = net.head_clearance(), net.tube_clearance()
-    q_head = v_loss / (1.0 - net.pad_blockage)  # flow of the full-circumference duct with the same gap speed
-    leak = (head.pressure_drop(q_head, rho, mu)
-            + loss_pressure_drop(q_head, head.area, sudden_expansion_k(  # Borda-Carnot on the area ratio
-                equivalent_diameter((1.0 - net.pad_blockage) * head.area), equivalent_diameter(tube_c.area)), rho)
-            + tube_c.pressure_drop(v_loss, rho, mu) + loss_pressure_drop(v_loss, tube_c.area, free_exit_k(), rho))
-    residuals = (p_feed_ag - p_feed, p_a - net.p_ambient - leak)
+    q_head = v_loss / (1.0 - net.pad_blockage)
+    residuals = (p_feed_ag - p_feed, p_a - net.p_ambient - leak_pressure_drop(net, v_loss))
     speeds = dict(ejector_jet=v_en / net.nozzle_area, annular_gap=gap.speed(v_ag), holes=v_ag / net.hole_area,
                   chip_mouth=v_ib / mouth, inner_tube=tube_i.speed(v_ib), discharge=tube_d.speed(q_d),
                   head_clearance=head.speed(q_head), front=v_ib / net.front_area)

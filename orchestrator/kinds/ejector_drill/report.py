@@ -13,7 +13,8 @@ import numpy as np
 from orchestrator.kinds.ejector_drill.analysis import (STILL_SHARE, balance, filling_times, flow_series, run_series,
                                                        sensor_pressures, spaced_frames, stored_volume_rate,
                                                        window_balance, zones)
-from orchestrator.kinds.ejector_drill.comparison import comparison_rows, network_at_gap_flow, stored_volume
+from orchestrator.kinds.ejector_drill.comparison import (comparison_rows, element_flows, network_at_gap_flow,
+                                                         stored_volume)
 from orchestrator.kinds.ejector_drill.layout import drill_layout
 from orchestrator.kinds.ejector_drill.pictures import draw_sections
 from orchestrator.kinds.ejector_drill.plots import plot_comparison, plot_drill_series
@@ -71,6 +72,22 @@ def print_zones(layout, frames: dict, v_in: float) -> None:
               f"in {name}, at r {r * 1e3:.3g} mm, z {z * 1e3:.3g} mm")
 
 
+def print_element_flows(net, sph: dict, scene, layout) -> None:
+    """Print the flows the network's elements give at the SPH's p_A and the outlets' held pressures
+    (comparison.element_flows) beside the SPH's V_IB and V_loss (flow_exit; drill_head: V_IB only)."""
+    p_a = sph.get("p_A", math.nan)
+    if not math.isfinite(p_a):
+        return
+    els = element_flows(net, p_a, scene.mouth_pressure, scene.leak_pressure)
+    parts = [f"the cutting zone and the chip mouth's entrance {els['V_IB'] / LITRE_PER_MIN:.3g} l/min (SPH "
+             f"{sph.get('V_IB', math.nan) / LITRE_PER_MIN:.3g})"]
+    if "leak" in layout.outlets:
+        parts.append(f"the leak path {els['V_loss'] / LITRE_PER_MIN:.3g} l/min (SPH "
+                     f"{sph.get('V_loss', math.nan) / LITRE_PER_MIN:.3g})")
+    print(f"the network's elements alone at the SPH's p_A = {p_a / 1e5:.3g} bar and the outlets' pressures: "
+          + ", ".join(parts))
+
+
 def analyze_drill_run(run_dir, run: dict, case, render: bool = True) -> dict:
     """Print the run's flows, balance, pressures, filling times and the comparison with the network and the paper;
     write series.png, comparison.png and (render) section_<t>.png. Returns {name: path}."""
@@ -110,6 +127,7 @@ def analyze_drill_run(run_dir, run: dict, case, render: bool = True) -> dict:
           f"  paper          (net@V_AG: the network at the feed {feed:.4g} l/min whose V_AG is the SPH's)")
     for name, unit, a, b, c, paper in rows:
         print(f"{name:<20}{unit:>6}{_fmt(a)}{_fmt(b)}{_fmt(c)}  {paper}")
+    print_element_flows(net, sph, case.scene, layout)
     v_in = case.scene.inlet_velocity
     print(f"anchor: 1/2 rho v_in^2 = {0.5 * case.fluid.density * v_in ** 2 / 1e5:.3g} bar at v_in = {v_in:g} m/s; "
           "sensors outside the scene (C1, C2 at the feed) are '-'")
