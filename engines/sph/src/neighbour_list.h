@@ -13,8 +13,7 @@
 // is odd). A listed pair spans at most two layers (cells >= range/2), so its
 // two particles lie in one block or in two neighbouring ones. Owner: within a
 // block the lower index (for a particle and its own periodic image, the
-// image with the larger shift code), but a fixed boundary particle's pair with
-// another kind is the boundary particle's; across blocks the particle of block k
+// image with the larger shift code); across blocks the particle of block k
 // for a pair with block k+1 (cyclically along a periodic last axis). So the
 // pair loop of block k writes only to blocks k and k+1.
 //
@@ -142,7 +141,7 @@ class NeighbourList {
             const std::uint32_t code = static_cast<std::uint32_t>(codes[q]);
             auto candidate = [&](int b) {
               if ((xs - x[b]).squaredNorm() >= range2) return;
-              if (!owns(a, b, codes[q], k, a_wall, kind[b] == Kind::boundary)) return;  // drops a itself too
+              if (!owns(a, b, codes[q], k)) return;  // also drops a itself at the centre image
               const std::uint32_t entry = static_cast<std::uint32_t>(b) << shift_bits | code;
               if (kind[b] == Kind::fluid) {
                 list.push_back(entry);
@@ -357,11 +356,9 @@ class NeighbourList {
     for (int k = 0; k < blocks_; ++k) done_[k].store(0, std::memory_order_relaxed);
   }
   // Whether a (of block ka) owns its pair with b seen at shift `code`.
-  // Within a block a fixed boundary particle owns its pairs with the others (so the no-slip sums of
-  // wall_sums.h gather most of its pairs over its own row instead of scattering into it from theirs).
-  bool owns(int a, int b, int code, int ka, bool a_wall, bool b_wall) const {
+  bool owns(int a, int b, int code, int ka) const {
     const int kb = block_of_[b];
-    if (kb == ka) return a_wall != b_wall ? a_wall : a < b || (a == b && code > centre_code);
+    if (kb == ka) return a < b || (a == b && code > centre_code);
     if (kb == ka + 1) return true;
     return periodic_last_ && ka == blocks_ - 1 && kb == 0;
   }
