@@ -364,3 +364,14 @@ def test_channel_with_inlet_outlet_and_walls_runs(capsys, tmp_path):
     # The inlet feeds fluid at 0.2 m/s through 50 mm x 50 mm: 5e-4 m^3/s once it runs (first record excepted).
     inflow = series["inflow_in"][1:]
     assert np.mean(inflow) == pytest.approx(0.2 * 0.05 * 0.05, rel=0.25)
+
+
+@pytest.mark.parametrize("overrides,expected", [([], None), (["fluid.min_pressure=-0.99e5"], -0.99e5)])
+def test_a_cavitation_floor_reaches_the_deck(overrides, expected, tmp_path):
+    """fluid.min_pressure writes "min_pressure" (engine eos.h: the pressure's floor); the default writes nothing;
+    a floor at or above the rest pressure is refused, naming both keys."""
+    scene = build_scene(load_case(REFERENCE_2D, overrides=overrides).model)
+    _backend().write_input(scene, tmp_path)
+    assert json.loads((tmp_path / "deck.json").read_text()).get("min_pressure") == expected
+    with pytest.raises(CaseError, match="fluid.min_pressure = 0 Pa must lie below the rest pressure"):
+        load_case(REFERENCE_2D, overrides=["fluid.min_pressure=0"])

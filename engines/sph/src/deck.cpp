@@ -253,7 +253,8 @@ Deck parse_deck(const json& j, const std::string& deck_dir) {
   check_keys(j, "", {"dimension", "particles_file", "physics", "rho0", "c0", "gamma", "background_pressure", "v_max",
                      "viscosity", "alpha", "beta", "artificial_viscosity", "h", "dx", "body_force", "meshes", "wall", "periodic", "inlets",
                      "outlets", "dt", "time_step", "t_end", "t_start", "step_start", "max_steps", "stability", "output", "threads",
-                     "materials", "lees_edwards", "neighbour_skin", "viscosity_correction", "open_boundary_list"});
+                     "materials", "lees_edwards", "neighbour_skin", "viscosity_correction", "open_boundary_list",
+                     "min_pressure"});
   Deck d;
   d.deck_dir = deck_dir;
   const auto& dim = need(j, "", "dimension");
@@ -268,7 +269,7 @@ Deck parse_deck(const json& j, const std::string& deck_dir) {
   d.v_max = positive(j, "", "v_max");
   if (j.contains("materials")) {
     // Several materials: the fluid keys live in each material, not at the top level.
-    for (const char* key : {"rho0", "c0", "gamma", "background_pressure", "viscosity"})
+    for (const char* key : {"rho0", "c0", "gamma", "background_pressure", "viscosity", "min_pressure"})
       if (j.contains(key)) fail("key '" + std::string(key) + "' is given with 'materials'; give it in each material");
     parse_materials(j["materials"], d);
   } else {
@@ -279,6 +280,7 @@ Deck parse_deck(const json& j, const std::string& deck_dir) {
       if (!(d.gamma >= 1)) fail("'gamma' must be >= 1, got " + std::to_string(d.gamma));
     }
     if (j.contains("background_pressure")) d.background_pressure = number(j["background_pressure"], "background_pressure");
+    if (j.contains("min_pressure")) d.min_pressure = min_pressure(j["min_pressure"], "min_pressure", d.background_pressure);
     if (d.c0 < 10.0 * d.v_max)
       fail("c0 = " + std::to_string(d.c0) + " m/s is too small for v_max = " + std::to_string(d.v_max) +
            " m/s; weakly compressible SPH needs c0 >= 10 v_max (density error < 1 %)");

@@ -80,6 +80,7 @@ struct MaterialSpec {
   double rho0 = 0, c0 = 0, gamma = 7, background_pressure = 0;  // kg/m^3, m/s, -, Pa
   double viscosity = 0;                                         // kinematic, m^2/s (Newtonian)
   bool quadratic_eos = false;                                   // `eos`: "tait" (eq. 6) or "quadratic" (seed 002, eq. 9)
+  std::optional<double> min_pressure;                           // cavitation floor of the pressure, Pa (eos.h)
   // PTT (materials/ptt.h): relaxation time s and viscosity Pa s per mode, extensibility, solvent viscosity Pa s
   std::vector<double> mode_lambda, mode_eta;
   double epsilon = 0, solvent_viscosity = 0;
@@ -126,6 +127,7 @@ struct Deck {
   std::vector<MaterialSpec> materials;
   // fluid
   double rho0 = 0, c0 = 0, gamma = 7, background_pressure = 0;  // kg/m^3, m/s, -, Pa
+  std::optional<double> min_pressure;                           // one material: its cavitation floor, Pa
   double v_max = 0;                                             // expected max speed, m/s
   double viscosity = 0;                                         // kinematic, m^2/s
   double alpha = 0, beta = 0;                                   // artificial viscosity

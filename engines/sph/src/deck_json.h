@@ -45,6 +45,15 @@ inline double number(const json& v, const std::string& name) {
   return x;
 }
 
+// A cavitation floor of the pressure (eos.h), Pa: finite and below the rest pressure p_B.
+inline double min_pressure(const json& v, const std::string& name, double background_pressure) {
+  const double x = number(v, name);
+  if (!(x < background_pressure))
+    fail("'" + name + "' = " + std::to_string(x) + " Pa must lie below the rest pressure (background_pressure = " +
+         std::to_string(background_pressure) + " Pa)");
+  return x;
+}
+
 inline double positive(const json& j, const std::string& path, const std::string& key) {
   const double x = number(need(j, path, key), where(path, key));
   if (!(x > 0)) fail("'" + where(path, key) + "' must be > 0, got " + std::to_string(x));

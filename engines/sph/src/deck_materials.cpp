@@ -26,7 +26,8 @@ void parse_materials(const json& j, Deck& d) {
     m.model = text(need(e, path, "model"), where(path, "model"));
     const int index = MaterialModels::index(m.model);
     if (index < 0) fail("'" + where(path, "model") + "' = '" + m.model + "' is not a material model; known: " + join(models));
-    std::vector<std::string> allowed = {"name", "model", "rho0", "c0", "gamma", "background_pressure", "eos"};
+    std::vector<std::string> allowed = {"name", "model", "rho0", "c0", "gamma", "background_pressure", "eos",
+                                        "min_pressure"};
     MaterialModels::visit(index, [&](auto model) {
       for (const auto& k : decltype(model)::keys()) allowed.push_back(k);
     });
@@ -45,6 +46,7 @@ void parse_materials(const json& j, Deck& d) {
       if (m.quadratic_eos && e.contains("gamma")) fail("'" + where(path, "gamma") + "' is a Tait key; 'eos' is 'quadratic'");
     }
     if (e.contains("background_pressure")) m.background_pressure = number(e["background_pressure"], where(path, "background_pressure"));
+    if (e.contains("min_pressure")) m.min_pressure = min_pressure(e["min_pressure"], where(path, "min_pressure"), m.background_pressure);
     if (m.c0 < 10.0 * d.v_max)
       fail("'" + where(path, "c0") + "' = " + std::to_string(m.c0) + " m/s is too small for v_max = " +
            std::to_string(d.v_max) + " m/s; weakly compressible SPH needs c0 >= 10 v_max (density error < 1 %)");
@@ -91,6 +93,7 @@ std::vector<MaterialSpec> Deck::material_list() const {
   MaterialSpec m;
   m.name = "fluid", m.model = "newtonian";
   m.rho0 = rho0, m.c0 = c0, m.gamma = gamma, m.background_pressure = background_pressure, m.viscosity = viscosity;
+  m.min_pressure = min_pressure;
   return {m};
 }
 

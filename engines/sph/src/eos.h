@@ -1,8 +1,13 @@
 // Tait equation of state with background pressure (Canini et al., eq. 6), or
 // the quadratic EOS of Nutto et al. (seed 002, eq. 9), p = c0^2 rho^2 / (2 rho0),
-// when `quadratic` (a material's `eos = "quadratic"`).
+// when `quadratic` (a material's `eos = "quadratic"`). With a `min_pressure`
+// p_min (a cavitation floor: the vapour pressure, gauge) the pressure is
+// max(p(rho), p_min): the fluid holds no tension beyond it, as water boils
+// there; below floor_rho, the density of p_min, a particle counts as at
+// floor_rho in the density checks (step_maxima.h).
 #pragma once
 #include <cmath>
+#include <limits>
 
 namespace sph {
 
@@ -12,12 +17,23 @@ struct TaitEos {
   double gamma;                // exponent (7 for water)
   double background_pressure;  // p_B, Pa
   bool quadratic = false;      // seed 002, eq. 9 instead of eq. 6
+  double min_pressure = -std::numeric_limits<double>::infinity();  // p_min, Pa (none: -inf)
+  double floor_rho = 0.0;      // the density of p_min, kg/m^3 (0: none)
 
   // p = rho0 c0^2 / gamma ((rho/rho0)^gamma - 1) + p_B, Pa
   // or p = c0^2 rho^2 / (2 rho0) + p_B (seed 002, eq. 9; p_B is 0 unless the deck gives it)
   double pressure(double rho) const {
-    if (quadratic) return c0 * c0 * rho * rho / (2.0 * rho0) + background_pressure;
-    return rho0 * c0 * c0 / gamma * (power(rho / rho0) - 1.0) + background_pressure;
+    const double p = quadratic ? c0 * c0 * rho * rho / (2.0 * rho0) + background_pressure
+                               : rho0 * c0 * c0 / gamma * (power(rho / rho0) - 1.0) + background_pressure;
+    return p < min_pressure ? min_pressure : p;
+  }
+
+  // Set the floor p_min (Pa, below the rest pressure p_B) and its density (eq. 6 or 9 inverted).
+  void set_min_pressure(double p_min) {
+    min_pressure = p_min;
+    const double excess = p_min - background_pressure;
+    if (quadratic) floor_rho = excess > 0.0 ? std::sqrt(2.0 * rho0 * excess) / c0 : 0.0;
+    else floor_rho = rho0 * std::pow(std::max(0.0, 1.0 + gamma * excess / (rho0 * c0 * c0)), 1.0 / gamma);
   }
 
   // c = sqrt(dp/drho) = c0 (rho/rho0)^((gamma-1)/2), m/s (quadratic: c0 sqrt(rho/rho0))

@@ -57,6 +57,7 @@ int add_materials(const Deck& deck, MaterialTable& table) {
   for (const MaterialSpec& m : deck.material_list()) {
     Material mat{{m.rho0, m.c0, m.gamma, m.background_pressure, m.quadratic_eos}, m.viscosity, m.rho0 * m.viscosity,
                  std::max(0, Models::index(m.model)), {}};
+    if (m.min_pressure) mat.eos.set_min_pressure(*m.min_pressure);
     Models::visit(mat.model, [&](auto model) {
       if constexpr (stress_modes_v<decltype(model)> > 0) decltype(model)::configure(m, mat);
     });

@@ -28,7 +28,8 @@ inline void take_maxima(const Particles<D>& P, const MaterialTable& mats, std::p
   // One test for all: a sum is finite only when every term is (inf - inf is NaN).
   finite = finite && std::isfinite(P.rho[i] + P.x[i].sum() + P.v[i].sum());
   if (!P.moves(i)) return;
-  worst_rho = std::max(worst_rho, std::abs(P.rho[i] / mats.eos(P.material[i]).rho0 - 1.0));
+  const TaitEos& eos = mats.eos(P.material[i]);  // a cavitating particle counts at its floor's density (eos.h)
+  worst_rho = std::max(worst_rho, std::abs(std::max(P.rho[i], eos.floor_rho) / eos.rho0 - 1.0));
   v2 = std::max(v2, P.v[i].squaredNorm());
   a2 = std::max(a2, P.acc[i].squaredNorm());
 }
@@ -75,7 +76,10 @@ template <int D>
 double max_density_deviation(const Particles<D>& P, const MaterialTable& mats) {
   double worst = 0.0;
   for (std::size_t i = 0; i < P.size(); ++i)
-    if (P.moves(i)) worst = std::max(worst, std::abs(P.rho[i] / mats.eos(P.material[i]).rho0 - 1.0));
+    if (P.moves(i)) {
+      const TaitEos& eos = mats.eos(P.material[i]);
+      worst = std::max(worst, std::abs(std::max(P.rho[i], eos.floor_rho) / eos.rho0 - 1.0));
+    }
   return worst;
 }
 

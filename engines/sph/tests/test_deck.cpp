@@ -190,6 +190,17 @@ TEST(inlets_and_outlets) {
 
 // Materials: a deck without `materials` is one Newtonian material of the
 // top-level keys; with it, each material carries its own EOS keys and model keys.
+TEST(min_pressure_lies_below_the_rest_pressure) {
+  json j = good_deck();
+  j["min_pressure"] = -0.99e5;
+  const Deck d = parse_deck(j, deck_dir().string());
+  CHECK(d.material_list()[0].min_pressure.value_or(0.0) == -0.99e5);
+  j["min_pressure"] = 0.0;  // background_pressure 0: a floor at the rest pressure holds no tension at all
+  CHECK(mentions(rejection(j), "'min_pressure' = 0.000000 Pa must lie below the rest pressure"));
+  j["min_pressure"] = "low";
+  CHECK(mentions(rejection(j), "'min_pressure' must be a number"));
+}
+
 TEST(deck_without_materials_is_one_newtonian_material) {
   const Deck d = parse_deck(good_deck(), deck_dir().string());
   CHECK(d.materials.empty());

@@ -71,6 +71,20 @@ TEST(kernel_gradient_matches_finite_difference) {
   CHECK(W.gradient(Vec<3>(2.5, 0.0, 0.0)).norm() == 0.0);
 }
 
+// The cavitation floor (eos.h): the pressure stops at p_min, whose density floor_rho inverts eq. 6 (and eq. 9).
+TEST(eos_min_pressure_is_a_floor) {
+  TaitEos eos{1000.0, 1000.0, 7.0, 0.0};
+  eos.set_min_pressure(-0.99e5);
+  CHECK_CLOSE(eos.pressure(eos.floor_rho), -0.99e5, 1e-9);  // its own density
+  CHECK(eos.pressure(900.0) == -0.99e5);                   // -746 bar without the floor
+  CHECK_CLOSE(eos.pressure(1001.0), 1000.0 * 1e6 / 7.0 * (std::pow(1.001, 7.0) - 1.0), 1e-9);  // untouched above
+  CHECK_CLOSE(eos.floor_rho, 1000.0 * std::pow(1.0 - 7.0 * 0.99e5 / 1e9, 1.0 / 7.0), 1e-12);  // 999.901 kg/m^3
+  TaitEos quad{1000.0, 10.0, 7.0, -5e4, true};
+  quad.set_min_pressure(-4e4);  // c0^2 rho^2 / (2 rho0) = 1e4 at rho = sqrt(2e4 rho0) / c0 = 447.2 kg/m^3
+  CHECK_CLOSE(quad.floor_rho, std::sqrt(2.0e4 * 1000.0) / 10.0, 1e-12);
+  CHECK(quad.pressure(100.0) == -4e4);
+}
+
 TEST(tait_eos_values) {
   const TaitEos eos{1000.0, 20.0, 7.0, 1e3};
   CHECK_CLOSE(eos.pressure(1000.0), 1e3, 1e-14);

@@ -192,6 +192,9 @@ def check_materials(case) -> None:
                 raise ValueError(f"{key}.material = {material!r} names a material but the case has no "
                                  "[[materials]]; add them or remove the key")
         return
+    if fluid.min_pressure is not None:
+        raise ValueError("fluid.min_pressure (a cavitation floor) applies to one-fluid cases; this case has "
+                         "[[materials]], which do not take one yet: remove the key")
     given = [key for key in MATERIAL_KEYS if key in fluid.model_fields_set]
     if given:
         raise ValueError(f"fluid.{given[0]} is given with [[materials]]; give it in each [[materials]] table "

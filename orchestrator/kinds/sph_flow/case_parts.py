@@ -86,11 +86,22 @@ class Fluid(Frozen):
     )
     gamma: float = Field(7.0, ge=1, description="exponent of the Tait equation of state, -")
     background_pressure: Finite = Field(0.0, description="background pressure p_B of eq. 6, Pa")
+    min_pressure: Finite | None = Field(
+        None, description="cavitation floor: the fluid's pressure is at least this, Pa (gauge, as p_B; water: its "
+                          "vapour pressure less the ambient, about -0.99e5); below p_B; default none (any tension); "
+                          "one-fluid cases only (not with [[materials]])")
 
     @property
     def c0(self) -> float:
         """Reference sound speed, m/s: sound_speed, or 10 max_speed."""
         return self.sound_speed if self.sound_speed is not None else 10.0 * self.max_speed
+
+    @model_validator(mode="after")
+    def _floor_below_rest(self):
+        if self.min_pressure is not None and not self.min_pressure < self.background_pressure:
+            raise ValueError(f"fluid.min_pressure = {self.min_pressure:g} Pa must lie below the rest pressure "
+                             f"fluid.background_pressure = {self.background_pressure:g} Pa")
+        return self
 
     @model_validator(mode="after")
     def _fast_enough(self):

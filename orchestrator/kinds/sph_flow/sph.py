@@ -72,6 +72,7 @@ def deck_context(scene, threads: int = 1) -> dict:
         "v_max": num(fluid.max_speed),
         "gamma": num(fluid.gamma),
         "background_pressure": num(fluid.background_pressure),
+        "min_pressure": None if fluid.min_pressure is None else num(fluid.min_pressure),
         "h": num(scene.h),
         "dx": num(numerics.dx),
         "viscosity": None if fluid.viscosity is None else num(fluid.viscosity),
