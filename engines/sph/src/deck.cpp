@@ -179,7 +179,7 @@ void parse_open_boundaries(const json& j, Deck& d) {
       if (inlet)
         check_keys(e, path, {"name", "center", "normal", "radius", "u", "half_extents", "velocity", "layers", "profile",
                              "inner_radius", "pressure", "material", "ramp_time"});
-      else check_keys(e, path, {"name", "center", "normal", "radius", "u", "half_extents", "layers", "pressure"});
+      else check_keys(e, path, {"name", "center", "normal", "radius", "u", "half_extents", "layers", "pressure", "backflow"});
       PlanePatch patch = parse_patch(e, path, d.dimension, seen);
       const int layers = buffer_layers(e, path, d);
       if (!inlet) {
@@ -190,6 +190,12 @@ void parse_open_boundaries(const json& j, Deck& d) {
             if (!(1.0 + m.gamma * (*out.pressure - m.background_pressure) / (m.rho0 * m.c0 * m.c0) > 0.0))
               fail("'" + path + ".pressure' = " + std::to_string(*out.pressure) +
                    " Pa is below the lowest pressure of material '" + m.name + "' (eq. 6)");
+        }
+        if (e.contains("backflow")) {
+          if (!e["backflow"].is_boolean()) fail("'" + path + ".backflow' must be true or false");
+          out.backflow = e["backflow"].get<bool>();
+          if (out.backflow && !out.pressure)
+            fail("'" + path + ".backflow' needs '" + path + ".pressure': the fluid that enters takes the held pressure");
         }
         d.outlets.push_back(std::move(out));
         continue;

@@ -69,6 +69,7 @@ struct OutletSpec {
   PlanePatch patch;
   int layers = 3;
   std::optional<double> pressure;  // Pa
+  bool backflow = false;           // a pressure opening: fluid may also enter through it (needs a pressure)
 };
 
 // One material of the deck's `materials` list. Every material is weakly

@@ -8,7 +8,14 @@
 // Outlet: a fluid particle crossing the patch becomes an outlet particle that
 // keeps its density and the normal part of its velocity (so the fluid
 // upstream still sees full neighbourhoods) and is removed `layers` dx downstream.
-// The volume converted at each patch gives the inflow and outflow rates.
+// An outlet with `backflow` (a pressure opening; it needs a held pressure)
+// lets its buffer move inward too, at the fluid's normal speed before the
+// patch: a buffer particle that crosses the patch inward becomes fluid at the
+// held pressure, and a new buffer particle takes its lateral place `layers` dx
+// downstream, so fluid enters wherever the fluid inside draws it (a jet's
+// entrainment, a suction) instead of leaving voids.
+// The volume converted at each patch gives the inflow and outflow rates (an
+// opening's backflow counts as negative outflow).
 //
 // Options (deck.h InletSpec, OutletSpec), after the buffer inlets and
 // outlets of Lastiwka et al. 2009 and Tafuni et al. 2018 (velocity imposed at
@@ -84,6 +91,7 @@ class OpenBoundaries {
     for (const auto& s : deck.outlets) {
       Outlet out(Patch<D>(s.patch), s.layers);
       out.holds = s.pressure.has_value();
+      out.backflow = s.backflow;
       for (const auto& m : materials) {
         out.rho0.push_back(m.rho0);
         if (out.holds)  // eq. 6 inverted
@@ -160,7 +168,8 @@ class OpenBoundaries {
         const double s = out.patch.height(P.x[i]);
         if (s < 0.0 || s > out.layers * dx_ || !out.patch.contains(P.x[i] - out.patch.c)) continue;
         P.kind[i] = Kind::outlet;
-        P.v[i] = std::max(P.v[i].dot(out.patch.n), 0.0) * out.patch.n;
+        const double vn = P.v[i].dot(out.patch.n);
+        P.v[i] = (out.backflow ? vn : std::max(vn, 0.0)) * out.patch.n;
         if (out.holds) P.rho[i] = out.rho_ref[P.material[i]];
         break;
       }
@@ -190,6 +199,7 @@ class OpenBoundaries {
     candidates_.clear();
     for (auto& w : waiting_) {  // they move as the buffer does (their velocity: the ramp's at the last update)
       w.x += (t - t_last_) * w.v;
+      if (w.outlet) continue;
       const Inlet& in = inlets_[w.inlet];
       if (in.ramping) {
         const Vec<D> q = w.x - in.patch.c;
@@ -252,6 +262,10 @@ class OpenBoundaries {
             removals = true;
             break;
           }
+          if (out.backflow && s < 0.0 && s > -dx_) {  // back in through a pressure opening
+            next_id = enter_through(P, i, out, next_id, event);
+            break;
+          }
           if (out.holds && s >= 0.0) {
             P.rho[i] = out.rho_ref[P.material[i]];  // the reference pressure, held
             P.v[i] = out.velocity_behind(P.x[i] - out.patch.c, dx_) * out.patch.n;
@@ -278,8 +292,12 @@ class OpenBoundaries {
       leaving_ = false;
     }
     for (const auto& w : waiting_) {
-      const Inlet& in = inlets_[w.inlet];
       event(w.x, w.mass, 1.0);
+      if (w.outlet) {
+        P.append(w.x, w.v, outlets_[w.inlet].rho_ref[w.material], w.mass, Kind::outlet, w.id, w.material);
+        continue;
+      }
+      const Inlet& in = inlets_[w.inlet];
       P.append(w.x, w.v, in.rho_fluid > 0.0 ? in.rho_fluid : in.rho_ref, w.mass, Kind::inlet, w.id, in.material);
     }
     waiting_.clear();
@@ -309,11 +327,13 @@ class OpenBoundaries {
   using Inlet = InletBuffer<D>;
   using Outlet = OutletBuffer<D>;
   bool new_options_only_ = false, kept_ = false;
-  struct Waiting {  // an inlet particle still to be added
+  struct Waiting {  // an inlet particle (or an opening's buffer particle) still to be added
     Vec<D> x, v;
     double mass;
     std::int64_t id;
-    std::size_t inlet;
+    std::size_t inlet;  // the inlet's index, or the outlet's
+    bool outlet = false;
+    std::uint8_t material = 0;
   };
   std::vector<Waiting> waiting_;
   std::vector<std::size_t> changed_;
@@ -341,6 +361,10 @@ class OpenBoundaries {
   // added now, or the fluid would miss it before the next build.
   bool waiting_too_close() const {
     for (const auto& w : waiting_) {
+      if (w.outlet) {  // an opening's: the fluid lies before the patch
+        if (outlets_[w.inlet].patch.height(w.x) < reach_) return true;
+        continue;
+      }
       if (inlets_[w.inlet].patch.height(w.x) > -reach_) return true;
       for (const auto& x : candidates_)
         if ((x - w.x).squaredNorm() < reach_ * reach_) return true;
@@ -348,6 +372,25 @@ class OpenBoundaries {
     return false;
   }
 
+  // Outlet particle i crossed its opening's patch inward: it becomes fluid at the held pressure (its outflow
+  // counted back), and a buffer particle takes its lateral place layers dx downstream (now, or at the flush).
+  template <class Event>
+  std::int64_t enter_through(Particles<D>& P, std::size_t i, Outlet& out, std::int64_t next_id, Event&& event) {
+    const std::uint8_t mat = P.material[i];
+    P.kind[i] = Kind::fluid;
+    out.volume -= P.mass[i] / out.rho0[mat];
+    const Vec<D> spawn = P.x[i] + out.layers * dx_ * out.patch.n;
+    const Vec<D> v = P.v[i];
+    if (defer_) {
+      changed_.push_back(i);
+      waiting_.push_back({spawn, v, P.mass[i], next_id++, static_cast<std::size_t>(&out - outlets_.data()), true, mat});
+      return next_id;
+    }
+    kept_ = false;
+    event(spawn, P.mass[i], 1.0);
+    P.append(spawn, v, out.rho_ref[mat], P.mass[i], Kind::outlet, next_id++, mat);
+    return next_id;
+  }
   // Mean density of the fluid within layers dx ahead of the inlet's patch, kg/m^3 (rho_ref if none).
   double fluid_density_ahead(const Particles<D>& P, const Inlet& in) const {
     double sum = 0.0;

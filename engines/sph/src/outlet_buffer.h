@@ -19,6 +19,7 @@ struct OutletBuffer {
   int layers;
   double volume = 0.0;
   bool holds = false;                 // holds a reference pressure
+  bool backflow = false;              // a pressure opening: its buffer may move inward and feed the fluid
   std::vector<double> rho0, rho_ref;  // per material, kg/m^3
   std::vector<Vec<D>> behind_q;       // in-plane offsets of the fluid within layers dx before the patch
   std::vector<double> behind_v;       // and their speeds along the normal, m/s
@@ -38,18 +39,22 @@ struct OutletBuffer {
   // Normal speed of an outlet buffer particle at in-plane offset q (normal part
   // ignored): the fluid's normal speed before the patch averaged over the
   // in-plane distance d < 2 dx with weight (1 - d / 2dx)^2 (zero-gradient
-  // velocity, as the outlets of Tafuni et al. 2018), not below 0, m/s.
+  // velocity, as the outlets of Tafuni et al. 2018), not below 0 unless the
+  // outlet lets fluid back in (backflow), m/s.
   double velocity_behind(const Vec<D>& x_rel, double dx) const {
     const Vec<D> q = x_rel - x_rel.dot(patch.n) * patch.n;
-    const double reach = 2.0 * dx;
-    double sum = 0.0, weight = 0.0;
-    for (std::size_t j = 0; j < behind_q.size(); ++j) {
-      const double d = (behind_q[j] - q).norm();
-      if (d >= reach) continue;
-      const double w = (1.0 - d / reach) * (1.0 - d / reach);
-      sum += w * behind_v[j], weight += w;
+    for (double reach : {1.0 * dx, 2.0 * dx}) {
+      double sum = 0.0, weight = 0.0;
+      for (std::size_t j = 0; j < behind_q.size(); ++j) {
+        const double d = (behind_q[j] - q).norm();
+        if (d >= reach) continue;
+        const double w = (1.0 - d / reach) * (1.0 - d / reach);
+        sum += w * behind_v[j], weight += w;
+      }
+      if (weight <= 0.0) continue;
+      return backflow ? sum / weight : std::max(sum / weight, 0.0);
     }
-    return weight > 0.0 ? std::max(sum / weight, 0.0) : 0.0;
+    return 0.0;
   }
 };
 

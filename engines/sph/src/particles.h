@@ -209,7 +209,8 @@ struct Particles {
     for_carried([](auto& a, auto& next) { a.swap(next); });
   }
 
-  void append(const Vec<D>& pos, const Vec<D>& velocity, double density, double m, Kind k, std::int64_t ident,
+  // Position and velocity by value: a caller may pass another particle's, which resize() can move.
+  void append(const Vec<D> pos, const Vec<D> velocity, double density, double m, Kind k, std::int64_t ident,
               std::uint8_t mat = 0) {
     const std::size_t i = size();
     resize(i + 1);

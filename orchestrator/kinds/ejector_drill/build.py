@@ -152,7 +152,7 @@ def assemble_flow_case(case, layout, inlets: tuple, pressures: dict, probes: tup
     and its probes: the layout's flow planes, the output intervals, the box around the layout (r_max, z_lo..z_hi),
     drill_physics. Assembled with model_construct: its walls are the drill's, which an sph_flow case cannot name."""
     outlets = tuple(Outlet(name=p.name, center=p.center, normal=p.normal, radius=p.radius,
-                           pressure=pressures[role]) for role, p in layout.outlets.items())
+                           pressure=pressures[role], backflow=case.scene.backflow) for role, p in layout.outlets.items())
     planes = tuple(Patch(name=p.name, center=p.center, normal=p.normal, radius=p.radius)
                    for p in layout.planes.values())
     output = SphOutput(frame_interval=case.output.frame_interval, series_interval=case.output.series_interval,

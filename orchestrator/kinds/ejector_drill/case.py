@@ -88,6 +88,9 @@ class DrillScene(Frozen):
                                                       "plane in the tube/bore clearance, m")
     mouth_pressure: Finite = Field(0.0, description="gauge pressure held at the chip-mouth outlet, Pa")
     leak_pressure: Finite = Field(0.0, description="gauge pressure held at the leak outlet (flooded work area), Pa")
+    backflow: bool = Field(False, description="the outlets are pressure openings: fluid at their held pressure also "
+                                              "enters through them where the scene draws it (a jet's entrainment), "
+                                              "instead of leaving voids; false: fluid only leaves")
     network_flow: Positive = Field(60.0, description="feed flow of the 1D network shown beside the SPH, l/min "
                                                       "(the paper's standard rate; the range is 50-80); feed: the "
                                                       "network state the inlets and outlets carry")

@@ -60,7 +60,16 @@ class Outlet(Patch):
     layers: int = Field(3, ge=1, le=100, description="buffer layers after the patch (layers dx must cover 2h), -")
     pressure: Finite | None = Field(None, description="reference pressure held in the buffer (its particles then move "
                                                       "at the fluid's speed before the patch), Pa; default none")
+    backflow: bool = Field(False, description="a pressure opening: the buffer may move inward too, and fluid at the "
+                                              "held pressure enters where the fluid inside draws it (needs pressure)")
+
+    @model_validator(mode="after")
+    def _backflow_needs_pressure(self):
+        if self.backflow and self.pressure is None:
+            raise ValueError(f"outlet {self.name!r}: backflow needs a pressure (what enters takes the held pressure)")
+        return self
 
     def deck_options(self) -> dict:
-        """The pressure key of the engine deck when set."""
-        return {} if self.pressure is None else {"pressure": float(self.pressure)}
+        """The pressure and backflow keys of the engine deck when set."""
+        out = {} if self.pressure is None else {"pressure": float(self.pressure)}
+        return out | ({"backflow": True} if self.backflow else {})
