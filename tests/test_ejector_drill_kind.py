@@ -108,6 +108,42 @@ def test_a_filled_start_holds_every_region_at_rest_and_ramps_the_inlet():
     assert inlet["ramp_time"] == case.scene.ramp_time == 2.0e-4
 
 
+@pytest.mark.parametrize("backflow", [False, True])
+def test_backflow_makes_both_outlets_pressure_openings(backflow):
+    """scene.backflow reaches the deck's mouth and leak outlets (engine: a buffer particle crossing inward becomes
+    fluid at the held pressure); without it the deck has no backflow key (fluid only leaves)."""
+    import json
+
+    from orchestrator.kinds.sph_flow.sph import TEMPLATE, deck_context
+    from orchestrator.templating import render
+
+    case = load_case(CASE, preset="flow_exit_filled_quick", overrides=[f"scene.backflow={str(backflow).lower()}"])
+    outlets = json.loads(render(TEMPLATE, deck_context(build_scene(case.model).flow, threads=1)))["outlets"]
+    assert sorted(o["name"] for o in outlets) == ["leak", "mouth"]
+    assert all(o.get("backflow", False) is backflow and o["pressure"] == 0.0 for o in outlets)
+
+
+def test_stored_volume_counts_cavitating_fluid_at_the_floors_density():
+    """A particle below the cavitation floor's density holds its mass as liquid at that density (the rest of
+    m / rho is vapour): the control volume's liquid is m / max(rho, rho_floor); outside it nothing counts."""
+    from orchestrator.kinds.ejector_drill.comparison import stored_volume
+
+    case = load_case(CASE, preset="flow_exit_filled_quick", overrides=["fluid.min_pressure=-0.99e5"]).model
+    layout = build_scene(case).layout
+    rho0, floor = case.fluid.density, case.fluid.floor_density
+    # eq. 6 inverted at -0.99e5 Pa with c0 = 1500 m/s: rho0 (1 - 7 x 0.99e5 / (1000 x 1500^2))^(1/7)
+    assert floor == pytest.approx(rho0 * (1 - 7 * 0.99e5 / (rho0 * 1500.0 ** 2)) ** (1 / 7), rel=1e-12)
+    inside = [0.0, 14.6e-3, -0.5e-3]  # ahead of the head's face at the bore's rim, below the AG plane
+    outside = [0.0, 0.0, layout.planes["IB"].center[2] + 1e-3]  # in the chip mouth past IB
+    frame = {"kind": np.zeros(3), "positions": np.array([inside, inside, outside]),
+             "densities": np.array([0.5 * rho0, 1.01 * rho0, 0.5 * rho0]), "attrs": {"time": 1e-4}}
+    mass = 1e-6
+    _, cavitating = stored_volume(layout, {"0": frame}, mass, floor)
+    _, as_m_over_rho = stored_volume(layout, {"0": frame}, mass)
+    assert cavitating[0] == pytest.approx(mass / floor + mass / (1.01 * rho0), rel=1e-12)
+    assert as_m_over_rho[0] == pytest.approx(mass / (0.5 * rho0) + mass / (1.01 * rho0), rel=1e-12)
+
+
 @pytest.mark.parametrize("overrides, words", [
     (["scene.ramp_time=0.0"], "rho0 c0 v_in = 900 bar"),
     (["scene.prefill=1e-3"], "scene.prefill is for start = 'empty'"),

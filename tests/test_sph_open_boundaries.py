@@ -67,6 +67,8 @@ def test_the_cases_reach_the_deck_and_build_cylinders():
     ("radius = 0.008, inner_radius = 0.003}", 'radius = 0.008, inner_radius = 0.003, wall = "both"}',
      r"blocks\[0\].cylinder.wall is given for a fluid block"),
     ('wall = "outer"}', 'wall = "out"}', "wall"),
+    ("pressure = 0.0               # Pa: the domain's reference pressure", "backflow = true",
+     "outlet 'drain': backflow needs a pressure"),
 ])
 def test_bad_open_boundary_keys_are_named(tmp_path, old, new, message):
     text = ANNULUS.read_text()

@@ -323,7 +323,9 @@ class Simulation {
         if (P_.moves(i)) {
           Vec<D> x_old = P_.x0[i];
           images_.wrap(x_old);
-          crossed(x_old, Vec<D>(dt * (P_.v0[i] + 0.5 * dt * P_.acc[i])), P_.mass[i] / P_.rho[i]);
+          // the liquid's volume: a cavitating particle holds its mass at the floor's density, the rest is vapour
+          const double rho = std::max(P_.rho[i], materials_.eos(P_.material[i]).floor_rho);
+          crossed(x_old, Vec<D>(dt * (P_.v0[i] + 0.5 * dt * P_.acc[i])), P_.mass[i] / rho);
         }
     return true;
   }

@@ -29,9 +29,10 @@ def control_volume_mask(layout, positions: np.ndarray) -> np.ndarray:
     return (positions[:, 2] < z_top) & ~((r < ib.radius) & (positions[:, 2] > ib.center[2]))
 
 
-def stored_volume(layout, frames, mass: float) -> tuple[np.ndarray, np.ndarray]:
-    """(frame times s, fluid volume m/rho in the control volume m^3) from run.h5 frames; mass: of one particle,
-    rho0 dx^3 (kg)."""
+def stored_volume(layout, frames, mass: float, floor_density: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """(frame times s, liquid volume m / max(rho, floor_density) in the control volume m^3) from run.h5 frames;
+    mass: of one particle, rho0 dx^3 (kg); floor_density: the cavitation floor's density (kg/m^3, 0: none), at
+    which a cavitating particle holds its liquid (the rest of m/rho is vapour), as the engine's flow planes count."""
     times, volumes = [], []
     for key in sorted((k for k in frames if k != "attrs"), key=int):
         frame = frames[key]
@@ -40,7 +41,7 @@ def stored_volume(layout, frames, mass: float) -> tuple[np.ndarray, np.ndarray]:
         rho = np.asarray(frame["densities"], dtype=float)[fluid]
         times.append(float(frame["attrs"]["time"]))
         inside = control_volume_mask(layout, x)
-        volumes.append(float(np.sum(mass / rho[inside])))
+        volumes.append(float(np.sum(mass / np.maximum(rho[inside], floor_density))))
     return np.asarray(times), np.asarray(volumes)
 
 

@@ -103,7 +103,8 @@ def analyze_drill_run(run_dir, run: dict, case, render: bool = True) -> dict:
         return {}
     flows = flow_series(series, time)
     frames = run.get("frames", {})
-    t_frames, volumes = stored_volume(layout, frames, case.fluid.density * case.numerics.dx ** 3)
+    t_frames, volumes = stored_volume(layout, frames, case.fluid.density * case.numerics.dx ** 3,
+                                     case.fluid.floor_density)
     grid = spaced_frames(t_frames, case.output.frame_interval)
     stored = (np.interp(time, t_frames[grid], stored_volume_rate(t_frames[grid], volumes[grid]))
               if grid.sum() >= 2 else None)

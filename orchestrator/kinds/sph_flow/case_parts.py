@@ -12,6 +12,7 @@ from pydantic import Field, ValidationInfo, field_validator, model_validator
 
 from orchestrator.case.common import Frozen, Name, NonNegative, Positive, mesh_file
 from orchestrator.kinds.sph_flow.case_cylinder import BlockCylinder
+from orchestrator.reference.sph_flows import tait_density
 
 #: Optional physics terms of the sph executable (engines/sph/src/physics_terms.h).
 PHYSICS_TERMS = ("morris_viscosity", "artificial_viscosity", "body_force", "wall_penalty")
@@ -95,6 +96,14 @@ class Fluid(Frozen):
     def c0(self) -> float:
         """Reference sound speed, m/s: sound_speed, or 10 max_speed."""
         return self.sound_speed if self.sound_speed is not None else 10.0 * self.max_speed
+
+    @property
+    def floor_density(self) -> float:
+        """The density of min_pressure (eq. 6 inverted), kg/m^3; 0 without a floor. A cavitating particle below
+        it holds this much liquid, the rest of its volume vapour (the engine counts it so in flow planes)."""
+        if self.min_pressure is None:
+            return 0.0
+        return float(tait_density(self.min_pressure, self.density, self.c0, self.gamma, self.background_pressure))
 
     @model_validator(mode="after")
     def _floor_below_rest(self):
