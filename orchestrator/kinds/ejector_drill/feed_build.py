@@ -30,6 +30,7 @@ from orchestrator.kinds.sph_flow.case import SphFlowCase
 from orchestrator.kinds.sph_flow.case_open import Inlet
 from orchestrator.kinds.sph_flow.case_parts import Probe
 from orchestrator.kinds.sph_flow.scene import BOUNDARY, FLUID, SphScene
+from orchestrator.reference import sph_flows
 
 
 def feed_flow_case(case, layout: FeedLayout, boundary: FeedBoundary) -> SphFlowCase:
@@ -61,8 +62,7 @@ def tait_density(case, pressure: np.ndarray) -> np.ndarray:
     """Density (kg/m^3) of the gauge pressure (Pa), eq. 6 inverted:
     rho0 ((p - p_B) gamma / (rho0 c0^2) + 1)^(1/gamma)."""
     f = case.fluid
-    ratio = (pressure - f.background_pressure) * f.gamma / (f.density * case.c0 ** 2) + 1.0
-    return f.density * ratio ** (1.0 / f.gamma)
+    return sph_flows.tait_density(pressure, f.density, case.c0, f.gamma, f.background_pressure)
 
 
 def annulus_shape(r: np.ndarray, r_in: float, r_out: float) -> np.ndarray:
