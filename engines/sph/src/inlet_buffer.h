@@ -1,11 +1,29 @@
 // An inlet's buffer (open_boundaries.h): its patch, speed and profile, options and state, and the
 // profile's column speeds (eqs. OB1-OB3).
+//
+// Options (deck.h InletSpec):
+// - profile: each lattice column moves at v(q) = U f(q) / <f>, with f the
+//   Poiseuille shape across the patch (eqs. OB1-OB3 below) and <f> its mean
+//   over the lattice columns, so the columns carry exactly U times the patch
+//   area; a profile that vanishes at the wall does not pile fluid up where
+//   the inflow meets a no-slip wall (a plug does);
+// - pressure "extrapolated": the buffer takes the mean density of the fluid
+//   within `layers` dx inside the patch (zeroth-order extrapolation of the
+//   pressure), so the inflow enters at the pressure of the fluid ahead;
+// - ramp_time T: the buffer moves at g(t) times its speed,
+//   g = (1 - cos(pi t / T)) / 2 for t < T, 1 after (OB4), set after each
+//   step at the new time; the inflow starts at rest without a jump in
+//   acceleration, so a scene filled at rest is not struck by a water hammer
+//   of rho0 c0 U.
+// With any option (or an outlet's held pressure) the patch counts each
+// particle as m / rho0 of its material (the mass flux over rho0).
 #pragma once
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
 
+#include "particles.h"
 #include "plane_patch.h"
 #include "vec.h"
 
@@ -79,6 +97,36 @@ struct InletBuffer {
     const double b = q.dot(patch.w);
     if (patch.radius > 0.0) return std::sqrt(a * a + b * b) <= patch.radius + reach;
     return std::abs(a) <= patch.half_u + reach && std::abs(b) <= patch.half_w + reach;
+  }
+  // Mean density of the fluid within layers dx ahead of the patch, kg/m^3 (rho_ref if none).
+  double fluid_density_ahead(const Particles<D>& P, double dx) const {
+    double sum = 0.0;
+    long count = 0;
+    for (std::size_t i = 0; i < P.size(); ++i) {
+      if (P.kind[i] != Kind::fluid) continue;
+      const double s = patch.height(P.x[i]);
+      if (s < 0.0 || s > layers * dx || !patch.contains(P.x[i] - patch.c)) continue;
+      sum += P.rho[i], ++count;
+    }
+    return count > 0 ? sum / count : rho_ref;
+  }
+  // Whether buffer particle i is in this inlet's buffer (or just past its patch); then, while the inlet
+  // ramps, it takes g(t) times its column's speed (eq. OB4).
+  bool ramp(Particles<D>& P, std::size_t i, double dx) const {
+    const Vec<D> q = P.x[i] - patch.c;
+    if (!ramping || !patch.contains(q)) return false;
+    const double s = q.dot(patch.n);
+    if (s < -(layers + 1.0) * dx || s > 2.0 * dx) return false;
+    P.v[i] = factor * speed(q - s * patch.n) * patch.n;
+    return true;
+  }
+  // Whether buffer particle i is in this extrapolating inlet's buffer; then it takes the fluid's density ahead.
+  bool hold(Particles<D>& P, std::size_t i, double dx) const {
+    if (!extrapolated || !patch.contains(P.x[i] - patch.c)) return false;
+    const double s = patch.height(P.x[i]);
+    if (s < -(layers + 1.0) * dx || s > 2.0 * dx) return false;
+    P.rho[i] = rho_fluid;
+    return true;
   }
   // Scale of a profile so that the columns carry U times the patch area: sum_j v_j dx^(D-1) = U A.
   void normalise(double dx) {

@@ -19,25 +19,9 @@
 //
 // Options (deck.h InletSpec, OutletSpec), after the buffer inlets and
 // outlets of Lastiwka et al. 2009 and Tafuni et al. 2018 (velocity imposed at
-// the inlet, pressure at the outlet):
-// - inlet profile: each lattice column moves at v(q) = U f(q) / <f>, with f
-//   the Poiseuille shape across the patch (eqs. OB1-OB3 below) and <f> its
-//   mean over the lattice columns, so the columns carry exactly U times the
-//   patch area; a profile that vanishes at the wall does not pile fluid up
-//   where the inflow meets a no-slip wall (a plug does);
-// - inlet pressure "extrapolated": the buffer takes the mean density of the
-//   fluid within `layers` dx inside the patch (zeroth-order extrapolation of
-//   the pressure), so the inflow enters at the pressure of the fluid ahead;
-// - outlet pressure p_ref: the buffer holds rho_ref = rho0 (1 + gamma
-//   (p_ref - p_B) / (rho0 c0^2))^(1/gamma) (eq. 6 inverted), the domain's
-//   reference pressure, so the mean density cannot drift.
-// With any of these options the patch counts each particle as m / rho0 of its
-// material (the volume at the reference density: the mass flux over rho0).
-// - inlet ramp_time T: the buffer moves at g(t) times its speed,
-//   g = (1 - cos(pi t / T)) / 2 for t < T, 1 after (OB4), set after each
-//   step at the new time; the inflow starts at rest without a jump in
-//   acceleration, so a scene filled at rest is not struck by a water hammer
-//   of rho0 c0 U.
+// the inlet, pressure at the outlet): the inlet's profile, extrapolated
+// pressure and ramp (inlet_buffer.h, eqs. OB1-OB4), the outlet's held
+// pressure and backflow (outlet_buffer.h).
 //
 // List-keeping updates (deck open_boundary_list = "kept", the default): a
 // conversion changes a particle's kind only, and Simulation::kinds_changed
@@ -191,7 +175,7 @@ class OpenBoundaries {
       ramping = ramping || in.ramping;
     }
     for (auto& in : inlets_)
-      if (in.extrapolated) in.rho_fluid = fluid_density_ahead(P, in), extrapolate = true;
+      if (in.extrapolated) in.rho_fluid = in.fluid_density_ahead(P, dx_), extrapolate = true;
     for (auto& out : outlets_)
       if (out.holds) out.gather_fluid_behind(P, dx_);
     kept_ = new_options_only_;
@@ -391,38 +375,15 @@ class OpenBoundaries {
     P.append(spawn, v, out.rho_ref[mat], P.mass[i], Kind::outlet, next_id++, mat);
     return next_id;
   }
-  // Mean density of the fluid within layers dx ahead of the inlet's patch, kg/m^3 (rho_ref if none).
-  double fluid_density_ahead(const Particles<D>& P, const Inlet& in) const {
-    double sum = 0.0;
-    long count = 0;
-    for (std::size_t i = 0; i < P.size(); ++i) {
-      if (P.kind[i] != Kind::fluid) continue;
-      const double s = in.patch.height(P.x[i]);
-      if (s < 0.0 || s > in.layers * dx_ || !in.patch.contains(P.x[i] - in.patch.c)) continue;
-      sum += P.rho[i], ++count;
-    }
-    return count > 0 ? sum / count : in.rho_ref;
-  }
   // An inlet buffer particle of a ramping inlet takes g(t) times its column's speed (eq. OB4).
   void ramp_inlet_velocity(Particles<D>& P, std::size_t i) const {
-    for (const auto& in : inlets_) {
-      const Vec<D> q = P.x[i] - in.patch.c;
-      if (!in.ramping || !in.patch.contains(q)) continue;
-      const double s = q.dot(in.patch.n);
-      if (s < -(in.layers + 1.0) * dx_ || s > 2.0 * dx_) continue;
-      P.v[i] = in.factor * in.speed(q - s * in.patch.n) * in.patch.n;
-      return;
-    }
+    for (const auto& in : inlets_)
+      if (in.ramp(P, i, dx_)) return;
   }
   // An inlet buffer particle of an extrapolating inlet takes the fluid's density ahead.
   void hold_inlet_density(Particles<D>& P, std::size_t i) const {
-    for (const auto& in : inlets_) {
-      if (!in.extrapolated || !in.patch.contains(P.x[i] - in.patch.c)) continue;
-      const double s = in.patch.height(P.x[i]);
-      if (s < -(in.layers + 1.0) * dx_ || s > 2.0 * dx_) continue;
-      P.rho[i] = in.rho_fluid;
-      return;
-    }
+    for (const auto& in : inlets_)
+      if (in.hold(P, i, dx_)) return;
   }
   double dx_, rho0_;
   double reach_;   // the Verlet list's range 2h (1 + skin), m

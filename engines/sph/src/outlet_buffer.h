@@ -1,5 +1,15 @@
 // An outlet's buffer (open_boundaries.h): its patch and options, and the zero-gradient velocity its
 // particles take from the fluid before the patch.
+//
+// Options (deck.h OutletSpec):
+// - pressure p_ref: the buffer holds rho_ref = rho0 (1 + gamma (p_ref - p_B)
+//   / (rho0 c0^2))^(1/gamma) (eq. 6 inverted), the domain's reference
+//   pressure, so the mean density cannot drift; its particles move at the
+//   fluid's normal speed before the patch (velocity_behind);
+// - backflow (with a pressure): a pressure opening, whose buffer may move
+//   inward at that speed; a buffer particle crossing the patch inward becomes
+//   fluid at the held pressure and a new one takes its place layers dx
+//   downstream (OpenBoundaries::enter_through).
 #pragma once
 #include <algorithm>
 #include <cstddef>
