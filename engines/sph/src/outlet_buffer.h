@@ -48,12 +48,14 @@ struct OutletBuffer {
   }
   // Normal speed of an outlet buffer particle at in-plane offset q (normal part
   // ignored): the fluid's normal speed before the patch averaged over the
-  // in-plane distance d < 2 dx with weight (1 - d / 2dx)^2 (zero-gradient
+  // in-plane distance d < R with weight (1 - d / R)^2 (zero-gradient
   // velocity, as the outlets of Tafuni et al. 2018), not below 0 unless the
-  // outlet lets fluid back in (backflow), m/s.
+  // outlet lets fluid back in (backflow), m/s. R = 2 dx; an opening's R = dx
+  // (2 dx where no fluid lies that close): its columns beside a wall feed the
+  // fluid, and at the core's speed they pushed it into the wall (test_open_boundaries.cpp).
   double velocity_behind(const Vec<D>& x_rel, double dx) const {
     const Vec<D> q = x_rel - x_rel.dot(patch.n) * patch.n;
-    for (double reach : {1.0 * dx, 2.0 * dx}) {
+    for (double reach : {backflow ? dx : 2.0 * dx, 2.0 * dx}) {
       double sum = 0.0, weight = 0.0;
       for (std::size_t j = 0; j < behind_q.size(); ++j) {
         const double d = (behind_q[j] - q).norm();
