@@ -9,6 +9,8 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include "eos.h"
+
 namespace sph {
 
 // Bad input: the message names the key, the value and what is allowed.
@@ -86,6 +88,13 @@ struct MaterialSpec {
   std::vector<double> mode_lambda, mode_eta;
   double epsilon = 0, solvent_viscosity = 0;
 };
+
+// A material's equation of state with its cavitation floor (eos.h).
+inline TaitEos material_eos(const MaterialSpec& m) {
+  TaitEos eos{m.rho0, m.c0, m.gamma, m.background_pressure, m.quadratic_eos};
+  if (m.min_pressure) eos.set_min_pressure(*m.min_pressure);
+  return eos;
+}
 
 // Lees-Edwards boundaries (box_policy.h): a sheared periodic cell, shear along
 // x (axis 0), gradient along y (axis 1). Steady: gamma(t) = shear_rate t;

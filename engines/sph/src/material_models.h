@@ -55,9 +55,7 @@ template <class Models>
 int add_materials(const Deck& deck, MaterialTable& table) {
   int modes = 0;
   for (const MaterialSpec& m : deck.material_list()) {
-    Material mat{{m.rho0, m.c0, m.gamma, m.background_pressure, m.quadratic_eos}, m.viscosity, m.rho0 * m.viscosity,
-                 std::max(0, Models::index(m.model)), {}};
-    if (m.min_pressure) mat.eos.set_min_pressure(*m.min_pressure);
+    Material mat{material_eos(m), m.viscosity, m.rho0 * m.viscosity, std::max(0, Models::index(m.model)), {}};
     Models::visit(mat.model, [&](auto model) {
       if constexpr (stress_modes_v<decltype(model)> > 0) decltype(model)::configure(m, mat);
     });

@@ -66,6 +66,7 @@ class OpenBoundaries {
       in.extrapolated = s.extrapolated;
       in.material = static_cast<std::uint8_t>(s.material);
       in.rho_ref = materials[s.material].rho0;
+      in.floor_rho = material_eos(materials[s.material]).floor_rho;
       in.ramp_time = s.ramp_time;
       in.factor = s.ramp_time > 0.0 ? 0.0 : 1.0;  // eq. OB4 at t = 0
       in.reference_volumes = in.profile != Profile::plug || in.extrapolated || s.material != 0;

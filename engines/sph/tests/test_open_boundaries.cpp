@@ -305,6 +305,31 @@ TEST(pressure_openings_drive_hagen_poiseuille_flow) {
   CHECK(r_max < pipe.R + 0.3 * pipe.dx);                 // 2 dx wide columns reached 1.6 dx into the wall
 }
 
+// An extrapolating inlet's buffer takes the mean density of the fluid ahead, a cavitating particle counted at
+// the floor's density (its liquid): the deck's min_pressure reaches the inlet through its material.
+TEST(extrapolating_inlet_counts_cavitating_fluid_at_the_floor) {
+  TinyPipe pipe;
+  const fs::path dir = testfiles::scratch("open_pipe_floor");
+  json j = pipe.deck(dir, 0.1);
+  j["min_pressure"] = -0.5;  // Pa: rho_floor = rho0 (1 - gamma 0.5 / (rho0 c0^2))^(1/gamma)
+  const double floor = pipe.rho0 * std::pow(1.0 - 7.0 * 0.5 / (pipe.rho0 * pipe.c0 * pipe.c0), 1.0 / 7.0);
+  OpenBoundaries<3> ob(parse_deck(j, dir.string()));
+  Particles<3> P;
+  const std::int64_t next = ob.fill(P, 0);
+  const std::size_t buffer = P.size();
+  const Vec<3> still = Vec<3>::Zero();
+  P.append(Vec<3>(0.5 * pipe.dx, 0.0, 0.0), still, 900.0, 1e-6, Kind::fluid, next);        // cavitating
+  P.append(Vec<3>(1.5 * pipe.dx, 0.0, 0.0), still, 1001.0, 1e-6, Kind::fluid, next + 1);   // compressed
+  P.append(Vec<3>(5.5 * pipe.dx, 0.0, 0.0), still, 500.0, 1e-6, Kind::fluid, next + 2);    // beyond the layers
+  ob.update(P, next + 3, 1e-6, [](const Vec<3>&, double, double) {});
+  double worst = 0.0;
+  for (std::size_t i = 0; i < buffer; ++i)
+    if (P.kind[i] == Kind::inlet) worst = std::max(worst, std::abs(P.rho[i] - 0.5 * (floor + 1001.0)));
+  std::fprintf(stderr, "  floor density %.6f kg/m^3; buffer off (floor + 1001)/2 by at most %.1e\n", floor, worst);
+  CHECK(floor < pipe.rho0 - 0.4 && floor > 900.0);
+  CHECK(worst < 1e-9);
+}
+
 TEST(inlet_and_outlet_options_are_validated) {
   TinyPipe pipe;
   const fs::path dir = testfiles::scratch("open_pipe_deck");
