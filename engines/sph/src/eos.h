@@ -6,6 +6,7 @@
 // there; below floor_rho, the density of p_min, a particle counts as at
 // floor_rho in the density checks (step_maxima.h).
 #pragma once
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -28,12 +29,17 @@ struct TaitEos {
     return p < min_pressure ? min_pressure : p;
   }
 
-  // Set the floor p_min (Pa, below the rest pressure p_B) and its density (eq. 6 or 9 inverted).
+  // The density of pressure p (Pa), eq. 6 or 9 inverted, kg/m^3 (0 below the lowest pressure the EOS gives).
+  double density(double p) const {
+    const double excess = p - background_pressure;
+    if (quadratic) return excess > 0.0 ? std::sqrt(2.0 * rho0 * excess) / c0 : 0.0;
+    return rho0 * std::pow(std::max(0.0, 1.0 + gamma * excess / (rho0 * c0 * c0)), 1.0 / gamma);
+  }
+
+  // Set the floor p_min (Pa, below the rest pressure p_B) and its density.
   void set_min_pressure(double p_min) {
     min_pressure = p_min;
-    const double excess = p_min - background_pressure;
-    if (quadratic) floor_rho = excess > 0.0 ? std::sqrt(2.0 * rho0 * excess) / c0 : 0.0;
-    else floor_rho = rho0 * std::pow(std::max(0.0, 1.0 + gamma * excess / (rho0 * c0 * c0)), 1.0 / gamma);
+    floor_rho = density(p_min);
   }
 
   // c = sqrt(dp/drho) = c0 (rho/rho0)^((gamma-1)/2), m/s (quadratic: c0 sqrt(rho/rho0))

@@ -79,10 +79,7 @@ class OpenBoundaries {
       out.backflow = s.backflow;
       for (const auto& m : materials) {
         out.rho0.push_back(m.rho0);
-        if (out.holds)  // eq. 6 inverted
-          out.rho_ref.push_back(
-              m.rho0 * std::pow(1.0 + m.gamma * (*s.pressure - m.background_pressure) / (m.rho0 * m.c0 * m.c0),
-                                1.0 / m.gamma));
+        if (out.holds) out.rho_ref.push_back(material_eos(m).density(*s.pressure));  // eq. 6 (or 9) inverted
       }
       outlets_.push_back(out);
     }

@@ -55,7 +55,7 @@ struct OutletBuffer {
   // fluid, and at the core's speed they pushed it into the wall (test_open_boundaries.cpp).
   double velocity_behind(const Vec<D>& x_rel, double dx) const {
     const Vec<D> q = x_rel - x_rel.dot(patch.n) * patch.n;
-    for (double reach : {backflow ? dx : 2.0 * dx, 2.0 * dx}) {
+    for (double reach = backflow ? dx : 2.0 * dx; reach <= 2.0 * dx; reach *= 2.0) {
       double sum = 0.0, weight = 0.0;
       for (std::size_t j = 0; j < behind_q.size(); ++j) {
         const double d = (behind_q[j] - q).norm();
