@@ -3,6 +3,7 @@
 #include <array>
 #include <optional>
 #include <stdexcept>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -72,6 +73,8 @@ struct OutletSpec {
   int layers = 3;
   std::optional<double> pressure;  // Pa
   bool backflow = false;           // a pressure opening: fluid may also enter through it (needs a pressure)
+  double column_length = 0.0;      // m; > 0: a column outlet (outlet_buffer.h, eq. OB5; needs a pressure)
+  double column_loss = 0.0;        // the column's loss coefficient K on its speed, -
 };
 
 // One material of the deck's `materials` list. Every material is weakly
@@ -193,5 +196,9 @@ Deck load_deck(const std::string& path);
 void parse_materials(const nlohmann::json& j, Deck& d);
 // The `lees_edwards` object into d.lees_edwards (deck_lees_edwards.cpp; d.periodic_* must be parsed).
 void parse_lees_edwards(const nlohmann::json& j, Deck& d);
+// The `inlets` and `outlets` lists into d.inlets, d.outlets (deck_open_boundaries.cpp; d.dx, d.h and the materials
+// must be parsed), and one plane patch of them or of the flow planes (its name must be new in `seen`).
+void parse_open_boundaries(const nlohmann::json& j, Deck& d);
+PlanePatch parse_patch(const nlohmann::json& e, const std::string& path, int dim, std::set<std::string>& seen);
 
 }  // namespace sph

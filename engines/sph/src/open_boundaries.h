@@ -81,6 +81,8 @@ class OpenBoundaries {
         out.rho0.push_back(m.rho0);
         if (out.holds) out.rho_ref.push_back(material_eos(m).density(*s.pressure));  // eq. 6 (or 9) inverted
       }
+      out.column_length = s.column_length, out.column_loss = s.column_loss;
+      if (out.column()) out.p_ref = *s.pressure, out.eos = material_eos(materials[0]);
       outlets_.push_back(out);
     }
     new_options_only_ = !empty();
@@ -174,8 +176,11 @@ class OpenBoundaries {
     }
     for (auto& in : inlets_)
       if (in.extrapolated) in.rho_fluid = in.fluid_density_ahead(P, dx_), extrapolate = true;
-    for (auto& out : outlets_)
+    for (auto& out : outlets_) {
       if (out.holds) out.gather_fluid_behind(P, dx_);
+      if (out.column() && !out.column_started) out.start_column(P, dx_);
+    }
+    const double dt = t - t_last_;
     kept_ = new_options_only_;
     changed_.clear();
     candidates_.clear();
@@ -224,7 +229,7 @@ class OpenBoundaries {
           P.v[i] = std::max(P.v[i].dot(out.patch.n), 0.0) * out.patch.n;  // straight out, not into walls
           if (out.holds) {
             out.volume += P.mass[i] / out.rho0[P.material[i]];
-            P.rho[i] = out.rho_ref[P.material[i]];
+            P.rho[i] = out.buffer_density(P.material[i]);
           } else {
             out.volume += P.mass[i] / P.rho[i];
           }
@@ -249,13 +254,15 @@ class OpenBoundaries {
             break;
           }
           if (out.holds && s >= 0.0) {
-            P.rho[i] = out.rho_ref[P.material[i]];  // the reference pressure, held
+            P.rho[i] = out.buffer_density(P.material[i]);  // the reference pressure, held (a column's: carried on)
             P.v[i] = out.velocity_behind(P.x[i] - out.patch.c, dx_) * out.patch.n;
             break;
           }
         }
       }
     }
+    for (auto& out : outlets_)
+      if (out.column()) out.advance_column(dt);
     if (removals) P.compact([&](std::size_t i) { return P.mass[i] > 0.0; }), kept_ = false;
     if (defer_ && waiting_too_close()) flush(P, event);
     return next_id;
@@ -276,7 +283,7 @@ class OpenBoundaries {
     for (const auto& w : waiting_) {
       event(w.x, w.mass, 1.0);
       if (w.outlet) {
-        P.append(w.x, w.v, outlets_[w.inlet].rho_ref[w.material], w.mass, Kind::outlet, w.id, w.material);
+        P.append(w.x, w.v, outlets_[w.inlet].buffer_density(w.material), w.mass, Kind::outlet, w.id, w.material);
         continue;
       }
       const Inlet& in = inlets_[w.inlet];
@@ -370,7 +377,7 @@ class OpenBoundaries {
     }
     kept_ = false;
     event(spawn, P.mass[i], 1.0);
-    P.append(spawn, v, out.rho_ref[mat], P.mass[i], Kind::outlet, next_id++, mat);
+    P.append(spawn, v, out.buffer_density(mat), P.mass[i], Kind::outlet, next_id++, mat);
     return next_id;
   }
   // An inlet buffer particle of a ramping inlet takes g(t) times its column's speed (eq. OB4).

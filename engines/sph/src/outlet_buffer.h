@@ -9,12 +9,34 @@
 // - backflow (with a pressure): a pressure opening, whose buffer may move
 //   inward at that speed; a buffer particle crossing the patch inward becomes
 //   fluid at the held pressure and a new one takes its place layers dx
-//   downstream (OpenBoundaries::enter_through).
+//   downstream (OpenBoundaries::enter_through);
+// - column_length L, column_loss K (with a pressure; one material): a column
+//   outlet. Beyond the patch lies a liquid column of length L (the part of a
+//   pipe or gap the scene leaves out, of the patch's area A) that ends at the
+//   held pressure p_ref. It is lumped as a chamber of volume V = 4 A L / pi^2
+//   (the column's compliance with the fluid's EOS, so that the lumped column
+//   rings at its quarter-wave frequency pi c0 / (2 L)) and, beyond it, the
+//   column's inertia and loss (eq. OB5):
+//       d(rho_c V)/dt = m_in - rho_c A u,
+//       rho0 L du/dt  = p(rho_c) - p_ref - K rho0 u |u| / 2,
+//   m_in the mass rate the fluid brings across the patch, sum m v_n / (layers
+//   dx) over the fluid within layers dx before it (a smooth measure: counting
+//   the particles as they cross would kick the chamber by one particle's
+//   mass at a time). The buffer holds the chamber's density rho_c
+//   (a pressure outlet whose pressure is the chamber's) and the fluid's
+//   zero-gradient speeds. At steady flow p(rho_c) = p_ref + K rho0 u^2 / 2,
+//   and while the flow changes the column's inertia holds the fluid back: a
+//   truncated leak path no longer drains a scene at rest in microseconds.
+//   rho_c and u start from the buffer's particles (their mean density and
+//   normal speed: a resumed run carries on).
 #pragma once
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
+#include "eos.h"
 #include "particles.h"
 #include "plane_patch.h"
 #include "vec.h"
@@ -33,10 +55,43 @@ struct OutletBuffer {
   std::vector<double> rho0, rho_ref;  // per material, kg/m^3
   std::vector<Vec<D>> behind_q;       // in-plane offsets of the fluid within layers dx before the patch
   std::vector<double> behind_v;       // and their speeds along the normal, m/s
+  // A column outlet (eq. OB5): length, loss coefficient, the column's speed u and the chamber's density.
+  double column_length = 0.0, column_loss = 0.0;  // m, -
+  double column_speed = 0.0, chamber_rho = 0.0;    // u m/s, rho_c kg/m^3
+  double mass_flux = 0.0;                           // m_in, kg/s (gather_fluid_behind)
+  bool column_started = false;
+  double p_ref = 0.0;                              // the held pressure, Pa
+  TaitEos eos{};                                   // the material's (with its floor)
+
+  bool column() const { return column_length > 0.0; }
+  // The density a buffer particle of material m takes: the held one, or a column's chamber density.
+  double buffer_density(std::uint8_t m) const { return column() && column_started ? chamber_rho : rho_ref[m]; }
+
+  // Eq. OB5 over dt (s): the chamber's mass balance, then the column's speed (its loss implicit).
+  void advance_column(double dt) {
+    const double area = patch.area(), volume = 4.0 * area * column_length / (M_PI * M_PI);
+    chamber_rho += dt * (mass_flux - chamber_rho * area * column_speed) / volume;
+    const double u = column_speed + dt * (eos.pressure(chamber_rho) - p_ref) / (rho0[0] * column_length);
+    column_speed = u / (1.0 + dt * column_loss * std::abs(column_speed) / (2.0 * column_length));
+  }
+  // rho_c and u from the buffer's particles (the held density and rest if it has none).
+  void start_column(const Particles<D>& P, double dx) {
+    double rho = 0.0, speed = 0.0, count = 0.0;
+    for (std::size_t i = 0; i < P.size(); ++i) {
+      const Vec<D> q = P.x[i] - patch.c;
+      const double s = q.dot(patch.n);
+      if (P.kind[i] != Kind::outlet || s < 0.0 || s > layers * dx || !patch.contains(q)) continue;
+      rho += P.rho[i], speed += P.v[i].dot(patch.n), count += 1.0;
+    }
+    chamber_rho = count > 0.0 ? rho / count : rho_ref[0];
+    column_speed = count > 0.0 ? speed / count : 0.0;
+    column_started = true;
+  }
 
   // The fluid within layers dx before an outlet's patch: in-plane offsets and normal speeds.
   void gather_fluid_behind(const Particles<D>& P, double dx) {
     behind_q.clear(), behind_v.clear();
+    mass_flux = 0.0;
     for (std::size_t i = 0; i < P.size(); ++i) {
       if (P.kind[i] != Kind::fluid) continue;
       const Vec<D> q = P.x[i] - patch.c;
@@ -44,6 +99,7 @@ struct OutletBuffer {
       if (s >= 0.0 || s < -layers * dx || !patch.contains(q)) continue;
       behind_q.push_back(q - s * patch.n);
       behind_v.push_back(P.v[i].dot(patch.n));
+      mass_flux += P.mass[i] * behind_v.back() / (layers * dx);
     }
   }
   // Normal speed of an outlet buffer particle at in-plane offset q (normal part
