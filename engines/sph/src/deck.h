@@ -75,6 +75,7 @@ struct OutletSpec {
   bool backflow = false;           // a pressure opening: fluid may also enter through it (needs a pressure)
   double column_length = 0.0;      // m; > 0: a column outlet (outlet_buffer.h, eq. OB5; needs a pressure)
   double column_loss = 0.0;        // the column's loss coefficient K on its speed, -
+  double column_area = 0.0;        // m^2 (m in 2D): the column's cross-section; 0: the patch's area
 };
 
 // One material of the deck's `materials` list. Every material is weakly

@@ -101,13 +101,16 @@ void parse_inlet_options(const json& e, const std::string& path, const Deck& d, 
   }
 }
 
-// A column outlet's keys (outlet_buffer.h, eq. OB5): column_length > 0 (m), column_loss >= 0 (-).
+// A column outlet's keys (outlet_buffer.h, eq. OB5): column_length > 0 (m), column_loss >= 0 (-), column_area > 0
+// (m^2; default the patch's: an annular passage's outlet patch is a disc).
 void parse_column(const json& e, const std::string& path, const Deck& d, OutletSpec& out) {
-  if (e.contains("column_loss") && !e.contains("column_length"))
-    fail("'" + path + ".column_loss' needs '" + path + ".column_length': the loss is the column's");
+  for (const char* key : {"column_loss", "column_area"})
+    if (e.contains(key) && !e.contains("column_length"))
+      fail("'" + path + "." + key + "' needs '" + path + ".column_length': it is the column's");
   if (!e.contains("column_length")) return;
   out.column_length = positive(e, path, "column_length");
   out.column_loss = non_negative(e, path, "column_loss", 0.0);
+  if (e.contains("column_area")) out.column_area = positive(e, path, "column_area");
   if (!out.pressure)
     fail("'" + path + ".column_length' needs '" + path + ".pressure': the column runs from the patch to that pressure");
   if (d.material_list().size() > 1)
@@ -129,7 +132,7 @@ void parse_open_boundaries(const json& j, Deck& d) {
         check_keys(e, path, {"name", "center", "normal", "radius", "u", "half_extents", "velocity", "layers", "profile",
                              "inner_radius", "pressure", "material", "ramp_time"});
       else check_keys(e, path, {"name", "center", "normal", "radius", "u", "half_extents", "layers", "pressure", "backflow",
-                                 "column_length", "column_loss"});
+                                 "column_length", "column_loss", "column_area"});
       PlanePatch patch = parse_patch(e, path, d.dimension, seen);
       const int layers = buffer_layers(e, path, d);
       if (!inlet) {

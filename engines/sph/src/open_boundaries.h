@@ -82,6 +82,7 @@ class OpenBoundaries {
         if (out.holds) out.rho_ref.push_back(material_eos(m).density(*s.pressure));  // eq. 6 (or 9) inverted
       }
       out.column_length = s.column_length, out.column_loss = s.column_loss;
+      out.column_area = s.column_area > 0.0 ? s.column_area : out.patch.area();
       if (out.column()) out.p_ref = *s.pressure, out.eos = material_eos(materials[0]);
       outlets_.push_back(out);
     }
@@ -302,6 +303,17 @@ class OpenBoundaries {
   // still holds. Always false when an inlet or outlet runs without options,
   // so those runs rebuild the list after every step as before.
   bool particles_kept() const { return kept_; }
+
+  // The column outlets (eq. OB5): their names, and the chamber's pressure (Pa) and the column's speed (m/s).
+  std::vector<std::size_t> columns() const {
+    std::vector<std::size_t> out;
+    for (std::size_t j = 0; j < outlets_.size(); ++j)
+      if (outlets_[j].column()) out.push_back(j);
+    return out;
+  }
+  const std::string& outlet_name(std::size_t j) const { return outlets_[j].patch.name; }
+  double column_pressure(std::size_t j) const { return outlets_[j].eos.pressure(outlets_[j].buffer_density(0)); }
+  double column_speed(std::size_t j) const { return outlets_[j].column_speed; }
 
   // Mean inflow (k an inlet) or outflow (k an outlet) since the last reading, m^3/s (m^2/s in 2D).
   double flow_rate(std::size_t k, double elapsed) {

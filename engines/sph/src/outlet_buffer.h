@@ -12,7 +12,8 @@
 //   downstream (OpenBoundaries::enter_through);
 // - column_length L, column_loss K (with a pressure; one material): a column
 //   outlet. Beyond the patch lies a liquid column of length L (the part of a
-//   pipe or gap the scene leaves out, of the patch's area A) that ends at the
+//   pipe or gap the scene leaves out, of cross-section A: column_area, by
+//   default the patch's area) that ends at the
 //   held pressure p_ref. It is lumped as a chamber of volume V = 4 A L / pi^2
 //   (the column's compliance with the fluid's EOS, so that the lumped column
 //   rings at its quarter-wave frequency pi c0 / (2 L)) and, beyond it, the
@@ -57,6 +58,7 @@ struct OutletBuffer {
   std::vector<double> behind_v;       // and their speeds along the normal, m/s
   // A column outlet (eq. OB5): length, loss coefficient, the column's speed u and the chamber's density.
   double column_length = 0.0, column_loss = 0.0;  // m, -
+  double column_area = 0.0;                        // A, m^2
   double column_speed = 0.0, chamber_rho = 0.0;    // u m/s, rho_c kg/m^3
   double mass_flux = 0.0;                           // m_in, kg/s (gather_fluid_behind)
   bool column_started = false;
@@ -69,7 +71,7 @@ struct OutletBuffer {
 
   // Eq. OB5 over dt (s): the chamber's mass balance, then the column's speed (its loss implicit).
   void advance_column(double dt) {
-    const double area = patch.area(), volume = 4.0 * area * column_length / (M_PI * M_PI);
+    const double area = column_area, volume = 4.0 * area * column_length / (M_PI * M_PI);
     chamber_rho += dt * (mass_flux - chamber_rho * area * column_speed) / volume;
     const double u = column_speed + dt * (eos.pressure(chamber_rho) - p_ref) / (rho0[0] * column_length);
     column_speed = u / (1.0 + dt * column_loss * std::abs(column_speed) / (2.0 * column_length));

@@ -41,6 +41,10 @@ class Recorder {
     }
     for (std::size_t k = 0; k < open.count(); ++k)
       out.series((open.is_inlet(k) ? "inflow_" : "outflow_") + open.name(k), 0, area_flux);
+    for (std::size_t j : open.columns()) {
+      out.series("column_pressure_" + open.outlet_name(j), 0, "Pa");
+      out.series("column_speed_" + open.outlet_name(j), 0, "m/s");
+    }
     if (deck.terms & term::wall_penalty)
       for (const auto& m : sim.walls().meshes()) out.series("wall_force_" + m.name, D, D == 3 ? "N" : "N/m");
     out.series("kinetic_energy", 0, D == 3 ? "J" : "J/m");
@@ -55,7 +59,7 @@ class Recorder {
     }
     const std::size_t extra = (Sim::tensor ? 2 : 0) + (sim.images().lees_edwards() ? 2 : 0);
     const std::size_t n = sim.particles().x.capacity();
-    const std::size_t scalars = probes_.size() + planes_.size() + open.count();
+    const std::size_t scalars = probes_.size() + planes_.size() + open.count() + 2 * open.columns().size();
     values_.resize(scalars + D * sim.walls().meshes().size() + 2 + extra);
     std::size_t j = 0;  // where each series' row starts in values_
     for (std::size_t i = 0; i < scalars; ++i) rows_.push_back(&values_[j++]);
@@ -84,6 +88,7 @@ class Recorder {
     const double elapsed = last_series_ < 0.0 ? 0.0 : t - last_series_;
     for (auto& plane : planes_) values_[k++] = plane.flow_rate(elapsed);
     for (std::size_t b = 0; b < open_.count(); ++b) values_[k++] = open_.flow_rate(b, elapsed);
+    for (std::size_t j : open_.columns()) values_[k++] = open_.column_pressure(j), values_[k++] = open_.column_speed(j);
     const std::size_t wall_base = k;
     if (!sim_.walls().meshes().empty()) {
       const std::size_t nm = sim_.walls().meshes().size();
