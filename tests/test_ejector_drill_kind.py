@@ -123,6 +123,41 @@ def test_backflow_makes_both_outlets_pressure_openings(backflow):
     assert all(o.get("backflow", False) is backflow and o["pressure"] == 0.0 for o in outlets)
 
 
+def test_columns_give_the_outlets_the_passages_beyond_them():
+    """scene.columns: the leak outlet's column is the tube/bore clearance from the outlet to the bore mouth, the
+    mouth's the chip mouth to the head's rear and the inner tube to the feed (inertia-equivalent on the mouth's
+    section), with their friction (Colebrook at the scene's inflow) and exit losses (columns.py)."""
+    import json
+
+    from fluids.friction import friction_factor
+
+    from orchestrator.kinds.sph_flow.sph import TEMPLATE, deck_context
+    from orchestrator.templating import render
+
+    case = load_case(CASE, preset="flow_exit_filled_quick", overrides=["scene.columns=true"])
+    outlets = {o["name"]: o for o in json.loads(render(TEMPLATE, deck_context(build_scene(case.model).flow,
+                                                                                threads=1)))["outlets"]}
+    net, head = case.model.network(), case.model.geometry().head_length
+    q = 60.0 * net.annular_gap().area  # m^3/s: the inlet's 60 m/s in the gap
+    leak, mouth = outlets["leak"], outlets["mouth"]
+    # leak: 0.3 m of bore less the outlet's 34 mm; D_h = 30 - 24 mm; exit K = 1
+    area = math.pi / 4 * (0.030**2 - 0.024**2)
+    f = friction_factor(Re=q / area * 0.006 * net.rho / net.mu, eD=net.roughness / 0.006)
+    assert leak["column_length"] == pytest.approx(0.3 - leak["center"][2], rel=1e-12) and leak["center"][2] > 0.02
+    assert leak["column_area"] == pytest.approx(area, rel=1e-12)
+    assert leak["column_loss"] == pytest.approx(f * leak["column_length"] / 0.006 + 1.0, rel=1e-9)
+    # mouth: Ø12 mm from z = 5 mm to the head's rear, then 0.4 m of Ø16 mm tube scaled by (12/16)^2
+    ratio = (12.0 / 16.0) ** 2
+    assert mouth["column_length"] == pytest.approx(head - 0.005 + 0.4 * ratio, rel=1e-12)
+    f_m = friction_factor(Re=q / (math.pi / 4 * 0.012**2) * 0.012 * net.rho / net.mu, eD=net.roughness / 0.012)
+    f_t = friction_factor(Re=q / (math.pi / 4 * 0.016**2) * 0.016 * net.rho / net.mu, eD=net.roughness / 0.016)
+    k = f_m * (head - 0.005) / 0.012 + (1 - ratio) ** 2 + f_t * 0.4 / 0.016 * ratio**2
+    assert mouth["column_loss"] == pytest.approx(k, rel=1e-9)
+    plain = load_case(CASE, preset="flow_exit_filled_quick").model
+    deck = json.loads(render(TEMPLATE, deck_context(build_scene(plain).flow, threads=1)))
+    assert not any("column_length" in o for o in deck["outlets"])  # off by default: the outlets as before
+
+
 def test_stored_volume_counts_cavitating_fluid_at_the_floors_density():
     """A particle below the cavitation floor's density holds its mass as liquid at that density (the rest of
     m / rho is vapour): the control volume's liquid is m / max(rho, rho_floor); outside it nothing counts."""

@@ -69,6 +69,12 @@ def test_the_cases_reach_the_deck_and_build_cylinders():
     ('wall = "outer"}', 'wall = "out"}', "wall"),
     ("pressure = 0.0               # Pa: the domain's reference pressure", "backflow = true",
      "outlet 'drain': backflow needs a pressure"),
+    ("pressure = 0.0               # Pa: the domain's reference pressure", "column_length = 0.2",
+     "outlet 'drain': a column .column_length. needs a pressure"),
+    ("pressure = 0.0               # Pa: the domain's reference pressure", "pressure = 0.0\ncolumn_loss = 2.0",
+     "outlet 'drain': column_loss and column_area need a column_length"),
+    ("pressure = 0.0               # Pa: the domain's reference pressure", "pressure = 0.0\ncolumn_length = -1.0",
+     "column_length"),
 ])
 def test_bad_open_boundary_keys_are_named(tmp_path, old, new, message):
     text = ANNULUS.read_text()

@@ -15,9 +15,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from orchestrator.case.common import CaseMeta
+from orchestrator.kinds.ejector_drill.columns import outlet_columns
 from orchestrator.kinds.ejector_drill.case import EjectorDrillCase
 from orchestrator.kinds.ejector_drill.layout import Layout, drill_layout, inlet_layers
 from orchestrator.kinds.sph_flow.case import SphFlowCase
+from orchestrator.reference.drill_network import LITRE_PER_MIN
 from orchestrator.kinds.sph_flow.case_open import Inlet, Outlet
 from orchestrator.kinds.sph_flow.case_parts import Domain, Patch, Physics, Probe, SphOutput, WallPenalty
 from orchestrator.kinds.ejector_drill.walls import (WALL_PARTS, WallParticles, boundary_particles, initial_densities,
@@ -151,8 +153,14 @@ def assemble_flow_case(case, layout, inlets: tuple, pressures: dict, probes: tup
     """A drill scene's sph_flow case from its inlets, the outlets' held pressures (role -> Pa, the layout's outlets)
     and its probes: the layout's flow planes, the output intervals, the box around the layout (r_max, z_lo..z_hi),
     drill_physics. Assembled with model_construct: its walls are the drill's, which an sph_flow case cannot name."""
-    outlets = tuple(Outlet(name=p.name, center=p.center, normal=p.normal, radius=p.radius,
-                           pressure=pressures[role], backflow=case.scene.backflow) for role, p in layout.outlets.items())
+    columns = {}
+    if case.scene.columns:
+        net = case.network()
+        flow = (case.scene.inlet_velocity * net.annular_gap().area if case.scene.inlet_velocity
+                else case.scene.network_flow * LITRE_PER_MIN)  # m^3/s: the scene's inflow
+        columns = outlet_columns(net, case.geometry().head_length, layout.outlets, flow)
+    outlets = tuple(Outlet(name=p.name, center=p.center, normal=p.normal, radius=p.radius, pressure=pressures[role],
+                           backflow=case.scene.backflow, **columns.get(role, {})) for role, p in layout.outlets.items())
     planes = tuple(Patch(name=p.name, center=p.center, normal=p.normal, radius=p.radius)
                    for p in layout.planes.values())
     output = SphOutput(frame_interval=case.output.frame_interval, series_interval=case.output.series_interval,

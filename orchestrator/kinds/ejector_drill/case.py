@@ -91,6 +91,10 @@ class DrillScene(Frozen):
     backflow: bool = Field(False, description="the outlets are pressure openings: fluid at their held pressure also "
                                               "enters through them where the scene draws it (a jet's entrainment), "
                                               "instead of leaving voids; false: fluid only leaves")
+    columns: bool = Field(False, description="the leak and chip-mouth outlets stand for the passages beyond them as "
+                                             "liquid columns with their inertia and friction (engine eq. OB5; "
+                                             "lengths and losses from the network: columns.py); false: plain "
+                                             "outlets at their held pressures")
     network_flow: Positive = Field(60.0, description="feed flow of the 1D network shown beside the SPH, l/min "
                                                       "(the paper's standard rate; the range is 50-80); feed: the "
                                                       "network state the inlets and outlets carry")

@@ -7,7 +7,7 @@ from typing import Literal
 
 from pydantic import Field, model_validator
 
-from orchestrator.case.common import Name, Positive
+from orchestrator.case.common import Name, NonNegative, Positive
 from orchestrator.kinds.sph_flow.case_parts import Finite, Patch
 
 
@@ -62,14 +62,27 @@ class Outlet(Patch):
                                                       "at the fluid's speed before the patch), Pa; default none")
     backflow: bool = Field(False, description="a pressure opening: the buffer may move inward too, and fluid at the "
                                               "held pressure enters where the fluid inside draws it (needs pressure)")
+    column_length: Positive | None = Field(
+        None, description="a column outlet (engine eq. OB5): beyond the patch a liquid column this long runs to the held "
+                          "pressure, its inertia and loss holding the outflow back (needs pressure), m; default none")
+    column_loss: NonNegative = Field(0.0, description="the column's loss coefficient K on its mean speed, -")
+    column_area: Positive | None = Field(None, description="the column's cross-section, m^2; default the patch's")
 
     @model_validator(mode="after")
     def _backflow_needs_pressure(self):
         if self.backflow and self.pressure is None:
             raise ValueError(f"outlet {self.name!r}: backflow needs a pressure (what enters takes the held pressure)")
+        if self.column_length is None and (self.column_loss or self.column_area is not None):
+            raise ValueError(f"outlet {self.name!r}: column_loss and column_area need a column_length")
+        if self.column_length is not None and self.pressure is None:
+            raise ValueError(f"outlet {self.name!r}: a column (column_length) needs a pressure (where it ends)")
         return self
 
     def deck_options(self) -> dict:
-        """The pressure and backflow keys of the engine deck when set."""
+        """The pressure, backflow and column keys of the engine deck when set."""
         out = {} if self.pressure is None else {"pressure": float(self.pressure)}
-        return out | ({"backflow": True} if self.backflow else {})
+        out |= {"backflow": True} if self.backflow else {}
+        if self.column_length is not None:
+            out |= {"column_length": float(self.column_length), "column_loss": float(self.column_loss)}
+            out |= {} if self.column_area is None else {"column_area": float(self.column_area)}
+        return out
