@@ -299,6 +299,9 @@ def test_element_flows_return_the_networks_own_split(feed):
     k_sum = net.k_cutting_zone + net.k_chip_mouth_entry * (net.front_area / (0.25 * math.pi * net.d_chip_mouth ** 2)) ** 2
     assert element_flows(net, 1.2e5, 0.0, 0.0)["V_IB"] == pytest.approx(
         net.front_area * math.sqrt(2 * 1.2e5 / (net.rho * k_sum)), rel=1e-9)
+    # with columns the mouth's column ends at C1: from p_A to the network's p_C1 the whole way carries its V_IB
+    with_columns = element_flows(net, p_a, state.p_C1 - net.p_ambient, 0.0, columns=True)
+    assert with_columns["V_IB"] == pytest.approx(state.V_IB, rel=1e-7)
 
 
 @pytest.mark.sph

@@ -189,6 +189,15 @@ def front_pressure_drop(net, v_ib):
             + loss_pressure_drop(v_ib, mouth, net.k_chip_mouth_entry, net.rho))
 
 
+def mouth_path_pressure_drop(net, v_ib):
+    """Pressure drop (Pa) from A to C1 at the flow v_ib (m^3/s): front_pressure_drop, the sudden expansion from the
+    chip mouth into the inner tube and the inner tube's friction over tube_length."""
+    mouth = 0.25 * math.pi * net.d_chip_mouth**2
+    return (net.inner_tube(net.tube_length).pressure_drop(v_ib, net.rho, net.mu)
+            + loss_pressure_drop(v_ib, mouth, sudden_expansion_k(net.d_chip_mouth, net.d_inner_tube_id), net.rho)
+            + front_pressure_drop(net, v_ib))
+
+
 def _pressures(net, v_total, v_en, v_ib):
     """Walk the network for given V_EN, V_IB (m^3/s); return (residuals in Pa, state fields)."""
     rho, mu = net.rho, net.mu
@@ -204,9 +213,7 @@ def _pressures(net, v_total, v_en, v_ib):
     # return path: cutting zone -> chip mouth -> inner tube (whole tube length) -> C1
     mouth = 0.25 * math.pi * net.d_chip_mouth**2
     tube_i = net.inner_tube(net.tube_length)
-    p_a = (p_c1 + tube_i.pressure_drop(v_ib, rho, mu)
-           + loss_pressure_drop(v_ib, mouth, sudden_expansion_k(net.d_chip_mouth, net.d_inner_tube_id), rho)
-           + front_pressure_drop(net, v_ib))
+    p_a = p_c1 + mouth_path_pressure_drop(net, v_ib)
     # supply path: feed -> sharp entrance -> annular gap -> holes -> A
     gap = net.annular_gap()
     entrance = loss_pressure_drop(v_ag, gap.area, sharp_entrance_k(), rho)

@@ -10,7 +10,8 @@ import math
 import numpy as np
 from scipy.optimize import brentq
 
-from orchestrator.reference.drill_network import LITRE_PER_MIN, front_pressure_drop, leak_pressure_drop, solve
+from orchestrator.reference.drill_network import (LITRE_PER_MIN, front_pressure_drop, leak_pressure_drop,
+                                                  mouth_path_pressure_drop, solve)
 from orchestrator.reference.hydraulics import orifice_pressure_drop
 
 #: The paper's expectation (sect. 4): "Pressures in the range of p = 10 - 20 bar are expected in the overall system";
@@ -57,14 +58,16 @@ def network_at_gap_flow(net, v_ag: float):
         return None
 
 
-def element_flows(net, p_a: float, p_mouth: float, p_leak: float) -> dict:
+def element_flows(net, p_a: float, p_mouth: float, p_leak: float, columns: bool = False) -> dict:
     """The network's two ways out of the cutting zone, each alone, driven by the SPH's pressures (Pa gauge): 'V_IB'
     through the turns round the cutting edges and the chip mouth's entrance (front_pressure_drop) from p_a to the
-    mouth outlet's p_mouth, 'V_loss' along the leak path (leak_pressure_drop) from p_a to p_leak (m^3/s, negative:
-    drawn in). They say how the network's elements would split the flow at the SPH's p_A: where they disagree
+    mouth outlet's p_mouth (with columns, whose mouth column runs on through the inner tube to C1: the whole way,
+    mouth_path_pressure_drop), 'V_loss' along the leak path (leak_pressure_drop) from p_a to p_leak (m^3/s,
+    negative: drawn in). They say how the network's elements would split the flow at the SPH's p_A: where they disagree
     with the SPH's flows, the scene's passages differ from the network's elements."""
     out = {}
-    for name, drop, dp in (("V_IB", front_pressure_drop, p_a - p_mouth), ("V_loss", leak_pressure_drop, p_a - p_leak)):
+    front = mouth_path_pressure_drop if columns else front_pressure_drop
+    for name, drop, dp in (("V_IB", front, p_a - p_mouth), ("V_loss", leak_pressure_drop, p_a - p_leak)):
         hi = 1.0  # m^3/s: far beyond any drop here
         out[name] = brentq(lambda q, d=drop, target=dp: d(net, q) - target, -hi, hi, xtol=1e-12) if dp else 0.0
     return out

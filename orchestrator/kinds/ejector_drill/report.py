@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from orchestrator.kinds.ejector_drill.analysis import (STILL_SHARE, balance, filling_times, flow_series, run_series,
+from orchestrator.kinds.ejector_drill.analysis import (STEADY_FRACTION, STILL_SHARE, balance, filling_times, flow_series, run_series,
                                                        sensor_pressures, spaced_frames, stored_volume_rate,
                                                        window_balance, zones)
 from orchestrator.kinds.ejector_drill.comparison import (comparison_rows, element_flows, network_at_gap_flow,
@@ -82,14 +82,29 @@ def print_element_flows(net, sph: dict, scene, layout) -> None:
     p_a = sph.get("p_A", math.nan)
     if not math.isfinite(p_a):
         return
-    els = element_flows(net, p_a, scene.mouth_pressure, scene.leak_pressure)
+    els = element_flows(net, p_a, scene.mouth_pressure, scene.leak_pressure, scene.columns)
     parts = [f"the cutting zone and the chip mouth's entrance {els['V_IB'] / LITRE_PER_MIN:.3g} l/min (SPH "
              f"{sph.get('V_IB', math.nan) / LITRE_PER_MIN:.3g})"]
     if "leak" in layout.outlets:
         parts.append(f"the leak path {els['V_loss'] / LITRE_PER_MIN:.3g} l/min (SPH "
                      f"{sph.get('V_loss', math.nan) / LITRE_PER_MIN:.3g})")
-    print(f"the network's elements alone at the SPH's p_A = {p_a / 1e5:.3g} bar and the outlets' pressures: "
+    ends = "the columns' ends" if scene.columns else "the outlets"
+    print(f"the network's elements alone at the SPH's p_A = {p_a / 1e5:.3g} bar and {ends}' pressures: "
           + ", ".join(parts))
+
+
+def print_columns(series: dict, time: np.ndarray, layout) -> None:
+    """Print each column outlet's chamber pressure (bar gauge), speed (m/s) and flow (l/min) over the steady window
+    (engine eq. OB5; nothing for plain outlets)."""
+    window = time >= time[-1] - STEADY_FRACTION * (time[-1] - time[0])
+    parts = []
+    for role in layout.outlets:
+        p, u = series.get(f"column_pressure_{role}"), series.get(f"column_speed_{role}")
+        if p is None or u is None:
+            continue
+        parts.append(f"{role} {np.mean(np.asarray(p)[window]) / 1e5:.3g} bar, {np.mean(np.asarray(u)[window]):.3g} m/s")
+    if parts:
+        print(f"columns (eq. OB5) over the last {STEADY_FRACTION:.0%}: chamber pressure and speed: " + "; ".join(parts))
 
 
 def analyze_drill_run(run_dir, run: dict, case, render: bool = True) -> dict:
@@ -134,6 +149,7 @@ def analyze_drill_run(run_dir, run: dict, case, render: bool = True) -> dict:
     for name, unit, a, b, c, paper in rows:
         print(f"{name:<20}{unit:>6}{_fmt(a)}{_fmt(b)}{_fmt(c)}  {paper}")
     print_element_flows(net, sph, case.scene, layout)
+    print_columns(series, time, layout)
     v_in = case.scene.inlet_velocity
     print(f"anchor: 1/2 rho v_in^2 = {0.5 * case.fluid.density * v_in ** 2 / 1e5:.3g} bar at v_in = {v_in:g} m/s; "
           "sensors outside the scene (C1, C2 at the feed) are '-'")
