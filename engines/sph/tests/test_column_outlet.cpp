@@ -99,14 +99,7 @@ TEST(column_outlet_options_are_validated) {
   TinyPipe pipe;
   const fs::path dir = testfiles::scratch("column_outlet_deck");
   const json good = pipe.deck(dir, 0.1);
-  auto rejection = [&](json j) -> std::string {
-    try {
-      parse_deck(j, dir.string());
-    } catch (const InputError& e) {
-      return e.what();
-    }
-    return "";
-  };
+  auto rejection = [&](const json& j) { return testpipe::rejection(j, dir); };
   json j = good;
   j["outlets"][0]["column_length"] = 0.5;
   j["outlets"][0]["column_loss"] = 2.0;

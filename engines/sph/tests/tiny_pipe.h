@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "deck.h"
 #include "test_files.h"
 
 namespace testpipe {
@@ -106,6 +107,16 @@ inline FluidState fluid_of_frame(const fs::path& out, int frame) {
     if (kind[i] == 0) s.count += 1.0, s.mean_rho += rho[i];
   s.mean_rho /= s.count;
   return s;
+}
+
+// Why the deck j is rejected (InputError's message), or "" if it is accepted.
+inline std::string rejection(const json& j, const fs::path& dir) {
+  try {
+    sph::parse_deck(j, dir.string());
+  } catch (const sph::InputError& e) {
+    return e.what();
+  }
+  return "";
 }
 
 }  // namespace testpipe
