@@ -11,7 +11,8 @@ from orchestrator.reference.drill_network import LITRE_PER_MIN
 
 
 def plot_drill_series(time, flows: dict, series: dict, stored, path: Path, names=None, titles=None) -> Path:
-    """Flows (l/min) and probe pressures (bar, gauge) against time (ms), PNG at path; names: the flows drawn,
+    """Flows (l/min) and probe pressures (bar, gauge; dashed: column outlets' chambers) against time (ms), PNG at
+    path; names: the flows drawn,
     titles: the two panels' (default the paper's two areas')."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
@@ -33,6 +34,9 @@ def plot_drill_series(time, flows: dict, series: dict, stored, path: Path, names
     for name in sorted(series):
         if name.startswith("pressure_probe_"):
             bottom.plot(t, np.asarray(series[name], dtype=float) / 1e5, label=name.removeprefix("pressure_probe_"))
+        elif name.startswith("column_pressure_"):  # a column outlet's chamber (engine eq. OB5)
+            bottom.plot(t, np.asarray(series[name], dtype=float) / 1e5, "--", lw=1,
+                        label=name.removeprefix("column_pressure_") + " column")
     bottom.set_ylabel("p [bar, gauge]")
     bottom.set_xlabel("t [ms]")
     bottom.set_title(titles[1], fontsize=10)
