@@ -81,3 +81,23 @@ TEST(whole_steps_do_not_depend_on_the_thread_count) {
   CHECK(one == two_light);
   CHECK(max_difference(one, advance(P, 1e-5, 0)) > 1e-6);  // the particles moved
 }
+
+// A cavitating particle (below the floor's density) takes the pressure term p / rho^2 at the floor's density:
+// its liquid's, as the volume balances count it. Above the floor the term is p / rho^2 as before.
+TEST(cavitating_particle_takes_its_pressure_term_at_the_floors_density) {
+  Deck d = block_deck();
+  d.min_pressure = -2.0e3;  // Pa: rho_floor = rho0 (1 - 7 x 2000 / (1000 x 20^2))^(1/7) = 994.9 kg/m^3
+  Simulation<2, kTerms> sim(d, block(4, 4));
+  auto& P = sim.particles();
+  std::vector<std::size_t> fluid;
+  for (std::size_t i = 0; i < P.size(); ++i)
+    if (P.kind[i] == Kind::fluid) fluid.push_back(i);
+  const std::size_t a = fluid.at(0), b = fluid.at(1);
+  P.rho[a] = 350.0, P.rho[b] = 1001.0;
+  sim.equation_of_state();
+  const double floor = 1000.0 * std::pow(1.0 - 7.0 * 2.0e3 / (1000.0 * 400.0), 1.0 / 7.0);
+  CHECK_CLOSE(P.p[a], -2.0e3, 1e-12);
+  CHECK_CLOSE(P.p_rho2[a], -2.0e3 / (floor * floor), 1e-12);  // not -2000 / 350^2, 8.1 x larger
+  CHECK_CLOSE(P.p_rho2[b], P.p[b] / (1001.0 * 1001.0), 1e-12);
+  CHECK(P.vol[a] == P.mass[a] / 350.0);  // its volume (vapour and all) is unchanged
+}
