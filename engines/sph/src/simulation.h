@@ -122,8 +122,8 @@ class Simulation {
   }
   // Eq. 6 with the particle's material. A fixed boundary particle never pulls:
   // its pressure is that of max(rho, rho0), so a wall under a free surface does not suck fluid in.
-  // A cavitating particle (below the floor's density) takes p / rho^2 at the floor's density, its liquid's:
-  // at its own density the floor's tension grew as 1 / rho^2 (8 x at 35 % of rho0) and pulled it into walls.
+  // A cavitating particle (below the floor's density) takes p / rho^2 at the floor's density, its liquid's (as
+  // the volume balances count it): at its own density the floor's tension grew as 1 / rho^2 (8 x at 35 % of rho0).
   void equation_of_state_at(std::ptrdiff_t i) {
     const TaitEos& eos = materials_.eos(P_.material[i]);
     const double rho = P_.kind[i] == Kind::boundary ? std::max(P_.rho[i], eos.rho0) : P_.rho[i];
