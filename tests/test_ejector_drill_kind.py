@@ -42,6 +42,7 @@ def test_presets_load_with_the_papers_resolution(preset):
     ("scene.area='nozzles'", "scene.area"),
     ("numerics.dx=0.6e-3", "numerics.dx"),
     ("output.picture_times=[3.3e-4]", "picture_times"),
+    ("physics.eddy_viscosity=2.0", "physics.eddy_viscosity"),
 ])
 def test_bad_values_name_the_key(override, words):
     with pytest.raises(OrchestratorError) as err:
@@ -425,3 +426,13 @@ def test_spaced_frames_leave_out_a_stop_frame_close_to_the_grid():
     # final frame 0.6 ms after the last regular one (kept: more than half an interval)
     t = np.array([0.0, 1.0, 2.0, 7.0, 7.0095, 8.0, 9.0, 9.6]) * 1e-3
     np.testing.assert_array_equal(spaced_frames(t, 1e-3), [True, True, True, True, False, True, True, True])
+
+
+def test_eddy_viscosity_reaches_the_scene():
+    """[physics] eddy_viscosity = cs switches Smagorinsky's term on in the scene's physics (engine eqs. SM1-SM2)."""
+    from orchestrator.kinds.ejector_drill.build import drill_physics
+
+    case = load_case(CASE, preset="flow_exit_quick", overrides=["physics.eddy_viscosity=0.12"]).model
+    physics = drill_physics(case)
+    assert physics.eddy_viscosity == 0.12 and "morris_viscosity" in physics.terms
+    assert drill_physics(load_case(CASE, preset="flow_exit_quick").model).eddy_viscosity is None

@@ -101,6 +101,21 @@ def test_viscosity_correction_reaches_the_deck(overrides, expected, tmp_path):
                                            "physics.terms=['artificial_viscosity', 'body_force']"])
 
 
+@pytest.mark.parametrize("overrides,expected", [([], None),
+                                                 (["physics.eddy_viscosity=0.12"], {"model": "smagorinsky", "cs": 0.12})])
+def test_eddy_viscosity_reaches_the_deck(overrides, expected, tmp_path):
+    """physics.eddy_viscosity = cs writes Smagorinsky's "eddy_viscosity" (engine eqs. SM1-SM2); the default writes
+    nothing; a cs outside (0, 1] or a case without the Morris term is refused, naming the key."""
+    scene = build_scene(load_case(REFERENCE_2D, overrides=overrides).model)
+    _backend().write_input(scene, tmp_path)
+    assert json.loads((tmp_path / "deck.json").read_text()).get("eddy_viscosity") == expected
+    with pytest.raises(CaseError, match="eddy_viscosity"):
+        load_case(REFERENCE_2D, overrides=["physics.eddy_viscosity=1.5"])
+    with pytest.raises(CaseError, match="physics.eddy_viscosity needs 'morris_viscosity'"):
+        load_case(REFERENCE_2D, overrides=["physics.eddy_viscosity=0.12",
+                                           "physics.terms=['artificial_viscosity', 'body_force']"])
+
+
 def test_input_files_hold_the_scene(tmp_path):
     scene = build_scene(load_case(CHANNEL).model)
     _backend().write_input(scene, tmp_path)

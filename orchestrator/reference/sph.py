@@ -17,6 +17,12 @@ included (engines/sph/README.md):
 - the renormalised Morris sum (optional, viscosity_correction; engine eq. VC1):
   each fluid particle's viscous sum times k_a = D / sum_b V_b (-F_ab) r_ab^4 /
   (r_ab^2 + 0.01 h^2), over all its neighbours (morris_correction_factors);
+- Smagorinsky's eddy viscosity (optional, eddy_viscosity = cs; engine eqs.
+  SM1-SM2): nu_t,a = (cs dx)^2 sqrt(2 S:S) of S = sym(L_a), L_a = -sum_b V_b
+  F_ab (v_a - v_b) (x) r_ab with a boundary b at its no-slip velocity; the
+  Morris mu_ab gains rho0 (nu_t,a + nu_t,b) / 2 between fluid particles and
+  rho0 nu_t of the fluid one against a boundary particle; a step uses the nu_t
+  of the previous evaluation (SphState.nu_t; of the initial state first);
 - several materials (optional): each particle's rho0, c0, gamma, p_B and nu
   are its material's (EOS, boundary pressure of max(rho, rho0)); the Morris
   term of two different materials takes the harmonic mean
@@ -78,6 +84,8 @@ class SphModel:
     periodic_hi: tuple[float, ...] = ()
     materials: tuple[SphMaterial, ...] = ()  # several materials (SphState.material indexes them); else the above
     viscosity_correction: bool = False  # the Morris sum renormalised per particle (engine eq. VC1)
+    eddy_viscosity: float | None = None  # Smagorinsky's cs (engine eqs. SM1-SM2), -
+    dx: float = 0.0  # lattice spacing, m: the eddy viscosity's length cs dx
 
     def material_list(self) -> tuple[SphMaterial, ...]:
         """The materials, or the one material of rho0, c0, gamma, background_pressure and viscosity."""
@@ -100,7 +108,8 @@ class SphModel:
 class SphState:
     """Particle state: x (n, D) m, v (n, D) m/s, rho (n) kg/m^3, mass (n) kg, kind (n) 0 fluid / 1 boundary;
     acc (n, D) m/s^2 and drho (n) kg/m^3/s: the rates of the last evaluation (None before the first step);
-    material (n) index into SphModel.material_list() (None: all 0)."""
+    material (n) index into SphModel.material_list() (None: all 0); nu_t (n) m^2/s: the eddy viscosity of the last
+    evaluation (None: 0)."""
 
     x: np.ndarray
     v: np.ndarray
@@ -110,6 +119,7 @@ class SphState:
     acc: np.ndarray | None = None
     drho: np.ndarray | None = None
     material: np.ndarray | None = None
+    nu_t: np.ndarray | None = None
 
 
 def kernel_value(r, h: float, dimension: int):
@@ -235,6 +245,9 @@ def rates(state: SphState, model: SphModel) -> tuple[np.ndarray, np.ndarray]:
         index = np.zeros(n, dtype=np.int64) if state.material is None else np.asarray(state.material)
         mu = pair_viscosity(model)[index[a], index[b]]
         v_noslip = _no_slip_velocities(state, model)
+        if model.eddy_viscosity is not None and state.nu_t is not None:  # eq. SM2
+            nu_ab = np.where(fluid[a] & fluid[b], 0.5 * (state.nu_t[a] + state.nu_t[b]), state.nu_t[a] + state.nu_t[b])
+            mu = mu + model.rho0 * nu_ab
         s = 2.0 * mu * vol[b] / state.rho[a] * np.einsum("ij,ij->i", r_ab, grad_w) / (r2 + model.eta2)
         if model.viscosity_correction:
             s = s * morris_correction_factors(a, r2, vol[b], n, model)[a]
@@ -257,6 +270,25 @@ def rates(state: SphState, model: SphModel) -> tuple[np.ndarray, np.ndarray]:
         acc[fluid] += model.walls.forces(state.x[fluid]) / state.mass[fluid][:, None]
     acc[~fluid] = 0.0
     return acc, drho_sum
+
+
+def eddy_viscosities(state: SphState, model: SphModel) -> np.ndarray:
+    """nu_t of eq. SM1 (engines/sph/src/eddy_viscosity.h) of every particle at the state, m^2/s: (cs dx)^2
+    sqrt(2 S:S) of the symmetric part S of L_a = -sum_b V_b F_ab (v_a - v_b^no-slip) (x) r_ab; 0 for boundary
+    particles (and for every particle when the model has no eddy viscosity)."""
+    n, d = state.x.shape
+    fluid = state.kind == FLUID
+    if model.eddy_viscosity is None:
+        return np.zeros(n)
+    a, b, r_ab = neighbour_pairs(state.x, model)
+    keep = fluid[a]
+    a, b, r_ab = a[keep], b[keep], r_ab[keep]
+    factor = kernel_gradient_factor(np.linalg.norm(r_ab, axis=1), model.h, d) * (state.mass[b] / state.rho[b])
+    v_g = state.v[a] - _no_slip_velocities(state, model)[b]
+    grad = _sum_to(a, -factor[:, None, None] * v_g[:, :, None] * r_ab[:, None, :], n)
+    strain = 0.5 * (grad + np.transpose(grad, (0, 2, 1)))
+    nu_t = (model.eddy_viscosity * model.dx) ** 2 * np.sqrt(2.0 * np.einsum("nij,nij->n", strain, strain))
+    return np.where(fluid, nu_t, 0.0)
 
 
 def morris_correction_factors(a: np.ndarray, r2: np.ndarray, vol_b: np.ndarray, n: int, model: SphModel) -> np.ndarray:
@@ -320,6 +352,9 @@ def step(state: SphState, model: SphModel, dt: float) -> SphState:
     """One predictor-corrector step of dt seconds with one rate evaluation, at the half step; the
     predictor uses the rates of the last evaluation. Boundary particles keep x and v."""
     moves = state.kind == FLUID
+    if state.acc is None and model.eddy_viscosity is not None:  # the engine's first evaluation sets nu_t
+        acc0, drho0 = rates(state, model)
+        state = replace(state, acc=acc0, drho=drho0, nu_t=eddy_viscosities(state, model))
     acc0, drho0 = last_rates(state, model)
     half = 0.5 * dt
     x_half = state.x.copy()
@@ -329,7 +364,9 @@ def step(state: SphState, model: SphModel, dt: float) -> SphState:
     acc1, drho1 = rates(mid, model)
     x_new = state.x.copy()
     x_new[moves] = wrap(state.x[moves] + dt * (state.v[moves] + half * acc1[moves]), model)
-    return replace(state, x=x_new, v=state.v + dt * acc1, rho=state.rho + dt * drho1, acc=acc1, drho=drho1)
+    nu_t = eddy_viscosities(mid, model) if model.eddy_viscosity is not None else state.nu_t
+    return replace(state, x=x_new, v=state.v + dt * acc1, rho=state.rho + dt * drho1, acc=acc1, drho=drho1,
+                   nu_t=nu_t)
 
 
 def simulate(state: SphState, model: SphModel, dt: float, n_steps: int, every: int = 0):
@@ -368,7 +405,8 @@ def from_scene(scene) -> tuple[SphState, SphModel]:
         av_walls=True if av is None else av.walls,
         body_force=physics.body_force, walls=walls, periodic_axes=axes,
         periodic_lo=tuple(case.domain.lo[a] for a in axes), periodic_hi=tuple(case.domain.hi[a] for a in axes),
-        viscosity_correction=physics.viscosity_correction,
+        viscosity_correction=physics.viscosity_correction, eddy_viscosity=physics.eddy_viscosity,
+        dx=case.numerics.dx,
     )
     state = SphState(x=np.array(scene.positions, dtype=float), v=np.array(scene.velocities, dtype=float),
                      rho=np.array(scene.densities, dtype=float), mass=np.array(scene.masses, dtype=float),

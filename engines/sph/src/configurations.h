@@ -31,6 +31,7 @@ using P = ModelList<Ptt>;
 constexpr unsigned morris = term::morris_viscosity, av = term::artificial_viscosity, several = term::several_materials;
 constexpr unsigned sheared = term::sheared;  // Lees-Edwards boundaries (the deck's `lees_edwards`)
 constexpr unsigned corrected = term::viscosity_correction;  // the deck's `viscosity_correction`
+constexpr unsigned eddy = term::eddy_viscosity;  // the deck's `eddy_viscosity` (Smagorinsky, eq. SM1)
 }  // namespace config
 
 using Configurations = std::tuple<                           //
@@ -43,6 +44,8 @@ using Configurations = std::tuple<                           //
     Configuration<config::N, config::morris | config::sheared>,               // Newtonian Lees-Edwards cell
     Configuration<config::N, config::morris | config::corrected>,             // renormalised Morris sum (eq. VC1)
     Configuration<config::N, config::morris | config::av | config::corrected>,  //
+    Configuration<config::N, config::morris | config::eddy>,                  // Smagorinsky eddy viscosity
+    Configuration<config::N, config::morris | config::av | config::eddy>,     //   (the drill's jets and clearances)
     Configuration<config::P, 0>,                                              // PTT viscoelastic fluid (seed 002)
     Configuration<config::P, config::av>,                                     //   with artificial viscosity
     Configuration<config::P, config::sheared>,                                // PTT Lees-Edwards cell (rheometer)

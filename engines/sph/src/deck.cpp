@@ -109,6 +109,22 @@ void parse_output(const json& j, Deck& d) {
   }
 }
 
+// `eddy_viscosity`: {"model": "smagorinsky", "cs": C} (eddy_viscosity.h); the scalar path of one fluid with Morris.
+void parse_eddy_viscosity(const json& e, bool several_materials, Deck& d) {
+  if (!e.is_object()) fail("'eddy_viscosity' must be an object {\"model\": \"smagorinsky\", \"cs\": 0.12}");
+  check_keys(e, "eddy_viscosity", {"model", "cs"});
+  const std::string model = text(need(e, "eddy_viscosity", "model"), "eddy_viscosity.model");
+  if (model != "smagorinsky") fail("'eddy_viscosity.model' must be \"smagorinsky\", got \"" + model + "\"");
+  const double cs = positive(e, "eddy_viscosity", "cs");
+  if (cs > 1.0) fail("'eddy_viscosity.cs' must be at most 1 (Smagorinsky's constant, 0.1-0.2), got " + std::to_string(cs));
+  if (!(d.terms & term::morris_viscosity))
+    fail("key 'eddy_viscosity' is given but physics term 'morris_viscosity' is not in 'physics' (nu_t adds to its nu)");
+  if (several_materials) fail("key 'eddy_viscosity' needs one Newtonian fluid (top-level rho0, viscosity), not 'materials'");
+  if (d.viscosity_correction) fail("key 'eddy_viscosity' cannot be combined with 'viscosity_correction'");
+  if (d.lees_edwards.on) fail("key 'eddy_viscosity' cannot be combined with 'lees_edwards'");
+  d.smagorinsky_cs = cs;
+}
+
 }  // namespace
 
 std::string Deck::resolve(const std::string& path) const {
@@ -120,6 +136,7 @@ std::string Deck::terms_string() const {
   std::string out = "continuity,tait_eos,pressure_gradient";
   for (const auto& t : term::optional)
     if (terms & t.bit) out += std::string(",") + t.name;
+  if (smagorinsky_cs > 0) out += " with eddy_viscosity";
   return viscosity_correction ? out + " with viscosity_correction" : out;
 }
 
@@ -131,7 +148,7 @@ Deck parse_deck(const json& j, const std::string& deck_dir) {
   check_keys(j, "", {"dimension", "particles_file", "physics", "rho0", "c0", "gamma", "background_pressure", "v_max",
                      "viscosity", "alpha", "beta", "artificial_viscosity", "h", "dx", "body_force", "meshes", "wall", "periodic", "inlets",
                      "outlets", "dt", "time_step", "t_end", "t_start", "step_start", "max_steps", "stability", "output", "threads",
-                     "materials", "lees_edwards", "neighbour_skin", "viscosity_correction", "open_boundary_list",
+                     "materials", "lees_edwards", "neighbour_skin", "viscosity_correction", "eddy_viscosity", "open_boundary_list",
                      "min_pressure"});
   Deck d;
   d.deck_dir = deck_dir;
@@ -232,6 +249,7 @@ Deck parse_deck(const json& j, const std::string& deck_dir) {
   }
 
   if (j.contains("lees_edwards")) parse_lees_edwards(j["lees_edwards"], d);
+  if (j.contains("eddy_viscosity")) parse_eddy_viscosity(j["eddy_viscosity"], j.contains("materials"), d);
   parse_open_boundaries(j, d);
 
   if (j.contains("dt") && j.contains("time_step"))

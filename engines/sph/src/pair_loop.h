@@ -38,6 +38,12 @@ class PairLoop {
   static constexpr bool tensor = Models::any_stress;
   static constexpr bool corrected = has(term::viscosity_correction);  // eq. VC1 (viscosity_correction.h)
   static_assert(!corrected || (has(term::morris_viscosity) && !tensor), "eq. VC1: scalar path with Morris viscosity");
+  static constexpr bool eddy = has(term::eddy_viscosity);  // eqs. SM1-SM2 (eddy_viscosity.h)
+  static_assert(!eddy || (has(term::morris_viscosity) && !tensor && !corrected && !has(term::sheared) &&
+                          !has(term::several_materials)),
+                "eqs. SM1-SM2: the scalar path of one material with Morris viscosity");
+  // The mu_ab of eq. 10 per pair: several materials' table or the eddy viscosity's (pass A gathers it).
+  static constexpr bool pair_mu = has(term::several_materials) || eddy;
 
   PairLoop(Particles<D>& P, const NeighbourList<D>& list, const WendlandC2<D>& kernel, const Model& model,
            const MaterialTable& materials, std::vector<double>& shepard)
@@ -143,6 +149,7 @@ class PairLoop {
     double r[D][chunk], r2[chunk], vr[chunk];
     double m[chunk], rho[chunk], vol[chunk], p_rho2[chunk], c[chunk], mu[chunk], corr[chunk];
     double drho_a[chunk], drho_b[chunk], f_a[D][chunk], f_b[D][chunk], visc_a[chunk], visc_b[chunk];
+    double vg[D][chunk], F[chunk];  // eddy: the velocity difference of eq. SM1 (no-slip against a fixed particle), F
   };
 
   // Owner a's values for pass B (corr: its factor k_a of eq. VC1 when corrected).
@@ -173,8 +180,9 @@ class PairLoop {
         if constexpr (has(term::morris_viscosity)) {
           // Eq. 10: 2 mu_ab (r_ab . grad W)/(r_ab^2 + 0.01 h^2) m/(rho_a rho_b).
           double s;
-          if constexpr (has(term::several_materials)) s = model.morris.factor(k.mu[j], F, k.r2[j]);
+          if constexpr (pair_mu) s = model.morris.factor(k.mu[j], F, k.r2[j]);
           else s = model.morris.factor(F, k.r2[j]);
+          if constexpr (eddy) k.F[j] = F;
           if constexpr (corrected)  // eq. VC1: each side its own factor
             k.visc_a[j] = o.corr * (s * k.vol[j] * o.inv_rho), k.visc_b[j] = k.corr[j] * (s * o.vol / k.rho[j]);
           else
@@ -196,6 +204,9 @@ class PairLoop {
     const Vec<D> xa = x[a], va = v[a];
     const double support2 = 4.0 * kernel_.h * kernel_.h;
     const double* const mu_row = materials_.pair_mu_table() + P_.material[a] * materials_.size();
+    const double* const nu_t = P_.nu_t.data();
+    Vec<D> vns_a = Vec<D>::Zero();
+    if constexpr (has(term::morris_viscosity)) vns_a = P_.v_noslip[a];
     // A. gather and keep the pairs within 2h.
     int n = 0;
     for (; e != stop; ++e) {
@@ -211,6 +222,14 @@ class PairLoop {
       if constexpr (has(term::artificial_viscosity)) k.c[n] = P_.c[b];
       if constexpr (has(term::several_materials)) k.mu[n] = mu_row[P_.material[b]];
       if constexpr (corrected) k.corr[n] = correction_.factors()[b];
+      if constexpr (eddy && (AMoves || BMoves)) {  // eq. SM2: the fixed particle's nu_t is 0, the fluid's counts whole
+        const double nu_ab = AMoves && BMoves ? 0.5 * (nu_t[a] + nu_t[b]) : nu_t[a] + nu_t[b];
+        k.mu[n] = model_.morris.mu + model_.morris.rho0 * nu_ab;
+        Vec<D> vg = v_ab;  // eq. SM1: a fixed particle with its no-slip velocity
+        if constexpr (AMoves && !BMoves) vg = va - P_.v_noslip[b];
+        if constexpr (!AMoves && BMoves) vg = vns_a - v[b];
+        for (int d = 0; d < D; ++d) k.vg[d][n] = vg[d];
+      }
       n += r2 < support2;
     }
     (void)jumps;
@@ -224,10 +243,18 @@ class PairLoop {
     Vec<D>* const acc = P_.acc.data();
     double* const drho = P_.drho.data();
     const Vec<D>* const v_noslip = P_.v_noslip.data();
-    Vec<D> vns_a = Vec<D>::Zero();
-    if constexpr (has(term::morris_viscosity)) vns_a = v_noslip[a];
+    Mat<D>* const grad_v = P_.grad_v.data();
+    Mat<D> G_a = Mat<D>::Zero();
+    const double vol_a = P_.vol[a];
     for (int j = 0; j < n; ++j) {
       const int b = k.b[j];
+      if constexpr (eddy && (AMoves || BMoves)) {  // eq. SM1: -F V (v_a - v_b) (x) r_ab on both sides
+        Vec<D> vg, r;
+        for (int d = 0; d < D; ++d) vg[d] = k.vg[d][j], r[d] = k.r[d][j];
+        const Mat<D> vr_outer = vg * r.transpose();
+        if constexpr (AMoves) G_a.noalias() -= (k.F[j] * k.vol[j]) * vr_outer;
+        if constexpr (BMoves) grad_v[b].noalias() -= (k.F[j] * vol_a) * vr_outer;
+      }
       drho_a += k.drho_a[j];
       drho[b] += k.drho_b[j];
       if constexpr (AMoves || BMoves) {
@@ -245,6 +272,8 @@ class PairLoop {
         }
       }
     }
+    if constexpr (eddy && AMoves) grad_v[a] += G_a;
+    (void)grad_v, (void)G_a, (void)vol_a, (void)nu_t;
   }
 
   template <bool AMoves, bool BMoves>

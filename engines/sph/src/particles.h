@@ -90,6 +90,8 @@ struct Particles {
   Field<double> dens{"densities"};    // density kg/m^3, rate drho/dt kg/m^3/s
   Field<Mat<D>> stress{"stress"};     // deviatoric stress tau Pa, rate Pa/s (only when has_stress), frames (n, D*D) row-major
   bool has_stress = false;            // a material of the run carries a deviatoric stress
+  bool eddy = false;                  // Smagorinsky eddy viscosity (eddy_viscosity.h): nu_t carried, grad_v summed
+  std::vector<double> nu_t, next_nu_t;  // eddy viscosity m^2/s of the last evaluation (eddy; 0 for fixed particles)
   Field<ModeStress<D>> mode_stress{"mode_stress"};  // per-mode stresses tau_i Pa (PTT), rate Pa/s; only when modes > 0
   int modes = 0;                      // stress modes of the run (0: none)
   // -- carried (reordered, compacted, never integrated)
@@ -111,7 +113,7 @@ struct Particles {
   std::vector<Vec<D>> v_noslip;      // velocity seen by the viscous term: v for fluid, mirrored for boundary
   std::vector<Vec<D>> x_noslip;      // Shepard sum of the fluid positions around a boundary particle (has_wall_points)
   std::vector<WallFit<D>> wall_fit;  // weighted quadratic-fit sums of the same fluid (has_wall_points; vec.h)
-  std::vector<Mat<D>> grad_v;        // velocity gradient (tensor()): row i, column j is d v_i / d x_j
+  std::vector<Mat<D>> grad_v;        // velocity gradient (tensor() or eddy): row i, column j is d v_i / d x_j
   std::vector<Mat<D>> shape;         // kernel-correction sum, then its inverse (tensor())
   std::vector<Mat<D>> sigma_rho2;    // (-p I + tau) / rho^2 (tensor())
 
@@ -144,6 +146,7 @@ struct Particles {
   void for_carried(F&& f) {
     f(mass, next_mass), f(kind, next_kind), f(id, next_id), f(material, next_material);
     if (modes) f(tau_solvent, next_tau_solvent);
+    if (eddy) f(nu_t, next_nu_t);
     if (has_wall_points) f(wall_offset, next_wall_offset), f(wall_frame, next_wall_frame);
   }
 
@@ -167,10 +170,12 @@ struct Particles {
       const auto z = zero<typename std::decay_t<decltype(f.value)>::value_type>(modes);
       f.value.resize(n, z), f.rate.resize(n, z), f.start.resize(n, z);
     });
-    const std::size_t had = tau_solvent.size(), had_walls = wall_offset.size();
+    const std::size_t had = tau_solvent.size(), had_walls = wall_offset.size(), had_eddy = nu_t.size();
     for_carried([n](auto& a, auto&) { a.resize(n); });
     if (modes)
       for (std::size_t i = had; i < n; ++i) tau_solvent[i].setZero();  // fresh entries hold no stress
+    if (eddy)
+      for (std::size_t i = had_eddy; i < n; ++i) nu_t[i] = 0.0;  // fresh entries: no eddy viscosity yet
     if (has_wall_points) {
       for (std::size_t i = had_walls; i < n; ++i)
         wall_offset[i].setConstant(std::numeric_limits<double>::quiet_NaN()), wall_frame[i] = wall_frame_of(wall_offset[i]);
@@ -179,6 +184,8 @@ struct Particles {
     }
     if (tensor())
       for (auto* a : {&grad_v, &shape, &sigma_rho2}) a->resize(n, Mat<D>::Zero());
+    else if (eddy)
+      grad_v.resize(n, Mat<D>::Zero());
   }
 
   // Capacity for n particles in every array, so later growth up to n does not allocate.
@@ -190,6 +197,8 @@ struct Particles {
     for_carried([n](auto& a, auto& next) { a.reserve(n), next.reserve(n); });
     if (tensor())
       for (auto* a : {&grad_v, &shape, &sigma_rho2}) a->reserve(n);
+    else if (eddy)
+      grad_v.reserve(n);
     reserved_ = n;
   }
 
@@ -267,7 +276,7 @@ struct Particles {
 #define SPH_TAKE(m) m = std::forward<P>(o).m
     const std::size_t cap = std::max(o.reserved_, o.x.capacity());
     SPH_TAKE(x), SPH_TAKE(x0), SPH_TAKE(next_x), SPH_TAKE(next_x0), SPH_TAKE(vel), SPH_TAKE(dens), SPH_TAKE(stress);
-    SPH_TAKE(has_stress), SPH_TAKE(mode_stress), SPH_TAKE(modes), SPH_TAKE(tau_solvent), SPH_TAKE(next_tau_solvent);
+    SPH_TAKE(has_stress), SPH_TAKE(eddy), SPH_TAKE(nu_t), SPH_TAKE(next_nu_t), SPH_TAKE(mode_stress), SPH_TAKE(modes), SPH_TAKE(tau_solvent), SPH_TAKE(next_tau_solvent);
     SPH_TAKE(has_wall_points), SPH_TAKE(wall_offset), SPH_TAKE(next_wall_offset), SPH_TAKE(wall_frame),
     SPH_TAKE(next_wall_frame), SPH_TAKE(x_noslip), SPH_TAKE(wall_fit);
     SPH_TAKE(mass), SPH_TAKE(kind), SPH_TAKE(id), SPH_TAKE(material);

@@ -33,6 +33,9 @@ constexpr unsigned sheared = 1u << 9;
 // Not a deck term: set by the dispatcher for the deck key `viscosity_correction`
 // (the pair loop scales each particle's Morris sum by k_a, viscosity_correction.h eq. VC1).
 constexpr unsigned viscosity_correction = 1u << 10;
+// Not a deck term: set by the dispatcher for the deck key `eddy_viscosity` (Smagorinsky's sub-particle
+// viscosity nu_t = (cs dx)^2 |S| added to the Morris term's, eq. SM1 of eddy_viscosity.h).
+constexpr unsigned eddy_viscosity = 1u << 11;
 
 struct Named {
   const char* name;
@@ -111,6 +114,7 @@ struct PressureGradient {
 struct MorrisViscosity {
   double mu = 0.0;    // dynamic viscosity, Pa s
   double eta2 = 0.0;  // 0.01 h^2, m^2
+  double rho0 = 0.0;  // kg/m^3: the eddy viscosity's mu_t = rho0 nu_t (eddy_viscosity.h, eq. SM2)
   template <int D>
   void add(const Pair<D>& p, PairRates<D>& out) const {
     const double s = 2.0 * mu * p.vol_b * p.inv_rho_a * (p.F * p.r2) / (p.r2 + eta2);

@@ -182,6 +182,7 @@ inline Wanted wanted_by(const Deck& deck) {
   if (materials.size() > 1 && (w.terms & term::morris_viscosity)) w.terms |= term::several_materials;
   if (deck.lees_edwards.on) w.terms |= term::sheared;
   if (deck.viscosity_correction) w.terms |= term::viscosity_correction;
+  if (deck.smagorinsky_cs > 0) w.terms |= term::eddy_viscosity;
   return w;
 }
 template <class Models>

@@ -17,6 +17,7 @@
 #include "cell_list.h"
 #include "constitutive_rates.h"
 #include "deck.h"
+#include "eddy_viscosity.h"
 #include "extra_stress.h"
 #include "integrator.h"
 #include "kernel.h"
@@ -43,6 +44,7 @@ class Simulation {
   static constexpr bool sheared = has(term::sheared);  // Lees-Edwards images (box_policy.h)
   // No-slip velocities of boundary particles (Morris term; tensor path: eq. T2 and the wall stress, eq. W1).
   static constexpr bool no_slip = has(term::morris_viscosity) || tensor;
+  static constexpr bool eddy = has(term::eddy_viscosity);  // Smagorinsky's nu_t (eddy_viscosity.h)
 
   // Cells of half the list range (5^D stencil) test fewer far pairs than cells
   // of the full range (3^D), and two layers of them make a block of the list.
@@ -57,6 +59,8 @@ class Simulation {
     const double eta2 = 0.01 * deck.h * deck.h;
     model_.morris.mu = materials_[0].mu;
     model_.morris.eta2 = eta2;
+    model_.morris.rho0 = materials_[0].eos.rho0;
+    smagorinsky_.length2 = deck.smagorinsky_cs * deck.smagorinsky_cs * deck.dx * deck.dx;
     model_.artificial = {deck.alpha, deck.beta, deck.h, eta2, deck.av_walls ? 1.0 : 0.0};
     body_force_on_ = deck.terms & term::body_force;
     walls_on_ = deck.terms & term::wall_penalty;
@@ -75,6 +79,7 @@ class Simulation {
     const std::size_t n = P_.size(), capacity = P_.x.capacity();
     P_.has_stress = Models::any_single_stress;
     P_.modes = Models::any_modes ? modes : 0;
+    P_.eddy = eddy;
     P_.resize(n), P_.set_wall_frames();  // wall frames: of the wall offsets the caller set
     P_.reserve(capacity);
     for (auto* a : {&x_pred_, &x_build_}) a->reserve(capacity);
@@ -220,11 +225,13 @@ class Simulation {
       }
     }
     if constexpr (tensor) P_.grad_v[i].setZero(), P_.shape[i].setZero();
+    if constexpr (eddy) P_.grad_v[i].setZero();
   }
   // close_rates of particle a: body force and wall penalty of a fluid particle; the velocity gradient G M^-1
   // (eq. T2) and the rate d tau/dt of its material (constitutive_rates.h); an outlet particle keeps the density
   // it left with (zero-gradient), an extrapolating inlet's the one the last update gave it.
   void close_rates_at(std::ptrdiff_t a) {
+    if constexpr (eddy) P_.nu_t[a] = P_.moves(a) ? smagorinsky_.nu_t<D>(P_.grad_v[a]) : 0.0;  // eq. SM1, next step's
     if (P_.moves(a)) {
       if (body_force_on_) model_.body.add(P_.acc[a]);
       if (walls_on_) {
@@ -254,7 +261,17 @@ class Simulation {
 
   // Time step of eq. 13 extended by the viscous and force criteria, from the rates just computed:
   // min(cfl h/(c0 + v_max), viscous h^2/nu, force sqrt(h/a_max)) (largest c0 and nu over the materials).
-  double adaptive_dt() { return adaptive_time_step(maxima(), deck_, materials_, has(term::morris_viscosity)); }
+  // With the eddy viscosity the viscous criterion takes nu + the largest nu_t of the last evaluation.
+  double adaptive_dt() {
+    double dt = adaptive_time_step(maxima(), deck_, materials_, has(term::morris_viscosity));
+    if constexpr (eddy) {
+      dt = std::min(dt, deck_.viscous_factor * deck_.h * deck_.h / (materials_.nu_max() + max_eddy_viscosity()));
+    }
+    return dt;
+  }
+  double max_eddy_viscosity() const {  // m^2/s, largest nu_t of the last evaluation (0 without eddy viscosity)
+    return P_.nu_t.empty() ? 0.0 : *std::max_element(P_.nu_t.begin(), P_.nu_t.end());
+  }
 
   // Forget the maxima (call after adding, removing or changing particles: the list is rebuilt before use).
   void forget_maxima() { maxima_.valid = false, list_stale_ = true; }
@@ -399,6 +416,7 @@ class Simulation {
   double time_ = 0.0;  // s
   bool list_stale_ = true;  // the list must be rebuilt before the next evaluation
   StageTimes times_;
+  Smagorinsky smagorinsky_;  // eq. SM1 (eddy only)
 };
 
 }  // namespace sph

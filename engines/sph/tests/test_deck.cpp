@@ -138,6 +138,28 @@ TEST(term_keys_must_match_the_physics_list) {
   j["physics"] = json::array({"body_force"});
   j.erase("viscosity");
   CHECK(mentions(rejection(j), "'viscosity_correction' is true but physics term 'morris_viscosity' is not in"));
+  j = good_deck();  // Smagorinsky's eddy viscosity (eddy_viscosity.h)
+  CHECK(parse_deck(j, deck_dir().string()).smagorinsky_cs == 0.0);
+  j["eddy_viscosity"] = json::parse(R"({"model": "smagorinsky", "cs": 0.12})");
+  CHECK(parse_deck(j, deck_dir().string()).smagorinsky_cs == 0.12);
+  CHECK(mentions(parse_deck(j, deck_dir().string()).terms_string(), "with eddy_viscosity"));
+  j["eddy_viscosity"]["cs"] = 1.5;
+  CHECK(mentions(rejection(j), "'eddy_viscosity.cs' must be at most 1"));
+  j["eddy_viscosity"]["cs"] = -0.1;
+  CHECK(mentions(rejection(j), "eddy_viscosity.cs"));
+  j["eddy_viscosity"] = json::parse(R"({"model": "wale", "cs": 0.12})");
+  CHECK(mentions(rejection(j), "'eddy_viscosity.model' must be \"smagorinsky\", got \"wale\""));
+  j["eddy_viscosity"] = json::parse(R"({"model": "smagorinsky", "cs": 0.12, "length": 1})");
+  CHECK(mentions(rejection(j), "length"));
+  j["eddy_viscosity"] = 0.12;
+  CHECK(mentions(rejection(j), "'eddy_viscosity' must be an object"));
+  j["eddy_viscosity"] = json::parse(R"({"model": "smagorinsky", "cs": 0.12})");
+  j["viscosity_correction"] = true;
+  CHECK(mentions(rejection(j), "cannot be combined with 'viscosity_correction'"));
+  j.erase("viscosity_correction");
+  j["physics"] = json::array({"body_force"});
+  j.erase("viscosity");
+  CHECK(mentions(rejection(j), "'eddy_viscosity' is given but physics term 'morris_viscosity' is not in 'physics'"));
   j = good_deck();
   j.erase("viscosity");
   CHECK(mentions(rejection(j), "'morris_viscosity' is on but key 'viscosity' is missing"));

@@ -132,6 +132,7 @@ def drill_physics(case: EjectorDrillCase) -> Physics:
     if case.physics.artificial_viscosity is not None:
         terms.insert(0, "artificial_viscosity")
     return Physics(terms=tuple(terms), artificial_viscosity=case.physics.artificial_viscosity,
+                   eddy_viscosity=case.physics.eddy_viscosity,
                    wall_penalty=WallPenalty(range=pen.range_over_dx * dx, s=pen.s_over_dx * dx,
                                             psi=pen.pressure * dx * dx) if penalty else None)
 

@@ -123,6 +123,9 @@ class DrillPhysics(Frozen):
 
     morris_viscosity: bool = Field(True, description="the laminar viscous term (eq. 10) with fluid.viscosity")
     artificial_viscosity: ArtificialViscosity | None = None
+    eddy_viscosity: float | None = Field(None, gt=0.0, le=1.0, description=(
+        "Smagorinsky's constant cs: the eddy viscosity nu_t = (cs dx)^2 |S| m^2/s beside the laminar one (the "
+        "paper's eq. 4 carries Reynolds stresses R); needs morris_viscosity"))
     walls: Literal["particles", "penalty"] = Field(
         "particles", description="particles: fixed boundary particles on the fluid's lattice inside the solids, "
                                  "each with its nearest point of the wetted surface (no-slip there; walls.py); "

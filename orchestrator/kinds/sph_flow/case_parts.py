@@ -163,6 +163,10 @@ class Physics(Frozen):
         "0.01 h^2), so a quadratic velocity field gets the exact Laplacian on a regular lattice (the plain sum "
         "gives 0.97 of it at h = 1.3 dx in 3D; engine eq. VC1, engines/sph/src/viscosity_correction.h); needs "
         "morris_viscosity"))
+    eddy_viscosity: float | None = Field(None, gt=0.0, le=1.0, description=(
+        "Smagorinsky's constant cs (0.1-0.2): adds the eddy viscosity nu_t = (cs dx)^2 |S| m^2/s to the Morris "
+        "term's nu (the Reynolds stresses of a flow the lattice does not resolve; engine eqs. SM1-SM2, "
+        "engines/sph/src/eddy_viscosity.h); needs morris_viscosity, not with viscosity_correction"))
 
     @field_validator("terms")
     @classmethod
@@ -186,6 +190,9 @@ class Physics(Frozen):
                 raise ValueError(f"physics.{key} is given but {term!r} is not in physics.terms; add it or remove the key")
         if self.viscosity_correction and "morris_viscosity" not in self.terms:
             raise ValueError("physics.viscosity_correction = true needs 'morris_viscosity' in physics.terms")
+        if self.eddy_viscosity is not None and ("morris_viscosity" not in self.terms or self.viscosity_correction):
+            raise ValueError("physics.eddy_viscosity needs 'morris_viscosity' in physics.terms and "
+                             "viscosity_correction = false")
         return self
 
 

@@ -80,6 +80,7 @@ def deck_context(scene, threads: int = 1) -> dict:
         "beta": None if av is None else num(av.beta),
         "av_walls": None if av is None or av.walls else "false",
         "viscosity_correction": physics.viscosity_correction,
+        "eddy_viscosity_cs": None if physics.eddy_viscosity is None else num(physics.eddy_viscosity),
         "body_force": None if physics.body_force is None else vec(physics.body_force),
         "meshes": [{"name": json.dumps(name), "group": json.dumps("/" + name)} for name in scene.meshes],
         "wall": None if wall is None else {"range": num(wall.range), "s": num(wall.s), "psi": num(wall.psi)},
