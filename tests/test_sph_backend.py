@@ -102,7 +102,9 @@ def test_viscosity_correction_reaches_the_deck(overrides, expected, tmp_path):
 
 
 @pytest.mark.parametrize("overrides,expected", [([], None),
-                                                 (["physics.eddy_viscosity=0.12"], {"model": "smagorinsky", "cs": 0.12})])
+                                                 (["physics.eddy_viscosity=0.12"], {"model": "smagorinsky", "cs": 0.12, "walls": True}),
+                                                 (["physics.eddy_viscosity=0.12", "physics.eddy_viscosity_walls=false"],
+                                                  {"model": "smagorinsky", "cs": 0.12, "walls": False})])
 def test_eddy_viscosity_reaches_the_deck(overrides, expected, tmp_path):
     """physics.eddy_viscosity = cs writes Smagorinsky's "eddy_viscosity" (engine eqs. SM1-SM2); the default writes
     nothing; a cs outside (0, 1] or a case without the Morris term is refused, naming the key."""

@@ -57,6 +57,7 @@ def _engine_frames(scene, workdir: Path) -> list[dict]:
     ("sph_reference_2d", ["physics.artificial_viscosity.walls=false"]),  # eqs. 11-12 on fluid-fluid pairs only
     ("sph_reference_2d", ["physics.viscosity_correction=true"]),  # the renormalised Morris sum (eq. VC1)
     ("sph_reference_2d", ["physics.eddy_viscosity=0.5"]),  # Smagorinsky's eddy viscosity (eqs. SM1-SM2)
+    ("sph_reference_2d", ["physics.eddy_viscosity=0.5", "physics.eddy_viscosity_walls=false"]),  # fluid pairs only
 ])
 def test_executable_and_reference_agree_step_by_step(name, overrides, tmp_path):
     case = load_case(DATA / f"{name}.toml", overrides=["output.frame_interval=2e-4", *overrides])  # a frame a step

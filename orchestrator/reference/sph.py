@@ -21,7 +21,8 @@ included (engines/sph/README.md):
   SM1-SM2): nu_t,a = (cs dx)^2 sqrt(2 S:S) of S = sym(L_a), L_a = -sum_b V_b
   F_ab (v_a - v_b) (x) r_ab with a boundary b at its no-slip velocity; the
   Morris mu_ab gains rho0 (nu_t,a + nu_t,b) / 2 between fluid particles and
-  rho0 nu_t of the fluid one against a boundary particle; a step uses the nu_t
+  rho0 nu_t of the fluid one against a boundary particle (none with
+  eddy_walls = False); a step uses the nu_t
   of the previous evaluation (SphState.nu_t; of the initial state first);
 - several materials (optional): each particle's rho0, c0, gamma, p_B and nu
   are its material's (EOS, boundary pressure of max(rho, rho0)); the Morris
@@ -86,6 +87,7 @@ class SphModel:
     viscosity_correction: bool = False  # the Morris sum renormalised per particle (engine eq. VC1)
     eddy_viscosity: float | None = None  # Smagorinsky's cs (engine eqs. SM1-SM2), -
     dx: float = 0.0  # lattice spacing, m: the eddy viscosity's length cs dx
+    eddy_walls: bool = True  # nu_t also on fluid-boundary pairs; False: fluid-fluid pairs only
 
     def material_list(self) -> tuple[SphMaterial, ...]:
         """The materials, or the one material of rho0, c0, gamma, background_pressure and viscosity."""
@@ -246,7 +248,9 @@ def rates(state: SphState, model: SphModel) -> tuple[np.ndarray, np.ndarray]:
         mu = pair_viscosity(model)[index[a], index[b]]
         v_noslip = _no_slip_velocities(state, model)
         if model.eddy_viscosity is not None and state.nu_t is not None:  # eq. SM2
-            nu_ab = np.where(fluid[a] & fluid[b], 0.5 * (state.nu_t[a] + state.nu_t[b]), state.nu_t[a] + state.nu_t[b])
+            wall = 1.0 if model.eddy_walls else 0.0
+            nu_ab = np.where(fluid[a] & fluid[b], 0.5 * (state.nu_t[a] + state.nu_t[b]),
+                             wall * (state.nu_t[a] + state.nu_t[b]))
             mu = mu + model.rho0 * nu_ab
         s = 2.0 * mu * vol[b] / state.rho[a] * np.einsum("ij,ij->i", r_ab, grad_w) / (r2 + model.eta2)
         if model.viscosity_correction:
@@ -406,7 +410,7 @@ def from_scene(scene) -> tuple[SphState, SphModel]:
         body_force=physics.body_force, walls=walls, periodic_axes=axes,
         periodic_lo=tuple(case.domain.lo[a] for a in axes), periodic_hi=tuple(case.domain.hi[a] for a in axes),
         viscosity_correction=physics.viscosity_correction, eddy_viscosity=physics.eddy_viscosity,
-        dx=case.numerics.dx,
+        eddy_walls=physics.eddy_viscosity_walls, dx=case.numerics.dx,
     )
     state = SphState(x=np.array(scene.positions, dtype=float), v=np.array(scene.velocities, dtype=float),
                      rho=np.array(scene.densities, dtype=float), mass=np.array(scene.masses, dtype=float),

@@ -109,10 +109,10 @@ void parse_output(const json& j, Deck& d) {
   }
 }
 
-// `eddy_viscosity`: {"model": "smagorinsky", "cs": C} (eddy_viscosity.h); the scalar path of one fluid with Morris.
+// `eddy_viscosity`: {"model": "smagorinsky", "cs": C, "walls": true} (eddy_viscosity.h); the scalar path of one fluid with Morris.
 void parse_eddy_viscosity(const json& e, bool several_materials, Deck& d) {
   if (!e.is_object()) fail("'eddy_viscosity' must be an object {\"model\": \"smagorinsky\", \"cs\": 0.12}");
-  check_keys(e, "eddy_viscosity", {"model", "cs"});
+  check_keys(e, "eddy_viscosity", {"model", "cs", "walls"});
   const std::string model = text(need(e, "eddy_viscosity", "model"), "eddy_viscosity.model");
   if (model != "smagorinsky") fail("'eddy_viscosity.model' must be \"smagorinsky\", got \"" + model + "\"");
   const double cs = positive(e, "eddy_viscosity", "cs");
@@ -122,6 +122,10 @@ void parse_eddy_viscosity(const json& e, bool several_materials, Deck& d) {
   if (several_materials) fail("key 'eddy_viscosity' needs one Newtonian fluid (top-level rho0, viscosity), not 'materials'");
   if (d.viscosity_correction) fail("key 'eddy_viscosity' cannot be combined with 'viscosity_correction'");
   if (d.lees_edwards.on) fail("key 'eddy_viscosity' cannot be combined with 'lees_edwards'");
+  if (e.contains("walls")) {
+    if (!e["walls"].is_boolean()) fail("'eddy_viscosity.walls' must be true or false, got " + e["walls"].dump());
+    d.eddy_walls = e["walls"].get<bool>();
+  }
   d.smagorinsky_cs = cs;
 }
 

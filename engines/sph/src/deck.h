@@ -148,6 +148,7 @@ struct Deck {
   bool av_walls = true;  // artificial viscosity also on pairs with a fixed particle
   bool viscosity_correction = false;  // Morris sum renormalised per particle (viscosity_correction.h, eq. VC1)
   double smagorinsky_cs = 0;  // > 0: Smagorinsky's eddy viscosity nu_t = (cs dx)^2 |S| (eddy_viscosity.h, eq. SM1)
+  bool eddy_walls = true;     // nu_t also on pairs with a fixed particle (false: fluid-fluid pairs only, eq. SM2)
   double h = 0, dx = 0;                                         // m
   std::vector<double> body_force;                               // m/s^2
   // walls

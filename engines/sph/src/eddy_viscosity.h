@@ -4,7 +4,9 @@
 //   eq. SM1  nu_t,a = (cs dx)^2 |S_a|,  |S| = sqrt(2 S:S),  S = (L + L^T) / 2,
 //            L_a = sum_b V_b (v_b - v_a) (x) grad_a W_ab   (a fixed particle enters with its no-slip velocity)
 //   eq. SM2  the Morris term (eq. 10) with mu_ab = rho0 (nu + nu_t,ab): nu_t,ab = (nu_t,a + nu_t,b) / 2
-//            between two fluid particles; against a fixed particle (wall or buffer) the fluid's own nu_t
+//            between two fluid particles; against a fixed particle (wall or buffer) the fluid's own nu_t, or
+//            none with the deck's "walls": false (the wall friction then is the laminar Morris term's: for walls
+//            the lattice does not resolve, where an undamped mixing length cs dx overstates it)
 //
 // L is summed in the same pair loop as the rates and nu_t is taken when the
 // rates close (Simulation::close_rates_at), so a step uses the eddy viscosity

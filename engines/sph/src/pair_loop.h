@@ -223,7 +223,7 @@ class PairLoop {
       if constexpr (has(term::several_materials)) k.mu[n] = mu_row[P_.material[b]];
       if constexpr (corrected) k.corr[n] = correction_.factors()[b];
       if constexpr (eddy && (AMoves || BMoves)) {  // eq. SM2: the fixed particle's nu_t is 0, the fluid's counts whole
-        const double nu_ab = AMoves && BMoves ? 0.5 * (nu_t[a] + nu_t[b]) : nu_t[a] + nu_t[b];
+        const double nu_ab = AMoves && BMoves ? 0.5 * (nu_t[a] + nu_t[b]) : model_.morris.eddy_wall * (nu_t[a] + nu_t[b]);
         k.mu[n] = model_.morris.mu + model_.morris.rho0 * nu_ab;
         Vec<D> vg = v_ab;  // eq. SM1: a fixed particle with its no-slip velocity
         if constexpr (AMoves && !BMoves) vg = va - P_.v_noslip[b];

@@ -115,6 +115,7 @@ struct MorrisViscosity {
   double mu = 0.0;    // dynamic viscosity, Pa s
   double eta2 = 0.0;  // 0.01 h^2, m^2
   double rho0 = 0.0;  // kg/m^3: the eddy viscosity's mu_t = rho0 nu_t (eddy_viscosity.h, eq. SM2)
+  double eddy_wall = 1.0;  // factor on nu_t for pairs with a fixed particle: 1, or 0 (deck eddy_viscosity.walls = false)
   template <int D>
   void add(const Pair<D>& p, PairRates<D>& out) const {
     const double s = 2.0 * mu * p.vol_b * p.inv_rho_a * (p.F * p.r2) / (p.r2 + eta2);

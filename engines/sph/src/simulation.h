@@ -60,6 +60,7 @@ class Simulation {
     model_.morris.mu = materials_[0].mu;
     model_.morris.eta2 = eta2;
     model_.morris.rho0 = materials_[0].eos.rho0;
+    model_.morris.eddy_wall = deck.eddy_walls ? 1.0 : 0.0;
     smagorinsky_.length2 = deck.smagorinsky_cs * deck.smagorinsky_cs * deck.dx * deck.dx;
     model_.artificial = {deck.alpha, deck.beta, deck.h, eta2, deck.av_walls ? 1.0 : 0.0};
     body_force_on_ = deck.terms & term::body_force;

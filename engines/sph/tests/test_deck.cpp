@@ -143,6 +143,12 @@ TEST(term_keys_must_match_the_physics_list) {
   j["eddy_viscosity"] = json::parse(R"({"model": "smagorinsky", "cs": 0.12})");
   CHECK(parse_deck(j, deck_dir().string()).smagorinsky_cs == 0.12);
   CHECK(mentions(parse_deck(j, deck_dir().string()).terms_string(), "with eddy_viscosity"));
+  CHECK(parse_deck(j, deck_dir().string()).eddy_walls);
+  j["eddy_viscosity"]["walls"] = false;
+  CHECK(!parse_deck(j, deck_dir().string()).eddy_walls);
+  j["eddy_viscosity"]["walls"] = "no";
+  CHECK(mentions(rejection(j), "'eddy_viscosity.walls' must be true or false"));
+  j["eddy_viscosity"].erase("walls");
   j["eddy_viscosity"]["cs"] = 1.5;
   CHECK(mentions(rejection(j), "'eddy_viscosity.cs' must be at most 1"));
   j["eddy_viscosity"]["cs"] = -0.1;

@@ -122,6 +122,19 @@ TEST(smagorinsky_channel_balances_the_mixing_length_profile) {
   for (std::size_t i = 0; i < P.size(); ++i)
     if (!P.moves(i)) CHECK(P.nu_t[i] == 0.0);
   CHECK(eddy.max_eddy_viscosity() > 1.2 * kNu);
+  // "walls": false: the wall pairs keep the laminar nu, so the wall stress on the first row (g H / dx = 10 g per
+  // unit mass) falls short by nu_t / (nu + nu_t) = 60 %: a_x about 5 g there; rows beyond the walls' reach
+  // (2h = 3 dx) are unchanged.
+  Deck no_walls = channel_deck(kCs);
+  no_walls.eddy_walls = false;
+  Simulation<2, kEddy> inner(no_walls, channel(profile));
+  inner.compute_rates(), inner.compute_rates();
+  const auto& R = inner.particles();
+  const auto a_inner = row_means(R, [&](std::size_t i) { return R.acc[i][0] / kG; });
+  std::fprintf(stderr, "  walls = false: a_x/g of rows 0-3 %+.3f %+.3f %+.3f %+.3f (with the walls' nu_t %+.3f %+.3f %+.3f %+.3f)\n",
+               a_inner[0], a_inner[1], a_inner[2], a_inner[3], a_eddy[0], a_eddy[1], a_eddy[2], a_eddy[3]);
+  CHECK(a_inner[0] > a_eddy[0] + 0.1);
+  CHECK(std::abs(a_inner[4] - a_eddy[4]) < 1e-12 * kG && std::abs(a_inner[10] - a_eddy[10]) < 1e-12);
 }
 
 TEST(smagorinsky_steps_do_not_depend_on_the_thread_count) {

@@ -126,6 +126,9 @@ class DrillPhysics(Frozen):
     eddy_viscosity: float | None = Field(None, gt=0.0, le=1.0, description=(
         "Smagorinsky's constant cs: the eddy viscosity nu_t = (cs dx)^2 |S| m^2/s beside the laminar one (the "
         "paper's eq. 4 carries Reynolds stresses R); needs morris_viscosity"))
+    eddy_viscosity_walls: bool = Field(True, description=(
+        "nu_t also against the wall particles; false: between fluid particles only (the quick scenes' one-layer "
+        "annular gap does not resolve its walls)"))
     walls: Literal["particles", "penalty"] = Field(
         "particles", description="particles: fixed boundary particles on the fluid's lattice inside the solids, "
                                  "each with its nearest point of the wetted surface (no-slip there; walls.py); "
