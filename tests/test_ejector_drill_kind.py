@@ -50,6 +50,12 @@ def test_bad_values_name_the_key(override, words):
     assert words in str(err.value)
 
 
+def test_eddy_viscosity_without_the_morris_term_is_refused():
+    with pytest.raises(OrchestratorError, match="physics.eddy_viscosity needs physics.morris_viscosity"):
+        load_case(CASE, preset="flow_exit_quick", overrides=["physics.morris_viscosity=false", "fluid.viscosity=null",
+                                                             "physics.eddy_viscosity=0.1"])
+
+
 @pytest.mark.parametrize("preset", ["flow_exit_quick", "drill_head_quick"])
 def test_lattice_fills_the_regions_to_their_closed_form_volume(preset):
     case = load_case(CASE, preset=preset).model

@@ -136,6 +136,12 @@ class DrillPhysics(Frozen):
     wall_penalty: DrillPenalty = Field(default_factory=lambda: DrillPenalty(pressure=5.0e7),
                                        description="the penalty walls' force (only with walls = 'penalty')")
 
+    @model_validator(mode="after")
+    def _eddy_needs_morris(self):
+        if self.eddy_viscosity is not None and not self.morris_viscosity:
+            raise ValueError("physics.eddy_viscosity needs physics.morris_viscosity = true (nu_t adds to its nu)")
+        return self
+
 
 class DrillOutput(Frozen):
     """Frames, series and the times of the sectional pictures."""
