@@ -163,6 +163,17 @@ def test_columns_give_the_outlets_the_passages_beyond_them():
     plain = load_case(CASE, preset="flow_exit_filled_quick").model
     deck = json.loads(render(TEMPLATE, deck_context(build_scene(plain).flow, threads=1)))
     assert not any("column_length" in o for o in deck["outlets"])  # off by default: the outlets as before
+    # column_inertia keeps a fraction of each length (inertia and chamber), and the whole passage's loss
+    light = load_case(CASE, preset="flow_exit_filled_quick", overrides=["scene.columns=true",
+                                                                         "scene.column_inertia=0.05"])
+    scaled = {o["name"]: o for o in json.loads(render(TEMPLATE, deck_context(build_scene(light.model).flow,
+                                                                             threads=1)))["outlets"]}
+    for name, full in (("leak", leak), ("mouth", mouth)):
+        assert scaled[name]["column_length"] == pytest.approx(0.05 * full["column_length"], rel=1e-12)
+        assert scaled[name]["column_loss"] == pytest.approx(full["column_loss"], rel=1e-12)
+        assert scaled[name]["column_area"] == pytest.approx(full["column_area"], rel=1e-12)
+    with pytest.raises(OrchestratorError, match="column_inertia"):
+        load_case(CASE, preset="flow_exit_filled_quick", overrides=["scene.columns=true", "scene.column_inertia=0"])
 
 
 def test_stored_volume_counts_cavitating_fluid_at_the_floors_density():

@@ -160,7 +160,7 @@ def assemble_flow_case(case, layout, inlets: tuple, pressures: dict, probes: tup
         net = case.network()
         flow = (case.scene.inlet_velocity * net.annular_gap().area if case.scene.inlet_velocity
                 else case.scene.network_flow * LITRE_PER_MIN)  # m^3/s: the scene's inflow
-        columns = outlet_columns(net, case.geometry().head_length, layout.outlets, flow)
+        columns = outlet_columns(net, case.geometry().head_length, layout.outlets, flow, case.scene.column_inertia)
     outlets = tuple(Outlet(name=p.name, center=p.center, normal=p.normal, radius=p.radius, pressure=pressures[role],
                            backflow=case.scene.backflow, **columns.get(role, {})) for role, p in layout.outlets.items())
     planes = tuple(Patch(name=p.name, center=p.center, normal=p.normal, radius=p.radius)

@@ -95,6 +95,9 @@ class DrillScene(Frozen):
                                              "liquid columns with their inertia and friction (engine eq. OB5; "
                                              "lengths and losses from the network: columns.py); false: plain "
                                              "outlets at their held pressures")
+    column_inertia: float = Field(1.0, gt=0.0, le=1.0, description=(
+        "with columns: the fraction of each passage's length the column keeps for its inertia (and chamber); its "
+        "loss stays the whole passage's, so a steady state is the same, reached sooner (columns.py), -"))
     network_flow: Positive = Field(60.0, description="feed flow of the 1D network shown beside the SPH, l/min "
                                                       "(the paper's standard rate; the range is 50-80); feed: the "
                                                       "network state the inlets and outlets carry")

@@ -16,6 +16,12 @@ engine integrates rho0 L du/dt = p_chamber - p_held - K rho0 u|u|/2 for each.
   where it ends, at -0.9 bar gauge at 60 l/min; the case holds 0 unless told).
 
 The friction factors are taken at `flow` (m^3/s; the scene's inflow: f changes little with it in turbulent flow).
+
+`inertia` (0 < inertia <= 1, `[scene] column_inertia`) keeps that fraction of each column's length for its inertia
+(and its chamber, so that it rings at its own quarter-wave period), while K stays the whole passage's. A steady state
+(du/dt = 0, the chamber's mass constant) does not depend on L: p_chamber = p_held + K rho0 u|u|/2 either way. It
+only shortens the transient: the full columns ring at 4 L / c0 and settle over about L / (K u), tens of
+milliseconds, beyond the quick scenes' reach.
 """
 from __future__ import annotations
 
@@ -24,23 +30,24 @@ import math
 from orchestrator.reference.hydraulics import Duct, free_exit_k, sudden_expansion_k
 
 
-def outlet_columns(net, head_length: float, outlets: dict, flow: float) -> dict[str, dict]:
+def outlet_columns(net, head_length: float, outlets: dict, flow: float, inertia: float = 1.0) -> dict[str, dict]:
     """role -> the column keys of the engine's outlet (column_length m, column_loss -, column_area m^2) for the
     outlets 'leak' and 'mouth' among `outlets` (role -> Plane, z along the drill axis from the head face, m), with
-    net a DrillNetwork and head_length the head's length (m, where the inner tube begins)."""
+    net a DrillNetwork and head_length the head's length (m, where the inner tube begins); column_length is the
+    fraction `inertia` of the passage's (its loss is the whole passage's)."""
     rho, mu = net.rho, net.mu
     columns = {}
     if "leak" in outlets:
         length = net.bore_depth - outlets["leak"].center[2]
         clearance = Duct(length, net.d_bore, net.d_outer_tube_od, net.roughness)
         loss = clearance.friction_loss_coefficient(flow, rho, mu) + free_exit_k()
-        columns["leak"] = dict(column_length=length, column_loss=loss, column_area=clearance.area)
+        columns["leak"] = dict(column_length=length * inertia, column_loss=loss, column_area=clearance.area)
     if "mouth" in outlets:
         in_head = head_length - outlets["mouth"].center[2]
         mouth, tube = Duct(in_head, net.d_chip_mouth, 0.0, net.roughness), net.inner_tube(net.tube_length)
         ratio = mouth.area / tube.area
         loss = (mouth.friction_loss_coefficient(flow, rho, mu) + sudden_expansion_k(net.d_chip_mouth, net.d_inner_tube_id)
                 + tube.friction_loss_coefficient(flow, rho, mu) * ratio**2)
-        columns["mouth"] = dict(column_length=in_head + net.tube_length * ratio, column_loss=loss,
+        columns["mouth"] = dict(column_length=(in_head + net.tube_length * ratio) * inertia, column_loss=loss,
                                 column_area=0.25 * math.pi * net.d_chip_mouth**2)
     return columns
