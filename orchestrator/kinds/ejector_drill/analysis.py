@@ -29,6 +29,19 @@ def run_series(run_dir, run: dict, case, paper_dt: str = "") -> tuple[dict, np.n
     return series, time
 
 
+def less_back_pressure(series: dict, frames: dict, back: float) -> tuple[dict, dict]:
+    """The series and frames with the scene's back pressure (Pa, `[scene] back_pressure`) taken off every pressure:
+    the probes' (pressure_probe_*), the columns' chambers (column_pressure_*) and the frames' particles, so that
+    they read as the gauge pressures of the flow without it. Unchanged when back is 0."""
+    if not back:
+        return series, frames
+    shifted = {k: (np.asarray(v, dtype=float) - back if k.startswith(("pressure_probe_", "column_pressure_")) else v)
+               for k, v in series.items()}
+    moved = {k: (f if k == "attrs" else {**f, "pressures": np.asarray(f["pressures"], dtype=float) - back})
+             for k, f in frames.items()}
+    return shifted, moved
+
+
 def flow_series(series: dict, time: np.ndarray) -> dict[str, np.ndarray]:
     """V_AG, V_IB, V_loss, V_holes, V_front, V_in, V_mouth_out, V_leak_out (m^3/s) against time from the run's
     series (flow_rate_<plane>, inflow_<inlet>, outflow_<outlet>); V_loss = rear + AG (the rear disc covers the gap,

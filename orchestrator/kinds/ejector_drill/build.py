@@ -161,8 +161,10 @@ def assemble_flow_case(case, layout, inlets: tuple, pressures: dict, probes: tup
         flow = (case.scene.inlet_velocity * net.annular_gap().area if case.scene.inlet_velocity
                 else case.scene.network_flow * LITRE_PER_MIN)  # m^3/s: the scene's inflow
         columns = outlet_columns(net, case.geometry().head_length, layout.outlets, flow, case.scene.column_inertia)
-    outlets = tuple(Outlet(name=p.name, center=p.center, normal=p.normal, radius=p.radius, pressure=pressures[role],
-                           backflow=case.scene.backflow, **columns.get(role, {})) for role, p in layout.outlets.items())
+    back = case.scene.back_pressure
+    outlets = tuple(Outlet(name=p.name, center=p.center, normal=p.normal, radius=p.radius,
+                           pressure=pressures[role] + back, backflow=case.scene.backflow, **columns.get(role, {}))
+                    for role, p in layout.outlets.items())
     planes = tuple(Patch(name=p.name, center=p.center, normal=p.normal, radius=p.radius)
                    for p in layout.planes.values())
     output = SphOutput(frame_interval=case.output.frame_interval, series_interval=case.output.series_interval,
@@ -171,7 +173,7 @@ def assemble_flow_case(case, layout, inlets: tuple, pressures: dict, probes: tup
     domain = Domain(dimension=3, lo=(-r, -r, layout.z_lo), hi=(r, r, layout.z_hi))
     meta = CaseMeta.model_construct(kind="sph_flow", name=case.case.name, description=case.case.description,
                                     engine="sph", seed=0)
-    return SphFlowCase.model_construct(case=meta, domain=domain, fluid=case.fluid, materials=(),
+    return SphFlowCase.model_construct(case=meta, domain=domain, fluid=case.scene_fluid(), materials=(),
                                        physics=drill_physics(case), blocks=(), walls=(), inlets=inlets,
                                        outlets=outlets, numerics=case.numerics, simulation=case.simulation,
                                        output=output, expected=())

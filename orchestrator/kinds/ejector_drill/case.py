@@ -95,6 +95,10 @@ class DrillScene(Frozen):
                                              "liquid columns with their inertia and friction (engine eq. OB5; "
                                              "lengths and losses from the network: columns.py); false: plain "
                                              "outlets at their held pressures")
+    back_pressure: Finite = Field(0.0, ge=0.0, description=(
+        "added to the fluid's rest pressure and to both outlets' held pressures, Pa: the liquid's flow depends on "
+        "pressure differences only, so it is the same flow with the SPH's acoustic noise (about rho c0 dv, a bar) "
+        "kept above the vapour floor (fluid.min_pressure); the analysis subtracts it from every pressure"))
     column_inertia: float = Field(1.0, gt=0.0, le=1.0, description=(
         "with columns: the fraction of each passage's length the column keeps for its inertia (and chamber); its "
         "loss stays the whole passage's, so a steady state is the same, reached sooner (columns.py), -"))
@@ -219,6 +223,9 @@ class EjectorDrillCase(Frozen):
         if self.scene.area == "feed" and (self.scene.start == "filled" or self.scene.ramp_time > 0.0):
             raise ValueError("scene.start and scene.ramp_time are for the flow-exit and drill-head scenes: the feed "
                              "scene starts filled and moving with its inlets' flows")
+        if self.scene.area == "feed" and self.scene.back_pressure:
+            raise ValueError("scene.back_pressure is for the flow-exit and drill-head scenes: the feed scene starts "
+                             "from the network's pressures at its own outlets (feed_build.py)")
         if self.scene.start == "filled" and self.scene.prefill > 0.0:
             raise ValueError("scene.prefill is for start = 'empty' (with 'filled' every region holds fluid at rest): "
                              "set scene.prefill = 0")
@@ -233,6 +240,14 @@ class EjectorDrillCase(Frozen):
             raise ValueError(f"scene.prefill = {self.scene.prefill} m is longer than scene.inlet_distance = "
                              f"{self.scene.inlet_distance} m")
         return self
+
+    def scene_fluid(self) -> Fluid:
+        """The fluid with the scene's back pressure (Pa) added to its rest pressure (eq. 6's p_B); the vapour
+        floor (min_pressure) stays where it is."""
+        if not self.scene.back_pressure:
+            return self.fluid
+        return self.fluid.model_copy(update={"background_pressure": self.fluid.background_pressure
+                                             + self.scene.back_pressure})
 
     def network(self) -> DrillNetwork:
         """The 1D network of these dimensions (reference.drill_network)."""

@@ -10,9 +10,9 @@ from pathlib import Path
 
 import numpy as np
 
-from orchestrator.kinds.ejector_drill.analysis import (STEADY_FRACTION, STILL_SHARE, balance, filling_times, flow_series, run_series,
-                                                       sensor_pressures, spaced_frames, stored_volume_rate,
-                                                       window_balance, zones)
+from orchestrator.kinds.ejector_drill.analysis import (STEADY_FRACTION, STILL_SHARE, balance, filling_times, flow_series,
+                                                       less_back_pressure, run_series, sensor_pressures, spaced_frames,
+                                                       stored_volume_rate, window_balance, zones)
 from orchestrator.kinds.ejector_drill.comparison import (comparison_rows, element_flows, network_at_gap_flow,
                                                          stored_volume)
 from orchestrator.kinds.ejector_drill.layout import drill_layout
@@ -116,10 +116,10 @@ def analyze_drill_run(run_dir, run: dict, case, render: bool = True) -> dict:
     series, time = run_series(run_dir, run, case, f" (paper: {paper_dt:.4g} s)")
     if time.size < 2:
         return {}
+    series, frames = less_back_pressure(series, run.get("frames", {}), case.scene.back_pressure)
     flows = flow_series(series, time)
-    frames = run.get("frames", {})
     t_frames, volumes = stored_volume(layout, frames, case.fluid.density * case.numerics.dx ** 3,
-                                     case.fluid.floor_density)
+                                     case.scene_fluid().floor_density)
     grid = spaced_frames(t_frames, case.output.frame_interval)
     stored = (np.interp(time, t_frames[grid], stored_volume_rate(t_frames[grid], volumes[grid]))
               if grid.sum() >= 2 else None)
@@ -151,6 +151,9 @@ def analyze_drill_run(run_dir, run: dict, case, render: bool = True) -> dict:
     print_element_flows(net, sph, case.scene, layout)
     print_columns(series, time, layout)
     v_in = case.scene.inlet_velocity
+    if case.scene.back_pressure:
+        print(f"pressures are gauge less the scene's back pressure, {case.scene.back_pressure / 1e5:g} bar (held at "
+              "both outlets and the fluid's rest pressure: the same flow, above the vapour floor)")
     print(f"anchor: 1/2 rho v_in^2 = {0.5 * case.fluid.density * v_in ** 2 / 1e5:.3g} bar at v_in = {v_in:g} m/s; "
           "sensors outside the scene (C1, C2 at the feed) are '-'")
     outputs = {"series": plot_drill_series(time, flows, series, stored, run_dir / "series.png"),

@@ -1,0 +1,73 @@
+"""The flow-exit scene's steady comparison with the network (preset flow_exit_steady_quick): its operating point,
+the light columns and the back pressure that keeps the SPH's acoustic noise above the vapour floor."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from orchestrator.case.loader import load_case
+from orchestrator.errors import OrchestratorError
+from orchestrator.kinds import build_scene
+from orchestrator.kinds.ejector_drill.analysis import less_back_pressure, sensor_pressures
+from orchestrator.kinds.sph_flow.sph import TEMPLATE, deck_context
+from orchestrator.reference.drill_network import LITRE_PER_MIN, solve
+from orchestrator.templating import render
+
+CASE = Path(__file__).resolve().parent.parent / "cases" / "ejector_drill_canini.toml"
+
+
+def _deck(case) -> dict:
+    return json.loads(render(TEMPLATE, deck_context(build_scene(case).flow, threads=1)))
+
+
+def test_the_steady_preset_runs_at_the_networks_operating_point():
+    """Its inflow is the network's V_AG at the case's network_flow (60 l/min) over the gap, and c0 is ten times
+    the engine's bound on the inlet profile's peak (2 x the mean)."""
+    case = load_case(CASE, preset="flow_exit_steady_quick").model
+    net = case.network()
+    v_ag = solve(net, case.scene.network_flow * LITRE_PER_MIN).V_AG
+    assert case.scene.inlet_velocity * net.annular_gap().area == pytest.approx(v_ag, rel=1e-3)
+    assert case.c0 >= 10.0 * 2.0 * case.scene.inlet_velocity
+    assert case.scene.columns and 0.0 < case.scene.column_inertia < 1.0
+
+
+def test_the_back_pressure_lifts_the_rest_and_both_held_pressures():
+    """scene.back_pressure adds to eq. 6's p_B and to both outlets' held pressures; the vapour floor stays."""
+    plain = load_case(CASE, preset="flow_exit_steady_quick").model
+    lifted = load_case(CASE, preset="flow_exit_steady_quick", overrides=["scene.back_pressure=1e6",
+                                                                         "scene.mouth_pressure=-5e4"]).model
+    a, b = _deck(plain), _deck(lifted)
+    assert b["background_pressure"] == pytest.approx(a["background_pressure"] + 1e6, abs=1e-6)
+    assert b["min_pressure"] == a["min_pressure"] == pytest.approx(-0.99e5)
+    held = {o["name"]: o["pressure"] for o in b["outlets"]}
+    assert held == pytest.approx({"mouth": 1e6 - 5e4, "leak": 1e6})
+    # the liquid's floor density lies 11 bar below the rest density now, not 1 bar
+    assert lifted.scene_fluid().floor_density < plain.scene_fluid().floor_density < plain.fluid.density
+
+
+def test_the_analysis_takes_the_back_pressure_off_every_pressure():
+    series = {"pressure_probe_A": np.array([10.5e5, 11.5e5]), "column_pressure_leak": np.array([10.2e5, 10.2e5]),
+              "flow_rate_AG": np.array([1e-3, 1e-3])}
+    frames = {"0": {"pressures": np.array([9.0e5, 12.0e5]), "attrs": {"time": 0.0}}, "attrs": {}}
+    s, f = less_back_pressure(series, frames, 1e6)
+    assert sensor_pressures(s, np.array([0.0, 1.0]))["A"] == pytest.approx(1.5e5, rel=1e-12)
+    np.testing.assert_allclose(s["column_pressure_leak"], [0.2e5, 0.2e5], rtol=1e-12)
+    np.testing.assert_allclose(f["0"]["pressures"], [-1e5, 2e5], rtol=1e-12)
+    assert s["flow_rate_AG"] is series["flow_rate_AG"] and frames["0"]["pressures"][0] == 9.0e5  # no side effects
+    assert less_back_pressure(series, frames, 0.0) == (series, frames)
+
+
+@pytest.mark.parametrize("overrides, words", [
+    (["scene.back_pressure=-1e5"], "scene.back_pressure"),
+    (["scene.area='feed'", "scene.back_pressure=1e6", "fluid.max_speed=70", "scene.start='empty'",
+      "scene.ramp_time=0"], "scene.back_pressure is for the flow-exit and drill-head"),
+    (["scene.column_inertia=1.5"], "scene.column_inertia"),
+])
+def test_bad_steady_settings_name_the_key(overrides, words):
+    with pytest.raises(OrchestratorError) as err:
+        load_case(CASE, preset="flow_exit_steady_quick", overrides=overrides)
+    assert words in str(err.value)
