@@ -71,3 +71,30 @@ def test_bad_steady_settings_name_the_key(overrides, words):
     with pytest.raises(OrchestratorError) as err:
         load_case(CASE, preset="flow_exit_steady_quick", overrides=overrides)
     assert words in str(err.value)
+
+
+def test_the_pressure_beside_the_jets_leaves_out_the_jets_and_other_heights():
+    """Fluid in the head clearance at the holes' height 30 degrees or more from every hole's axis counts; a
+    particle on a hole's axis (its jet meeting the bore), one above the holes, one in the gap and a wall
+    particle do not."""
+    from orchestrator.kinds.ejector_drill.analysis import pressure_beside_jets
+    from orchestrator.kinds.ejector_drill.layout import drill_layout
+
+    case = load_case(CASE, preset="flow_exit_steady_quick").model
+    layout = drill_layout(case)
+    x_a, _, z_a = layout.sensors["A"]  # on hole 0's axis (angle 0), mid-clearance
+    hole_deg = [np.degrees(np.arctan2(p.normal[1], p.normal[0])) for k, p in layout.planes.items()
+                if k.startswith("hole")]
+    assert sorted(round(a) % 360 for a in hole_deg) == [0, 120, 240]
+
+    def at(deg, z=z_a, r=x_a):
+        return (r * np.cos(np.radians(deg)), r * np.sin(np.radians(deg)), z)
+
+    points = [at(60), at(180), at(35, z_a + 1e-3), at(0), at(125), at(60, z_a + 5e-3), at(60, r=9.75e-3), at(300)]
+    pressures = [1e5, 3e5, 2e5, 50e5, 40e5, 70e5, 90e5, 80e5]
+    kind = [0, 0, 0, 0, 0, 0, 0, 1]
+    p, n = pressure_beside_jets(layout, {"positions": np.array(points), "pressures": np.array(pressures),
+                                         "kind": np.array(kind)})
+    assert n == 3 and p == pytest.approx(2e5, rel=1e-12)
+    assert np.isnan(pressure_beside_jets(layout, {"positions": np.array([at(0)]), "pressures": np.array([1.0]),
+                                                  "kind": np.array([0])})[0])

@@ -42,6 +42,32 @@ def less_back_pressure(series: dict, frames: dict, back: float) -> tuple[dict, d
     return shifted, moved
 
 
+#: Beside the jets: at least this angle (rad) from every hole's axis (a Ø4 mm hole spans 8 degrees at the bore).
+BESIDE_JETS = math.radians(30.0)
+
+
+def pressure_beside_jets(layout, frame: dict) -> tuple[float, int]:
+    """(mean gauge pressure Pa, particles) of the head clearance's fluid at the holes' height (within one hole
+    radius of sensor A's z) and at least BESIDE_JETS from every hole's axis: the clearance's static pressure, the
+    network's node A, which sensor A on a hole's axis (where its jet meets the bore) does not read. (NaN, 0) where
+    the scene has no holes or no fluid there."""
+    clearance = next((r for r in layout.regions if getattr(r, "name", "") == "head_clearance"), None)
+    holes = [p for name, p in layout.planes.items() if name.startswith("hole")]
+    if clearance is None or not holes:
+        return math.nan, 0
+    x = np.asarray(frame["positions"], dtype=float).reshape(-1, 3)
+    fluid = np.asarray(frame["kind"]) == 0
+    half = max(p.radius for p in holes)
+    near = fluid & clearance.contains(x) & (np.abs(x[:, 2] - layout.sensors["A"][2]) <= half)
+    angle = np.arctan2(x[:, 1], x[:, 0])
+    for p in holes:
+        off = np.abs(np.angle(np.exp(1j * (angle - math.atan2(p.normal[1], p.normal[0])))))
+        near &= off >= BESIDE_JETS
+    if not near.any():
+        return math.nan, 0
+    return float(np.mean(np.asarray(frame["pressures"], dtype=float)[near])), int(near.sum())
+
+
 def flow_series(series: dict, time: np.ndarray) -> dict[str, np.ndarray]:
     """V_AG, V_IB, V_loss, V_holes, V_front, V_in, V_mouth_out, V_leak_out (m^3/s) against time from the run's
     series (flow_rate_<plane>, inflow_<inlet>, outflow_<outlet>); V_loss = rear + AG (the rear disc covers the gap,

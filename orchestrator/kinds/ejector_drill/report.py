@@ -11,7 +11,8 @@ from pathlib import Path
 import numpy as np
 
 from orchestrator.kinds.ejector_drill.analysis import (STEADY_FRACTION, STILL_SHARE, balance, filling_times, flow_series,
-                                                       less_back_pressure, run_series, sensor_pressures, spaced_frames,
+                                                       less_back_pressure, pressure_beside_jets, run_series,
+                                                       sensor_pressures, spaced_frames,
                                                        stored_volume_rate, window_balance, zones)
 from orchestrator.kinds.ejector_drill.comparison import (comparison_rows, element_flows, network_at_gap_flow,
                                                          stored_volume)
@@ -76,10 +77,10 @@ def print_zones(layout, frames: dict, v_in: float) -> None:
               f"in {name}, at r {r * 1e3:.3g} mm, z {z * 1e3:.3g} mm")
 
 
-def print_element_flows(net, sph: dict, scene, layout) -> None:
-    """Print the flows the network's elements give at the SPH's p_A and the outlets' held pressures
-    (comparison.element_flows) beside the SPH's V_IB and V_loss (flow_exit; drill_head: V_IB only)."""
-    p_a = sph.get("p_A", math.nan)
+def print_element_flows(net, sph: dict, scene, layout, p_a: float, where: str) -> None:
+    """Print the flows the network's elements give at the SPH's pressure p_a (Pa gauge, read `where`) and the
+    outlets' held pressures (comparison.element_flows) beside the SPH's V_IB and V_loss (flow_exit; drill_head:
+    V_IB only)."""
     if not math.isfinite(p_a):
         return
     els = element_flows(net, p_a, scene.mouth_pressure, scene.leak_pressure, scene.columns)
@@ -89,8 +90,18 @@ def print_element_flows(net, sph: dict, scene, layout) -> None:
         parts.append(f"the leak path {els['V_loss'] / LITRE_PER_MIN:.3g} l/min (SPH "
                      f"{sph.get('V_loss', math.nan) / LITRE_PER_MIN:.3g})")
     ends = "the columns' ends" if scene.columns else "the outlets"
-    print(f"the network's elements alone at the SPH's p_A = {p_a / 1e5:.3g} bar and {ends}' pressures: "
+    print(f"the network's elements alone at the SPH's p_A {where} = {p_a / 1e5:.3g} bar and {ends}' pressures: "
           + ", ".join(parts))
+
+
+def beside_jets(layout, frames: dict, time: np.ndarray) -> float:
+    """Mean gauge pressure (Pa) beside the holes' jets (analysis.pressure_beside_jets) over the frames of the
+    steady window (the last STEADY_FRACTION of the series); NaN without holes or frames there."""
+    start = time[-1] - STEADY_FRACTION * (time[-1] - time[0])
+    values = [pressure_beside_jets(layout, f)[0] for k, f in frames.items()
+              if k != "attrs" and float(f["attrs"]["time"]) >= start]
+    values = [v for v in values if math.isfinite(v)]
+    return float(np.mean(values)) if values else math.nan
 
 
 def print_columns(series: dict, time: np.ndarray, layout) -> None:
@@ -148,7 +159,13 @@ def analyze_drill_run(run_dir, run: dict, case, render: bool = True) -> dict:
           f"  paper          (net@V_AG: the network at the feed {feed:.4g} l/min whose V_AG is the SPH's)")
     for name, unit, a, b, c, paper in rows:
         print(f"{name:<20}{unit:>6}{_fmt(a)}{_fmt(b)}{_fmt(c)}  {paper}")
-    print_element_flows(net, sph, case.scene, layout)
+    print_element_flows(net, sph, case.scene, layout, sph.get("p_A", math.nan), "(sensor A)")
+    p_side = beside_jets(layout, frames, time) if frames else math.nan
+    if math.isfinite(p_side):
+        print(f"p_A beside the jets (the head clearance at the holes' height, >= 30 degrees from each hole's axis; "
+              f"frames of the last {STEADY_FRACTION:.0%}): {p_side / 1e5:.3g} bar, where sensor A on a hole's axis "
+              f"reads the jet meeting the bore; the network's p_A is this static pressure")
+        print_element_flows(net, sph, case.scene, layout, p_side, "beside the jets")
     print_columns(series, time, layout)
     v_in = case.scene.inlet_velocity
     if case.scene.back_pressure:
