@@ -10,10 +10,11 @@ import numpy as np
 from orchestrator.reference.drill_network import LITRE_PER_MIN
 
 
-def plot_drill_series(time, flows: dict, series: dict, stored, path: Path, names=None, titles=None) -> Path:
+def plot_drill_series(time, flows: dict, series: dict, stored, path: Path, names=None, titles=None,
+                      beside=None) -> Path:
     """Flows (l/min) and probe pressures (bar, gauge; dashed: column outlets' chambers) against time (ms), PNG at
-    path; names: the flows drawn,
-    titles: the two panels' (default the paper's two areas')."""
+    path; names: the flows drawn, titles: the two panels' (default the paper's two areas'); beside: (frame times s,
+    gauge pressures Pa) of the head clearance beside the jets, drawn as dots."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
@@ -37,6 +38,9 @@ def plot_drill_series(time, flows: dict, series: dict, stored, path: Path, names
         elif name.startswith("column_pressure_"):  # a column outlet's chamber (engine eq. OB5)
             bottom.plot(t, np.asarray(series[name], dtype=float) / 1e5, "--", lw=1,
                         label=name.removeprefix("column_pressure_") + " column")
+    if beside is not None and len(beside[0]):
+        bottom.plot(np.asarray(beside[0]) * 1e3, np.asarray(beside[1]) / 1e5, "k.", ms=5,
+                    label="A beside the jets\n(frames)")
     bottom.set_ylabel("p [bar, gauge]")
     bottom.set_xlabel("t [ms]")
     bottom.set_title(titles[1], fontsize=10)

@@ -173,7 +173,10 @@ def analyze_drill_run(run_dir, run: dict, case, render: bool = True) -> dict:
               "both outlets and the fluid's rest pressure: the same flow, above the vapour floor)")
     print(f"anchor: 1/2 rho v_in^2 = {0.5 * case.fluid.density * v_in ** 2 / 1e5:.3g} bar at v_in = {v_in:g} m/s; "
           "sensors outside the scene (C1, C2 at the feed) are '-'")
-    outputs = {"series": plot_drill_series(time, flows, series, stored, run_dir / "series.png"),
+    side = [(float(f["attrs"]["time"]), pressure_beside_jets(layout, f)[0]) for k, f in frames.items() if k != "attrs"]
+    side = sorted(v for v in side if math.isfinite(v[1]))
+    outputs = {"series": plot_drill_series(time, flows, series, stored, run_dir / "series.png",
+                                           beside=tuple(np.array(v) for v in zip(*side)) if side else None),
                "comparison": plot_comparison(rows, run_dir / "comparison.png")}
     if render:
         outputs.update(draw_sections(frames, case, layout, run_dir))
