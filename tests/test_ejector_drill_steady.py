@@ -98,3 +98,21 @@ def test_the_pressure_beside_the_jets_leaves_out_the_jets_and_other_heights():
     assert n == 3 and p == pytest.approx(2e5, rel=1e-12)
     assert np.isnan(pressure_beside_jets(layout, {"positions": np.array([at(0)]), "pressures": np.array([1.0]),
                                                   "kind": np.array([0])})[0])
+
+
+def test_the_elements_between_the_network_own_ends_give_back_its_state():
+    """The network's elements carrying its own V_AG between its own C1 (where the mouth column ends) and the
+    flooded bore mouth return its p_A, V_IB and V_loss (the ejector's suction, V_loss < 0); between two ends at
+    gauge 0 they split the flow with p_A above both and both flows out."""
+    from orchestrator.kinds.ejector_drill.comparison import elements_at_flow
+
+    net = load_case(CASE, preset="flow_exit_steady_quick").model.network()
+    state = solve(net, 60.0 * LITRE_PER_MIN)
+    p_a, flows = elements_at_flow(net, state.V_AG, state.p_C1 - net.p_ambient, 0.0, columns=True)
+    assert p_a == pytest.approx(state.p_A - net.p_ambient, abs=1.0)  # Pa
+    assert flows["V_IB"] == pytest.approx(state.V_IB, rel=1e-6) and flows["V_loss"] == pytest.approx(state.V_loss,
+                                                                                                      rel=1e-5)
+    assert state.V_loss < 0
+    p_a, flows = elements_at_flow(net, state.V_AG, 0.0, 0.0, columns=True)
+    assert p_a > 0 and flows["V_IB"] > 0 and flows["V_loss"] > 0
+    assert flows["V_IB"] + flows["V_loss"] == pytest.approx(state.V_AG, rel=1e-6)

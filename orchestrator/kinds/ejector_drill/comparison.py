@@ -73,6 +73,17 @@ def element_flows(net, p_a: float, p_mouth: float, p_leak: float, columns: bool 
     return out
 
 
+def elements_at_flow(net, flow: float, p_mouth: float, p_leak: float, columns: bool = False) -> tuple[float, dict]:
+    """(p_A Pa gauge, element_flows) of the network's two ways out carrying `flow` (m^3/s, the SPH's V_AG) between
+    the scene's own ends (p_mouth, p_leak Pa gauge): the network with the SPH's boundary conditions, which the
+    whole network (its mouth at the ejector's suction) does not have."""
+    def miss(p_a):
+        return sum(element_flows(net, p_a, p_mouth, p_leak, columns).values()) - flow
+
+    p_a = brentq(miss, min(p_mouth, p_leak) - 1e7, max(p_mouth, p_leak) + 1e7, xtol=1e-3)
+    return p_a, element_flows(net, p_a, p_mouth, p_leak, columns)
+
+
 def network_gap_pressure(net, state, distance: float) -> float:
     """Gauge pressure (bar) the network has in the annular gap `distance` m up from the head (the SPH's sensor B):
     p_A plus the holes' orifice drop plus the gap's friction over that length."""

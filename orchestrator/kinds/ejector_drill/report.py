@@ -14,8 +14,8 @@ from orchestrator.kinds.ejector_drill.analysis import (STEADY_FRACTION, STILL_SH
                                                        less_back_pressure, pressure_beside_jets, run_series,
                                                        sensor_pressures, spaced_frames,
                                                        stored_volume_rate, window_balance, zones)
-from orchestrator.kinds.ejector_drill.comparison import (comparison_rows, element_flows, network_at_gap_flow,
-                                                         stored_volume)
+from orchestrator.kinds.ejector_drill.comparison import (comparison_rows, element_flows, elements_at_flow,
+                                                         network_at_gap_flow, stored_volume)
 from orchestrator.kinds.ejector_drill.layout import drill_layout
 from orchestrator.kinds.ejector_drill.pictures import draw_sections
 from orchestrator.kinds.ejector_drill.plots import plot_comparison, plot_drill_series
@@ -94,6 +94,19 @@ def print_element_flows(net, sph: dict, scene, layout, p_a: float, where: str) -
           + ", ".join(parts))
 
 
+def print_elements_at_flow(net, sph: dict, scene, layout) -> None:
+    """Print the network's elements carrying the SPH's V_AG between the scene's ends (comparison.elements_at_flow):
+    their p_A and split beside the SPH's (flow_exit with a leak outlet)."""
+    v_ag = sph.get("V_AG", math.nan)
+    if "leak" not in layout.outlets or not (math.isfinite(v_ag) and v_ag > 0):
+        return
+    p_a, els = elements_at_flow(net, v_ag, scene.mouth_pressure, scene.leak_pressure, scene.columns)
+    print(f"the network's elements carrying the SPH's V_AG = {v_ag / LITRE_PER_MIN:.3g} l/min between the scene's "
+          f"ends (the SPH's boundary conditions): p_A {p_a / 1e5:.3g} bar, V_IB {els['V_IB'] / LITRE_PER_MIN:.3g} "
+          f"l/min (SPH {sph.get('V_IB', math.nan) / LITRE_PER_MIN:.3g}), V_loss {els['V_loss'] / LITRE_PER_MIN:.3g} "
+          f"l/min (SPH {sph.get('V_loss', math.nan) / LITRE_PER_MIN:.3g})")
+
+
 def beside_jets(layout, frames: dict, time: np.ndarray) -> float:
     """Mean gauge pressure (Pa) beside the holes' jets (analysis.pressure_beside_jets) over the frames of the
     steady window (the last STEADY_FRACTION of the series); NaN without holes or frames there."""
@@ -166,6 +179,7 @@ def analyze_drill_run(run_dir, run: dict, case, render: bool = True) -> dict:
               f"frames of the last {STEADY_FRACTION:.0%}): {p_side / 1e5:.3g} bar, where sensor A on a hole's axis "
               f"reads the jet meeting the bore; the network's p_A is this static pressure")
         print_element_flows(net, sph, case.scene, layout, p_side, "beside the jets")
+    print_elements_at_flow(net, sph, case.scene, layout)
     print_columns(series, time, layout)
     v_in = case.scene.inlet_velocity
     if case.scene.back_pressure:
