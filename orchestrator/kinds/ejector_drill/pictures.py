@@ -26,18 +26,22 @@ def draw_sections(frames: dict, case, layout, run_dir: Path, walls: dict | None 
             walls = wall_meshes(case, layout)
         name = f"section_{t * 1e3:.2f}ms"
         with quiet_headless_vtk():  # no 'bad X server connection' warning on a headless machine
-            out[name] = draw_section(frames[key], t, walls, case.numerics.dx, Path(run_dir) / f"{name}.png")
+            out[name] = draw_section(frames[key], t, walls, case.numerics.dx, Path(run_dir) / f"{name}.png",
+                                     box=(layout.z_lo, layout.z_hi, layout.r_max))
     return out
 
 
-def draw_section(frame: dict, t: float, walls: dict, dx: float, path: Path, size=(1500, 1100)) -> Path:
+def draw_section(frame: dict, t: float, walls: dict, dx: float, path: Path, size=(1500, 1100), box=None) -> Path:
     """One PNG: speed (top) and pressure (bottom) of the fluid particles with |y| < dx and x > 0 (the half plane
-    through the hole at angle 0), walls cut at y = 0; the drill axis z runs to the right, the radius x upwards."""
+    through the hole at angle 0), walls cut at y = 0; the drill axis z runs to the right, the radius x upwards.
+    box: (z_lo, z_hi, r_max) m, the scene's extent: particles that left it past an outlet are not drawn."""
     import pyvista as pv
 
     pv.OFF_SCREEN = True
     x = np.asarray(frame["positions"], dtype=float)
     fluid = (np.asarray(frame["kind"]) == 0) & (np.abs(x[:, 1]) < dx) & (x[:, 0] > 0.0)  # the half through a hole
+    if box is not None:
+        fluid &= (x[:, 2] >= box[0]) & (x[:, 2] <= box[1]) & (x[:, 0] <= box[2])
     points = pv.PolyData(x[fluid] * 1e3)
     points["speed [m/s]"] = np.linalg.norm(np.asarray(frame["velocities"], dtype=float)[fluid], axis=1)
     points["p [bar]"] = np.asarray(frame["pressures"], dtype=float)[fluid] / 1e5
