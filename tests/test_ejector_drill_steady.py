@@ -37,7 +37,7 @@ def test_the_steady_preset_runs_at_the_networks_operating_point():
 
 def test_the_back_pressure_lifts_the_rest_and_both_held_pressures():
     """scene.back_pressure adds to eq. 6's p_B and to both outlets' held pressures; the vapour floor stays."""
-    plain = load_case(CASE, preset="flow_exit_steady_quick").model
+    plain = load_case(CASE, preset="flow_exit_steady_quick", overrides=["scene.back_pressure=0"]).model
     lifted = load_case(CASE, preset="flow_exit_steady_quick", overrides=["scene.back_pressure=1e6",
                                                                          "scene.mouth_pressure=-5e4"]).model
     a, b = _deck(plain), _deck(lifted)
