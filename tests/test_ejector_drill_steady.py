@@ -66,6 +66,7 @@ def test_the_analysis_takes_the_back_pressure_off_every_pressure():
     (["scene.area='feed'", "scene.back_pressure=1e6", "fluid.max_speed=70", "scene.start='empty'",
       "scene.ramp_time=0"], "scene.back_pressure is for the flow-exit and drill-head"),
     (["scene.column_inertia=1.5"], "scene.column_inertia"),
+    (["scene.columns=false"], "scene.column_inertia = 0.05 needs scene.columns = true"),
 ])
 def test_bad_steady_settings_name_the_key(overrides, words):
     with pytest.raises(OrchestratorError) as err:

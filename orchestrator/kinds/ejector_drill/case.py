@@ -223,6 +223,9 @@ class EjectorDrillCase(Frozen):
         if self.scene.area == "feed" and (self.scene.start == "filled" or self.scene.ramp_time > 0.0):
             raise ValueError("scene.start and scene.ramp_time are for the flow-exit and drill-head scenes: the feed "
                              "scene starts filled and moving with its inlets' flows")
+        if self.scene.column_inertia != 1.0 and not self.scene.columns:
+            raise ValueError(f"scene.column_inertia = {self.scene.column_inertia:g} needs scene.columns = true (plain "
+                             "outlets have no column whose inertia it scales)")
         if self.scene.area == "feed" and self.scene.back_pressure:
             raise ValueError("scene.back_pressure is for the flow-exit and drill-head scenes: the feed scene starts "
                              "from the network's pressures at its own outlets (feed_build.py)")

@@ -107,14 +107,13 @@ def print_elements_at_flow(net, sph: dict, scene, layout) -> None:
           f"l/min (SPH {sph.get('V_loss', math.nan) / LITRE_PER_MIN:.3g})")
 
 
-def beside_jets(layout, frames: dict, time: np.ndarray) -> float:
-    """Mean gauge pressure (Pa) beside the holes' jets (analysis.pressure_beside_jets) over the frames of the
-    steady window (the last STEADY_FRACTION of the series); NaN without holes or frames there."""
-    start = time[-1] - STEADY_FRACTION * (time[-1] - time[0])
-    values = [pressure_beside_jets(layout, f)[0] for k, f in frames.items()
-              if k != "attrs" and float(f["attrs"]["time"]) >= start]
-    values = [v for v in values if math.isfinite(v)]
-    return float(np.mean(values)) if values else math.nan
+def beside_jets(layout, frames: dict) -> tuple[np.ndarray, np.ndarray]:
+    """(frame times s, gauge pressures Pa) beside the holes' jets (analysis.pressure_beside_jets), in time order,
+    for the frames that have fluid there (empty without holes)."""
+    side = sorted((float(f["attrs"]["time"]), pressure_beside_jets(layout, f)[0]) for k, f in frames.items()
+                  if k != "attrs")
+    side = [v for v in side if math.isfinite(v[1])]
+    return (np.array([t for t, _ in side]), np.array([p for _, p in side])) if side else (np.zeros(0), np.zeros(0))
 
 
 def print_columns(series: dict, time: np.ndarray, layout) -> None:
@@ -173,7 +172,9 @@ def analyze_drill_run(run_dir, run: dict, case, render: bool = True) -> dict:
     for name, unit, a, b, c, paper in rows:
         print(f"{name:<20}{unit:>6}{_fmt(a)}{_fmt(b)}{_fmt(c)}  {paper}")
     print_element_flows(net, sph, case.scene, layout, sph.get("p_A", math.nan), "(sensor A)")
-    p_side = beside_jets(layout, frames, time) if frames else math.nan
+    t_side, p_sides = beside_jets(layout, frames)
+    steady = t_side >= time[-1] - STEADY_FRACTION * (time[-1] - time[0])
+    p_side = float(np.mean(p_sides[steady])) if steady.any() else math.nan
     if math.isfinite(p_side):
         print(f"p_A beside the jets (the head clearance at the holes' height, >= 30 degrees from each hole's axis; "
               f"frames of the last {STEADY_FRACTION:.0%}): {p_side / 1e5:.3g} bar, where sensor A on a hole's axis "
@@ -187,10 +188,8 @@ def analyze_drill_run(run_dir, run: dict, case, render: bool = True) -> dict:
               "both outlets and the fluid's rest pressure: the same flow, above the vapour floor)")
     print(f"anchor: 1/2 rho v_in^2 = {0.5 * case.fluid.density * v_in ** 2 / 1e5:.3g} bar at v_in = {v_in:g} m/s; "
           "sensors outside the scene (C1, C2 at the feed) are '-'")
-    side = [(float(f["attrs"]["time"]), pressure_beside_jets(layout, f)[0]) for k, f in frames.items() if k != "attrs"]
-    side = sorted(v for v in side if math.isfinite(v[1]))
     outputs = {"series": plot_drill_series(time, flows, series, stored, run_dir / "series.png",
-                                           beside=tuple(np.array(v) for v in zip(*side)) if side else None),
+                                           beside=(t_side, p_sides)),
                "comparison": plot_comparison(rows, run_dir / "comparison.png")}
     if render:
         outputs.update(draw_sections(frames, case, layout, run_dir))
