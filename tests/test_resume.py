@@ -1,13 +1,15 @@
 """`orchestrator run --resume`: a drag-finishing run stopped after a checkpoint continues to the same result as an
 uninterrupted run, on Yade (O.save / O.load between two steps) and LIGGGHTS (restart files).
 
-Yade resumes to within 1e-10 m of the uninterrupted run's end state (measured 2e-15 m to 1.6e-12 m, 0.05 s
-after the checkpoint: the collider is rebuilt, so forces may be summed in another order, and the granular
-bed amplifies that round-off). LIGGGHTS restores balls, meshes, the rod's motion and every contact history,
-but its granular pair style evaluates the first step after a restart with full-step velocities (read_restart's
-documentation: granular pair styles do not restart exactly), so its resumed trajectory leaves the uninterrupted
-one at the checkpoint: the end state agrees to a small fraction of a ball radius and the mean force to a few per
-cent. On both, everything recorded up to the checkpoint is the uninterrupted run's, byte for byte.
+Yade's resumed run is the uninterrupted one, row for row and bit for bit: at each checkpoint the running script
+goes on from the file it saved (O.load), as a resumed run does. (Going on from memory instead, the collider's
+bounds and the order of later contacts differed, forces were summed in another order, and the granular bed
+amplified that round-off: 1.6e-12 m after the first checkpoint of the tiny bowl, 4.4e-7 m once in CI.)
+LIGGGHTS restores balls, meshes, the rod's motion and every contact history, but its granular pair style evaluates
+the first step after a restart with full-step velocities (read_restart's documentation: granular pair styles do
+not restart exactly), so its resumed trajectory leaves the uninterrupted one at the checkpoint: the end state
+agrees to a small fraction of a ball radius and the mean force to a few per cent. On both, everything recorded up
+to the checkpoint is the uninterrupted run's, byte for byte.
 """
 
 from __future__ import annotations
@@ -34,7 +36,7 @@ ENGINES = [
 #: The checkpoint file each engine's script writes.
 CHECKPOINT = {"liggghts": "checkpoint.txt", "yade": "checkpoint.json"}
 #: How close a resumed run's end state comes to the uninterrupted one's: ball positions (m), mean F_n (relative).
-TOLERANCE = {"yade": (1e-10, 1e-6), "liggghts": (0.01 * 3.27e-3, 0.05)}
+TOLERANCE = {"yade": (0.0, 0.0), "liggghts": (0.01 * 3.27e-3, 0.05)}
 
 
 def _orchestrator(*args: str, **kwargs) -> subprocess.Popen:
@@ -97,7 +99,7 @@ def test_a_stopped_run_resumes_to_the_uninterrupted_result(tmp_path, engine):
     # The series continues without a gap or a repeat; up to the checkpoint it is the uninterrupted run's.
     rows_a, rows_b = _rows(whole, engine), _rows(stopped, engine)
     assert sorted(rows_a) == sorted(rows_b)
-    assert all(rows_a[s] == rows_b[s] for s in rows_a if s <= step)
+    assert all(rows_a[s] == rows_b[s] for s in rows_a if s <= step or engine == "yade")
     assert len(a["series"]["time"]) == len(b["series"]["time"])
     np.testing.assert_allclose(b["series"]["time"], a["series"]["time"], rtol=1e-12)
 
@@ -109,13 +111,13 @@ def test_a_stopped_run_resumes_to_the_uninterrupted_result(tmp_path, engine):
     assert early_a.sum() == early_b.sum() > 0
     np.testing.assert_allclose(eb["engine_speed"][early_b], ea["engine_speed"][early_a], rtol=1e-12)
     if engine == "yade":
-        np.testing.assert_allclose(eb["engine_speed"], ea["engine_speed"], rtol=1e-9)
+        np.testing.assert_array_equal(eb["engine_speed"], ea["engine_speed"])
     else:
         assert abs(len(eb["time"]) - len(ea["time"])) <= 0.5 * len(ea["time"])
 
-    # After it neither engine's restart is bitwise (see the module docstring).
+    # After it Yade's restart is bitwise, LIGGGHTS's is not (see the module docstring).
     position_tol, force_tol = TOLERANCE[engine]
-    assert np.max(np.abs(_final_positions(stopped, engine) - _final_positions(whole, engine))) < position_tol
+    assert np.max(np.abs(_final_positions(stopped, engine) - _final_positions(whole, engine))) <= position_tol
     fn_a, fn_b = a["measured"]["attrs"]["fn_mean"], b["measured"]["attrs"]["fn_mean"]
     assert fn_b == pytest.approx(fn_a, rel=force_tol)
 
