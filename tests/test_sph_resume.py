@@ -116,6 +116,7 @@ def _stopped_run(tmp_path: Path, status="terminated", materials=None) -> Path:
     with h5py.File(tmp_path / "particles.h5", "w") as h5:
         h5["masses"] = [1.0, 2.0, 3.0]
         h5["wall_point"] = [[0.0, 0.5], [1.0, 0.5], [np.nan, np.nan]]
+        h5["densities"] = [1000.0, 1000.0, 999.0]
         if materials:
             h5["material"] = np.array([0, 0, 0], dtype=np.int32)
     with h5py.File(tmp_path / "out.h5", "w") as h5:
@@ -128,7 +129,7 @@ def _stopped_run(tmp_path: Path, status="terminated", materials=None) -> Path:
             g["kind"] = np.array([1, 1, 0, 3], dtype=np.int8)
             g["positions"] = np.arange(8.0).reshape(4, 2) + t
             g["velocities"] = np.ones((4, 2))
-            g["densities"] = np.full(4, 1001.0)
+            g["densities"] = np.array([-305.0, 1001.0, 1001.0, 1001.0])  # an old engine's drifted wall density
             g["pressures"] = np.zeros(4)
         del h5["frames/1/pressures"]  # a frame cut off while it was written: the one before is the last whole one
         g = h5.create_group("frames/2")
@@ -145,6 +146,8 @@ def test_resume_input_writes_the_last_whole_frame_with_masses_and_wall_points(tm
     with h5py.File(run / RESUME_PARTICLES, "r") as h5:
         np.testing.assert_array_equal(h5["ids"][()], [0, 1, 2, 7])
         np.testing.assert_array_equal(h5["kind"][()], [1, 1, 0, 3])
+        # the walls' densities are their input's (eq. WP3 recomputes them), the fluid's and the buffer's the frame's
+        np.testing.assert_array_equal(h5["densities"][()], [1000.0, 1000.0, 1001.0, 1001.0])
         np.testing.assert_allclose(h5["masses"][()], [1.0, 2.0, 3.0, 1000.0 * 0.1 ** 2])
         np.testing.assert_array_equal(h5["wall_point"][()][:2], [[0.0, 0.5], [1.0, 0.5]])
         assert np.isnan(h5["wall_point"][()][2:]).all()

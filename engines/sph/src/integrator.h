@@ -8,7 +8,7 @@
 //   predictor  x* = x + dt/2 v                              (eq. P3)
 //   corrector  x' = x + dt (v + dt/2 a^(n+1/2)) = x + dt (v + v')/2   (eq. P4)
 // A field integrates on the particles its Integrates says (fixed boundary
-// particles keep position and velocity but evolve density).
+// particles keep position and velocity but evolve density, unless they have a wall point: holds_density).
 #pragma once
 #include <algorithm>
 #include <cstddef>

@@ -35,6 +35,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "eos.h"
@@ -56,6 +57,9 @@ struct OutletBuffer {
   std::vector<double> rho0, rho_ref;  // per material, kg/m^3
   std::vector<Vec<D>> behind_q;       // in-plane offsets of the fluid within layers dx before the patch
   std::vector<double> behind_v;       // and their speeds along the normal, m/s
+  // behind_q binned in the plane: (cell key, index) sorted, cells 2 dx (1 + 1e-9) wide along u (and w)
+  std::vector<std::pair<std::int64_t, std::uint32_t>> behind_cells;
+  double cell_width = 0.0;
   // A column outlet (eq. OB5): length, loss coefficient, the column's speed u and the chamber's density.
   double column_length = 0.0, column_loss = 0.0;  // m, -
   double column_area = 0.0;                        // A, m^2
@@ -103,6 +107,16 @@ struct OutletBuffer {
       behind_v.push_back(P.v[i].dot(patch.n));
       mass_flux += P.mass[i] * behind_v.back() / (layers * dx);
     }
+    cell_width = 2.0 * dx * (1.0 + 1e-9);  // the widest reach of velocity_behind, with room for round-off
+    behind_cells.clear();
+    for (std::size_t j = 0; j < behind_q.size(); ++j) behind_cells.emplace_back(cell_key(behind_q[j], 0, 0), j);
+    std::sort(behind_cells.begin(), behind_cells.end());
+  }
+  // The key of the in-plane cell of offset q, shifted by (du, dw) cells.
+  std::int64_t cell_key(const Vec<D>& q, int du, int dw) const {
+    const auto cell = [&](const Vec<D>& axis) { return static_cast<std::int64_t>(std::floor(q.dot(axis) / cell_width)); };
+    const std::int64_t iu = cell(patch.u) + du, iw = D == 3 ? cell(patch.w) + dw : 0;
+    return (iu + (std::int64_t{1} << 30)) * (std::int64_t{1} << 31) + (iw + (std::int64_t{1} << 30));
   }
   // Normal speed of an outlet buffer particle at in-plane offset q (normal part
   // ignored): the fluid's normal speed before the patch averaged over the
@@ -113,9 +127,19 @@ struct OutletBuffer {
   // fluid, and at the core's speed they pushed it into the wall (test_open_boundaries.cpp).
   double velocity_behind(const Vec<D>& x_rel, double dx) const {
     const Vec<D> q = x_rel - x_rel.dot(patch.n) * patch.n;
+    // the fluid in the 3 x 3 cells about q (3 in 2D), in the order gathered (the sums' order: as a sweep of all)
+    thread_local std::vector<std::uint32_t> near;
+    near.clear();
+    for (int du = -1; du <= 1; ++du)
+      for (int dw = D == 3 ? -1 : 0; dw <= (D == 3 ? 1 : 0); ++dw) {
+        const std::int64_t key = cell_key(q, du, dw);
+        auto it = std::lower_bound(behind_cells.begin(), behind_cells.end(), std::make_pair(key, std::uint32_t{0}));
+        for (; it != behind_cells.end() && it->first == key; ++it) near.push_back(it->second);
+      }
+    std::sort(near.begin(), near.end());
     for (double reach = backflow ? dx : 2.0 * dx; reach <= 2.0 * dx; reach *= 2.0) {
       double sum = 0.0, weight = 0.0;
-      for (std::size_t j = 0; j < behind_q.size(); ++j) {
+      for (const std::uint32_t j : near) {
         const double d = (behind_q[j] - q).norm();
         if (d >= reach) continue;
         const double w = (1.0 - d / reach) * (1.0 - d / reach);

@@ -241,7 +241,7 @@ class Simulation {
         P_.acc[a] += walls_.force(xa) / P_.mass[a];
       }
       if constexpr (tensor) close_constitutive_rates<Models>(P_, materials_, a, correct_gradient_);
-    } else if (P_.kind[a] == Kind::outlet || (hold_inlets_ && P_.kind[a] == Kind::inlet)) {
+    } else if (P_.kind[a] == Kind::outlet || (hold_inlets_ && P_.kind[a] == Kind::inlet) || holds_density(P_, a)) {
       P_.drho[a] = 0.0;
     }
   }

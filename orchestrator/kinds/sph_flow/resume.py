@@ -98,6 +98,7 @@ def write_resume_input(workdir: Path, deck_name: str = "deck.json", output: str 
         masses = np.asarray(h5["masses"][()])
         material = np.asarray(h5["material"][()]) if "material" in h5 else None
         wall_point = np.asarray(h5["wall_point"][()]) if "wall_point" in h5 else None
+        densities = np.asarray(h5["densities"][()]) if "densities" in h5 else None
     ids = frame["ids"].astype(np.int64)
     known = ids < len(masses)
     if (ids < 0).any():
@@ -108,6 +109,11 @@ def write_resume_input(workdir: Path, deck_name: str = "deck.json", output: str 
     while (workdir / f"{Path(output).stem}.{k}{Path(output).suffix}").exists():
         k += 1
     out.rename(workdir / f"{Path(output).stem}.{k}{Path(output).suffix}")
+    if wall_point is not None and densities is not None:
+        # a wall particle's density is the fluid's Shepard value at each evaluation (eq. WP3), not a state: engines
+        # before 2026-11-28 integrated it anyway and frames may hold it drifted (below 0, which the engine refuses)
+        walled = known & (frame["kind"] == 1) & np.isfinite(wall_point[row]).all(axis=1)
+        frame["densities"] = np.where(walled, densities[row], frame["densities"])
     with h5py.File(workdir / RESUME_PARTICLES, "w") as h5:
         for name in ("positions", "velocities", "densities"):
             h5[name] = frame[name].astype(np.float64)
