@@ -4,6 +4,7 @@
 #pragma once
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <cstddef>
 #include <vector>
 
@@ -126,6 +127,28 @@ bool holds_density(const Particles<D>& P, std::ptrdiff_t b) {
   return P.has_wall_points && P.kind[b] == Kind::boundary && !std::isnan(P.wall_offset[b][0]);
 }
 
+// The 3D fit's products (w a_i) a_j into the packed lower triangle (row after row: 1, 2, 3, 4, 5 entries)
+// and (w a_i) dv_d into rhs (5 x 3, column-major), four lanes at a time: each sum takes the same product
+// with the same rounding as one at a time (elementwise IEEE operations, no FMA).
+inline __attribute__((always_inline)) void add_wall_fit_3d(double* lower, double* rhs, double w, const double* a,
+                                                          const Vec<3>& dv) {
+  typedef double v4 __attribute__((vector_size(32)));
+  const auto add = [](double* to, v4 x) {
+    v4 t;
+    std::memcpy(&t, to, sizeof t);
+    t += x;
+    std::memcpy(to, &t, sizeof t);
+  };
+  const double wa[5] = {w * a[0], w * a[1], w * a[2], w * a[3], w * a[4]};
+  const v4 a4 = {a[0], a[1], a[2], a[3]}, wa4 = {wa[0], wa[1], wa[2], wa[3]};
+  add(lower, v4{wa[0], wa[1], wa[1], wa[2]} * v4{a[0], a[0], a[1], a[0]});  // rows 0-2: entries 0-3
+  lower[4] += wa[2] * a[1], lower[5] += wa[2] * a[2];
+  add(lower + 6, wa[3] * a4);   // row 3
+  add(lower + 10, wa[4] * a4);  // row 4
+  lower[14] += wa[4] * a[4];
+  for (int d = 0; d < 3; ++d) add(rhs + 5 * d, wa4 * dv[d]), rhs[5 * d + 4] += wa[4] * dv[d];
+}
+
 // Add a fluid neighbour at r_fb = x_f - x_b, weight w, with velocity v_f - v_b = dv, pressure p_f and
 // density rho_f, to the fit sums `fit` of a boundary particle of wall frame `frame` (eq. WP2). Each
 // sum takes w a_i a_j as (w a_i) a_j (as Eigen's w * (a * a^T) rounds it), the lower triangle only.
@@ -146,11 +169,15 @@ inline __attribute__((always_inline)) void add_wall_fit(WallFit<D>& fit, const W
     const double t = frame.n[0] * r_fb[1] - frame.n[1] * r_fb[0];
     a[0] = s, a[1] = s * s, a[2] = t * t;
   }
-  double* lower = fit.normal.data();
-  for (int i = 0; i < K; ++i) {
-    const double wa = w * a[i];
-    for (int j = 0; j <= i; ++j) *lower++ += wa * a[j];
-    for (int d = 0; d < D; ++d) fit.rhs(i, d) += wa * dv[d];
+  if constexpr (D == 3) {
+    add_wall_fit_3d(fit.normal.data(), fit.rhs.data(), w, a, dv);
+  } else {
+    double* lower = fit.normal.data();
+    for (int i = 0; i < K; ++i) {
+      const double wa = w * a[i];
+      for (int j = 0; j <= i; ++j) *lower++ += wa * a[j];
+      for (int d = 0; d < D; ++d) fit.rhs(i, d) += wa * dv[d];
+    }
   }
   if (s < 0.0) fit.behind += w;
 }

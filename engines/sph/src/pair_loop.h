@@ -100,8 +100,19 @@ class PairLoop {
     }
   }
 
-  // The Shepard sums around the fixed boundary particles over block k (wall_sums.h).
-  void no_slip_sums_of_block(int k) const { wall_sums_of_block<tensor, Models>(P_, list_, kernel_, shepard_, k); }
+  // The Shepard sums around the fixed boundary particles over block k (wall_sums.h); compiled for SSE2 and
+  // for AVX2 without FMA as rates_of_block (the same roundings on every CPU).
+  void no_slip_sums_of_block(int k) const {
+    static const bool avx2 = __builtin_cpu_supports("avx2");
+    if (avx2) no_slip_sums_of_block_avx2(k);
+    else no_slip_sums_of_block_default(k);
+  }
+  __attribute__((target("avx2"), noinline)) void no_slip_sums_of_block_avx2(int k) const {
+    wall_sums_of_block<tensor, Models>(P_, list_, kernel_, shepard_, k);
+  }
+  __attribute__((noinline)) void no_slip_sums_of_block_default(int k) const {
+    wall_sums_of_block<tensor, Models>(P_, list_, kernel_, shepard_, k);
+  }
 
  private:
   // The pair terms of owner a with the neighbours of entries [e, end), added

@@ -22,7 +22,7 @@ namespace sph {
 // own row is summed into locals (the same additions in the same order).
 // (Tensor: the run's models carry an extra stress.)
 template <bool tensor, class Models, int D>
-void wall_sums_of_block(Particles<D>& P, const NeighbourList<D>& list, const WendlandC2<D>& kernel,
+inline __attribute__((always_inline)) void wall_sums_of_block(Particles<D>& P, const NeighbourList<D>& list, const WendlandC2<D>& kernel,
                         std::vector<double>& shepard, int k) {
   using List = NeighbourList<D>;
   const std::uint32_t* const e = list.entries(k);
