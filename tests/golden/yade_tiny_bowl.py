@@ -411,6 +411,10 @@ def write_checkpoint():
         json.dump({"scene": path, "step": O.iter, "time": O.time, "state": state,
                    "rod_intensity": rod_intensity.tolist(), "rod_contact_count": rod_contact_count.tolist()}, fh)
     os.replace(tmp, os.path.join(OUT, "checkpoint.json"))
+    # go on from the file, as 'run --resume' would: O.load rebuilds the collider's bounds and lists, and a run
+    # that went on from its memory instead would sum the forces of later contacts in another order (round-off
+    # the granular bed amplifies); so a resumed run is the uninterrupted one, step for step
+    O.load(path)
 
 
 
