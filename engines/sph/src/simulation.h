@@ -382,6 +382,8 @@ class Simulation {
     list_.build(cells_, P_.x, P_.kind, kernel_.support_radius() + skin_, walls_together_);
     pairs_.list_built();
     x_build_.assign(P_.x.begin(), P_.x.end());
+    last_moved_ = 0.0;  // nothing has moved since this build (a stale value kept rebuild_near true, and so the
+                        // open boundaries flushed and rebuilt again a step later: every 2 steps in the drill)
     shepard_.resize(P_.size());
     if constexpr (tensor) non_fluid_ = std::any_of(P_.kind.begin(), P_.kind.end(), [](Kind k) { return k != Kind::fluid; });
     list_stale_ = false;
