@@ -117,22 +117,3 @@ def test_the_elements_between_the_network_own_ends_give_back_its_state():
     p_a, flows = elements_at_flow(net, state.V_AG, 0.0, 0.0, columns=True)
     assert p_a > 0 and flows["V_IB"] > 0 and flows["V_loss"] > 0
     assert flows["V_IB"] + flows["V_loss"] == pytest.approx(state.V_AG, rel=1e-6)
-
-
-@pytest.mark.parametrize("h_over_dx, layers", [(1.2, 4), (1.5, 5)])
-def test_a_pressure_openings_replacement_particles_wait_beyond_the_lists_reach(h_over_dx, layers):
-    """A particle that comes back in through an opening is replaced `layers` dx downstream, at least (layers - 1) dx
-    beyond the patch: that lies beyond the Verlet list's reach 2h (1 + skin) of the fluid with dx/4 to spare, so the
-    engine need not rebuild the list for it; outlets without backflow keep 3 layers. The deck and the layout's
-    buffers (walls and filled sites) follow."""
-    dx = 0.5e-3
-    case = load_case(CASE, preset="flow_exit_steady_quick",
-                     overrides=[f"numerics.h_over_dx={h_over_dx}"]).model
-    outlets = _deck(case)["outlets"]
-    assert [o["layers"] for o in outlets] == [layers, layers] and all(o["backflow"] for o in outlets)
-    assert (layers - 1) * dx >= 2.0 * h_over_dx * dx * 1.1 + 0.25 * dx > (layers - 2) * dx
-    closed = load_case(CASE, preset="flow_exit_steady_quick", overrides=["scene.backflow=false"]).model
-    assert [o["layers"] for o in _deck(closed)["outlets"]] == [3, 3]
-    from orchestrator.kinds.ejector_drill.layout import drill_layout
-    wet = {r.name: r.z_hi for r in drill_layout(case).wetted if hasattr(r, "z_hi")}
-    assert wet["chip_mouth"] == pytest.approx(case.scene.mouth_depth + layers * dx + 2 * h_over_dx * dx)

@@ -17,7 +17,7 @@ import numpy as np
 from orchestrator.case.common import CaseMeta
 from orchestrator.kinds.ejector_drill.columns import outlet_columns
 from orchestrator.kinds.ejector_drill.case import EjectorDrillCase
-from orchestrator.kinds.ejector_drill.layout import Layout, drill_layout, inlet_layers, outlet_layers
+from orchestrator.kinds.ejector_drill.layout import Layout, drill_layout, inlet_layers
 from orchestrator.kinds.sph_flow.case import SphFlowCase
 from orchestrator.reference.drill_network import LITRE_PER_MIN
 from orchestrator.kinds.sph_flow.case_open import Inlet, Outlet
@@ -163,9 +163,7 @@ def assemble_flow_case(case, layout, inlets: tuple, pressures: dict, probes: tup
         columns = outlet_columns(net, case.geometry().head_length, layout.outlets, flow, case.scene.column_inertia)
     back = case.scene.back_pressure
     outlets = tuple(Outlet(name=p.name, center=p.center, normal=p.normal, radius=p.radius,
-                           pressure=pressures[role] + back, backflow=case.scene.backflow,
-                           layers=outlet_layers(case.numerics.dx, case.numerics.h, case.scene.backflow),
-                           **columns.get(role, {}))
+                           pressure=pressures[role] + back, backflow=case.scene.backflow, **columns.get(role, {}))
                     for role, p in layout.outlets.items())
     planes = tuple(Patch(name=p.name, center=p.center, normal=p.normal, radius=p.radius)
                    for p in layout.planes.values())

@@ -126,15 +126,6 @@ def inlet_layers(dx: float, h: float, skin: float = 0.1) -> int:
     return max(3, math.ceil(2.0 * h * (1.0 + skin) / dx + 0.25))
 
 
-def outlet_layers(dx: float, h: float, backflow: bool, skin: float = 0.1) -> int:
-    """Buffer layers of a drill scene's outlet: 3; a pressure opening's (backflow) more where the particle that
-    replaces one coming back in (`layers` dx downstream of it, so at least (layers - 1) dx beyond the patch) would
-    lie within the Verlet list's range 2h (1 + skin) of the fluid (h = 1.2 dx: 4). The engine then lets it wait
-    for the next list build instead of rebuilding the list at once (open_boundaries.h): with 3 layers at h = 1.2 dx
-    the quick steady scene rebuilt its list every 1.8 steps, with 4 every 3.4 (dx, h in m; skin as inlet_layers)."""
-    return max(3, math.ceil(2.0 * h * (1.0 + skin) / dx + 0.25) + 1) if backflow else 3
-
-
 def drill_layout(case) -> Layout:
     """The layout of an EjectorDrillCase's scene."""
     g = case.geometry()
@@ -143,7 +134,7 @@ def drill_layout(case) -> Layout:
     r_m, r_ii, r_io = n.d_chip_mouth / 2, n.d_inner_tube_id / 2, n.d_inner_tube_od / 2
     r_oi, r_oo, r_h, r_b = n.d_outer_tube_id / 2, n.d_outer_tube_od / 2, n.d_head_body / 2, n.d_bore / 2
     L, z_g, z_hole, c = g.head_length, g.groove_start, g.hole_z, g.front_clearance
-    buffer = outlet_layers(dx, h, sc.backflow) * dx + 2 * h  # an outlet's buffer and the kernel support behind it
+    buffer = 3 * dx + 2 * h  # an outlet's buffer (3 layers) and the kernel support behind it
     in_buffer = inlet_layers(dx, h) * dx + 2 * h  # the inlet's
     mouth = Ring("chip_mouth", 0.0, r_m, 0.0, sc.mouth_depth)
     front = Ring("front_gap", 0.0, r_b, -c, 0.0)
