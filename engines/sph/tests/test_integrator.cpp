@@ -101,3 +101,26 @@ TEST(cavitating_particle_takes_its_pressure_term_at_the_floors_density) {
   CHECK_CLOSE(P.p_rho2[b], P.p[b] / (1001.0 * 1001.0), 1e-12);
   CHECK(P.vol[a] == P.mass[a] / 350.0);  // its volume (vapour and all) is unchanged
 }
+
+// A list build starts the displacement count afresh: right after every build rebuild_near() is false
+// (the open boundaries flush their waiting particles when it is true; a stale count made them flush,
+// and the list rebuild, every second step in the drill's scene), and it turns true before the next one.
+TEST(rebuild_near_is_false_right_after_a_list_build) {
+  fixtures::Block b;
+  b.columns = 12, b.rows = 10, b.seed = 3, b.jitter = 0.1, b.speed = 2.0;  // m/s: 2e-5 m a step, allowed 1.3e-4 m
+  Simulation<2, kTerms> sim(block_deck(), fixtures::block(b));
+  int rebuilt = 0, near_before = 0;
+  long builds = -1;
+  for (int s = 0; s < 60; ++s) {
+    const bool near = sim.rebuild_near();
+    CHECK(sim.step(1e-5, NoCrossings{}));
+    if (builds >= 0 && sim.stage_times().builds > builds) {
+      ++rebuilt, near_before += near;
+      CHECK(!sim.rebuild_near());
+    }
+    builds = sim.stage_times().builds;
+  }
+  std::fprintf(stderr, "  %d rebuilds in 60 steps, %d announced by rebuild_near\n", rebuilt, near_before);
+  CHECK(rebuilt >= 3 && rebuilt <= 20);  // the fastest particle crosses skin/2 in about 7 steps
+  CHECK(near_before == rebuilt);         // each one was near the step before
+}

@@ -327,3 +327,51 @@ TEST(wall_pressure_is_the_fluids_shepard_average_never_below_rest) {
     CHECK_CLOSE(P.p_rho2[0], P.p[0] / (P.rho[0] * P.rho[0]), 1e-12);
   }
 }
+
+// A wall particle with a wall point takes the fluid's Shepard density at every evaluation (eq. WP3), so
+// its stored density is no state: no continuity rate, and particles that appear or disappear beside it
+// are not booked into it (integrated, it drifted to -11,000 kg/m^3 beside the drill's outlet). A wall
+// particle without a wall point (NaN row) keeps both, as before.
+TEST(wall_particles_with_a_wall_point_hold_their_density) {
+  constexpr unsigned terms = term::morris_viscosity | term::artificial_viscosity | term::body_force;
+  Deck d;
+  d.dimension = 2, d.terms = terms;
+  d.rho0 = 1000.0, d.c0 = 20.0, d.gamma = 7.0, d.v_max = 2.0, d.viscosity = 1e-4, d.alpha = 0.2, d.beta = 0.1;
+  d.h = 1.3e-3, d.dx = 1e-3, d.body_force = {0.0, -9.81};
+  fixtures::Block b;
+  b.columns = 12, b.rows = 8, b.seed = 11, b.jitter = 0.1, b.speed = 0.5, b.density_jitter = 0.01;
+  Particles<2> start = fixtures::block(b);
+  fixtures::wall_points_at(start, -0.4e-3);
+  const double nan = std::nan("");
+  for (std::size_t i = 0; i < start.size(); ++i)  // the row next to the fluid: no wall point
+    if (start.kind[i] == Kind::boundary && start.x[i][1] > -1.5e-3) start.wall_offset[i] = Vec<2>(nan, nan);
+  CHECK(holds_density(start, 0) == (start.kind[0] == Kind::boundary && !std::isnan(start.wall_offset[0][0])));
+  Simulation<2, terms> sim(d, start);
+  for (int s = 0; s < 5; ++s) CHECK(sim.step(1e-5, NoCrossings{}));
+  const auto& P = sim.particles();
+  int holding = 0, integrating = 0, integrating_moved = 0;
+  for (std::size_t i = 0; i < P.size(); ++i) {
+    const bool point = P.kind[i] == Kind::boundary && !std::isnan(P.wall_offset[i][0]);
+    CHECK(holds_density(P, i) == point);
+    if (point) {
+      ++holding;
+      CHECK(P.drho[i] == 0.0);
+    }
+    if (P.kind[i] == Kind::boundary && !point) ++integrating, integrating_moved += P.drho[i] != 0.0;
+  }
+  CHECK(holding == 24 && integrating == 12);
+  CHECK(integrating_moved > 0);  // the NaN row still integrates the fluid's continuity
+  // a particle appears between the rows: only the NaN row's density takes its share
+  std::vector<double> before(P.size());
+  for (std::size_t i = 0; i < P.size(); ++i) before[i] = P.rho[i];
+  sim.boundary_density_event(Vec<2>(5.5e-3, -1.5e-3), 1e-3, 1.0);
+  int booked = 0;
+  for (std::size_t i = 0; i < P.size(); ++i) {
+    if (holds_density(P, i) || P.kind[i] != Kind::boundary) CHECK(P.rho[i] == before[i]);
+    else booked += P.rho[i] > before[i];
+  }
+  CHECK(booked >= 2);
+  Particles<2> none = start;
+  none.has_wall_points = false;
+  for (std::size_t i = 0; i < none.size(); ++i) CHECK(!holds_density(none, i));
+}
