@@ -88,10 +88,12 @@ def default_run_dir(case_name: str, engine: str, root: Path = Path("runs")) -> P
     return stamped_dir(f"{case_name}-{engine}", root)
 
 
-def resumable_run(run_dir) -> tuple:
-    """(LoadedCase, engine, MPI ranks) of the stopped run in run_dir, from its case.toml and its marker.
+def resumable_run(run_dir, until: float | None = None) -> tuple:
+    """(LoadedCase, engine, MPI ranks) of the stopped run in run_dir, from its case.toml and its marker; with until
+    (s, sph runs), the case's simulation.duration set to it, which must lie beyond the run's.
 
-    Raises OrchestratorError when run_dir is not a run directory of ours or its case no longer validates.
+    Raises OrchestratorError when run_dir is not a run directory of ours, its case no longer validates, or until
+    cannot extend it.
     """
     run_dir = Path(run_dir)
     info = run_info(run_dir)
@@ -99,6 +101,15 @@ def resumable_run(run_dir) -> tuple:
         raise OrchestratorError(f"--resume {run_dir}: not a run directory of orchestrator that can be resumed "
                                 f"(needs {MARKER} naming the engine and case.toml)")
     loaded = load_case(run_dir / "case.toml")
+    if until is not None:
+        duration = (loaded.resolved.get("simulation") or {}).get("duration")
+        if info["engine"] != "sph" or duration is None:
+            raise OrchestratorError(f"--until: only sph runs (simulation.duration) run on; {run_dir} is a "
+                                    f"{loaded.kind} run on {info['engine']}")
+        if not (math.isfinite(until) and until > duration):
+            raise OrchestratorError(f"--until {until:g}: allowed: a time in s after the run's simulation.duration "
+                                    f"({duration:g} s)")
+        loaded = load_case(run_dir / "case.toml", overrides=[f"simulation.duration={until!r}"])
     return dataclasses.replace(loaded, preset=info.get("preset") or None), info["engine"], info.get("mpi_ranks")
 
 
@@ -153,6 +164,8 @@ def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float |
         started = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
         command, execution, interrupted = _run_engine(backend, scene, run_dir, clock, timeout_s, progress,
                                                       f"{engine} {case.case.name}", on_timing, resume)
+        if resume and (run_dir / "case.toml").read_text() != loaded.toml_text:  # --until: the run's new duration
+            (run_dir / "case.toml").write_text(loaded.toml_text)
         with signals.shielded():  # a signal now is remembered: run.h5 is written first
             result = _read_result(backend, scene, run_dir, execution, interrupted, timeout_s)
             clock.lap("parse")

@@ -1,7 +1,7 @@
 """`orchestrator run --resume` on sph runs (kinds/sph_flow/resume.py): a stopped run continues from its last frame.
 
-The engine-run test stops a pipe flow (velocity inlet, held-pressure outlet, walls with wall points) at a time off
-the output grid, resumes it and compares it with the uninterrupted run: everything before the stop is that run's,
+The engine-run test ends a pipe flow (velocity inlet, held-pressure outlet, walls with wall points) at a time off
+the output grid, runs it on (`--until`) and compares it with the uninterrupted run: everything before the stop is that run's,
 and after it the kinetic energy agrees to 1e-4 of its largest value (measured on 2026-11-27: 2e-7; the resumed
 run recomputes its first rates from the frame and sums in another order, so it is close, not bitwise).
 """
@@ -33,21 +33,15 @@ def _run(*args) -> int:
 
 
 @pytest.mark.sph
-def test_a_stopped_sph_run_resumes_to_the_uninterrupted_result(tmp_path, capsys):
+def test_a_finished_sph_run_runs_on_to_the_uninterrupted_result(tmp_path, capsys):
     whole, stopped = tmp_path / "whole", tmp_path / "stopped"
     common = [str(PIPE), "--set", "numerics.threads=1"]
     assert _run(*common, "--set", "simulation.duration=1.0", "--out", str(whole)) == 0
     assert _run(*common, "--set", f"simulation.duration={STOP}", "--out", str(stopped)) == 0
-    # As if the run had been planned to 1 s and stopped at STOP (the engine writes a last frame at its stop).
-    with h5py.File(stopped / "out.h5", "a") as h5:
-        h5.attrs["status"] = "terminated"
-    deck = json.loads((stopped / "deck.json").read_text())
-    (stopped / "deck.json").write_text(json.dumps({**deck, "t_end": 1.0}))
-    case = (stopped / "case.toml").read_text()
-    (stopped / "case.toml").write_text(re.sub(rf"duration = {STOP}\b", "duration = 1.0", case))
-
-    assert _run("--resume", str(stopped)) == 0
+    # The finished run runs on to 1 s from its last frame (at STOP), as a run stopped there by a timeout would.
+    assert _run("--resume", str(stopped), "--until", "1.0") == 0
     assert (stopped / "out.1.h5").is_file() and (stopped / RESUME_DECK).is_file()
+    assert re.search(r"^duration = 1\.0$", (stopped / "case.toml").read_text(), re.M)
     a, b = read_run(whole), read_run(stopped)
     assert b["attrs"]["status"] == "ok"
     assert b["attrs"]["simulated_time"] == pytest.approx(1.0, rel=1e-12)
@@ -176,3 +170,41 @@ def test_resume_input_refuses_a_run_without_output(tmp_path):
     (run / "out.h5").unlink()
     with pytest.raises(OrchestratorError, match="no out.h5; there is nothing to continue from"):
         write_resume_input(run)
+
+
+def test_resume_input_runs_a_finished_run_on_to_a_later_end(tmp_path):
+    run = _stopped_run(tmp_path, status="ok")
+    assert write_resume_input(run, t_end=2.5) == RESUME_DECK
+    deck = json.loads((run / RESUME_DECK).read_text())
+    assert deck["t_end"] == 2.5 and deck["t_start"] == 0.0 and deck["particles_file"] == RESUME_PARTICLES
+    assert (run / "out.1.h5").is_file()
+
+
+@pytest.mark.parametrize("status", ["ok", "terminated"])
+def test_resume_input_refuses_an_end_not_after_the_last_frame(tmp_path, status):
+    run = _stopped_run(tmp_path, status=status)
+    with h5py.File(run / "out.h5", "a") as h5:  # the last whole frame at 0.8 s
+        h5["frames/0"].attrs["time"] = 0.8
+    words = "the run finished" if status == "ok" else "last frame is at 0.8 s, not before the end time 0.5 s"
+    with pytest.raises(OrchestratorError, match=words):
+        write_resume_input(run, t_end=0.5)
+    if status == "terminated":  # the deck's own end time still works
+        assert json.loads((run / write_resume_input(run)).read_text())["t_end"] == 1.0
+
+
+def test_until_goes_with_resume_only_and_after_the_runs_duration(tmp_path, capsys):
+    assert _run(str(PIPE), "--until", "2.0", "--out", str(tmp_path / "new")) == 2
+    assert "--until goes with --resume" in capsys.readouterr().err
+    assert not (tmp_path / "new").exists()
+    run = tmp_path / "done"
+    run.mkdir()
+    (run / "case.toml").write_text(PIPE.read_text().split("[presets")[0])
+    from orchestrator.rundir import MARKER
+
+    (run / MARKER).write_text(json.dumps({"engine": "sph", "preset": "", "mpi_ranks": None}))
+    for until, words in (("0.5", "after the run's simulation.duration"), ("nan", "after the run's")):
+        assert _run("--resume", str(run), "--until", until) == 2
+        assert words in capsys.readouterr().err
+    (run / MARKER).write_text(json.dumps({"engine": "yade", "preset": "", "mpi_ranks": None}))
+    assert _run("--resume", str(run), "--until", "9.0") == 2
+    assert "only sph runs" in capsys.readouterr().err

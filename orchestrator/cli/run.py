@@ -24,6 +24,10 @@ def add_parser(sub) -> None:
                      help="continue a stopped run from its last checkpoint (drag finishing on LIGGGHTS or Yade with "
                      "output.checkpoint_interval set; sph runs stopped by --timeout or a signal, from their last "
                      "frame), with its own case, engine and MPI ranks; into the same run.h5")
+    run.add_argument("--until", type=float, metavar="SECONDS",
+                     help="with --resume on an sph run: run on to this simulated time, s (later than the case's "
+                     "simulation.duration; a finished run continues from its last frame, and its case.toml takes the "
+                     "new duration)")
     run.add_argument("--engine", help="engine name (default: the case's case.engine); see 'orchestrator doctor'")
     run.add_argument("--preset", help="named override set from the case's [presets.NAME] (e.g. quick, full)")
     run.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE",
@@ -47,6 +51,9 @@ def cmd_run(args) -> int:
     check_options(args)
     if args.resume is not None or args.case is None:
         return _cmd_resume(args)
+    if args.until is not None:
+        raise OrchestratorError("--until goes with --resume RUN_DIR (it runs a run on); a new run takes "
+                                "--set simulation.duration=SECONDS")
     loaded = load_case(args.case, preset=args.preset, overrides=args.overrides)
     if args.engine is not None:
 
@@ -78,8 +85,8 @@ def _cmd_resume(args) -> int:
              if value]
     if given:
         raise OrchestratorError(f"--resume continues a run as it was set up: {', '.join(given)} cannot go with it "
-                                "(allowed: --timeout, --mpi, --json, --no-progress)")
-    loaded, engine, mpi_ranks = resumable_run(args.resume)
+                                "(allowed: --until, --timeout, --mpi, --json, --no-progress)")
+    loaded, engine, mpi_ranks = resumable_run(args.resume, until=args.until)
     summary = run_case(loaded, engine=engine, out_dir=args.resume, timeout_s=args.timeout,
                        progress=not args.no_progress, mpi_ranks=args.mpi or mpi_ranks, resume=True)
     return _print_summary(summary, loaded, args.json)

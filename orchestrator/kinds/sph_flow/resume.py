@@ -5,11 +5,13 @@ A run stopped by --timeout or a signal writes a last frame at its stop time that
 out.h5 to out.<k>.h5 (the first free k), writes particles_resume.h5 from that frame (each particle's mass,
 material and wall point from its input row in particles.h5, or from the inlet for particles the inlets made) and
 deck_resume.json (deck.json from t_start = the frame's time, step_start = its step). The engine then continues
-into a new out.h5; merge_parts joins the parts' series and frames at each part's start time.
+into a new out.h5; merge_parts joins the parts' series and frames at each part's start time. Given a later end time
+(`run --resume RUN_DIR --until T`), a finished run runs on from its last frame to T the same way.
 
 Not restored, so a resumed run is close to, not bitwise equal to, an uninterrupted one: the rates of the last half
 step (recomputed from the frame's state before the first step), the Verlet list and the order of the particles
-in memory (sums run in another order). Runs whose state holds more than the frame does are refused: PTT
+in memory (sums run in another order), and a column outlet's chamber (eq. OB5), which starts again from its
+buffer's particles as at t = 0 (in a steady state their density and speed are the chamber's). Runs whose state holds more than the frame does are refused: PTT
 materials (their extra stresses) and Lees-Edwards cells (the cell's strain).
 """
 
@@ -63,10 +65,13 @@ def _inlet_particle(deck: dict) -> tuple[float, int]:
     return rho0 * float(deck["dx"]) ** int(deck["dimension"]), index
 
 
-def write_resume_input(workdir: Path, deck_name: str = "deck.json", output: str = "out.h5") -> str:
+def write_resume_input(workdir: Path, deck_name: str = "deck.json", output: str = "out.h5",
+                       t_end: float | None = None) -> str:
     """Write particles_resume.h5 and deck_resume.json that continue the stopped run in workdir from its last frame,
-    after moving its output to out.<k>.h5; returns the deck's name. Raises OrchestratorError naming why a run
-    cannot be resumed (no output, finished, unstable, PTT or Lees-Edwards state, an unknown particle id)."""
+    after moving its output to out.<k>.h5; returns the deck's name. t_end (s): the end time of the continued run;
+    later than the deck's, it also runs a finished run on (default: the deck's). Raises OrchestratorError naming why
+    a run cannot be resumed (no output, finished, unstable, PTT or Lees-Edwards state, an unknown particle id, an
+    end time not after the last frame)."""
     import h5py
 
     workdir = Path(workdir)
@@ -80,20 +85,21 @@ def write_resume_input(workdir: Path, deck_name: str = "deck.json", output: str 
         raise OrchestratorError("--resume: a Lees-Edwards cell's strain is not in its frames; start the run again")
     with h5py.File(out, "r") as h5:
         status = str(h5.attrs.get("status", "running"))
-        if status == "ok":
-            raise OrchestratorError(f"--resume {workdir}: the run finished (t = {h5.attrs.get('t_final', 0):.6g} s); "
-                                    "there is nothing left to run")
         if status == "unstable":
             raise OrchestratorError(f"--resume {workdir}: the run went unstable ({h5.attrs.get('message', '')}); "
                                     "continuing from its last frame would repeat that: change the case and start anew")
         time, step, group = _last_frame(h5, str(out))
+        if status == "ok" and (t_end is None or t_end <= time * (1.0 + 1e-12)):
+            raise OrchestratorError(f"--resume {workdir}: the run finished (t = {h5.attrs.get('t_final', time):.6g} "
+                                    "s); there is nothing left to run (--until T runs it on to a later time T, s)")
         if "mode_stress" in group:
             raise OrchestratorError("--resume: PTT materials' extra stresses are not restored from a frame; start the "
                                     "run again")
         frame = {name: np.asarray(group[name][()]) for name in FRAME_ARRAYS}
-    if time >= float(deck["t_end"]) * (1.0 - 1e-12):
-        raise OrchestratorError(f"--resume {workdir}: its last frame is at its end time ({time:.6g} s); nothing is "
-                                "left to run")
+    end = t_end if t_end is not None else float(deck["t_end"])
+    if time >= end * (1.0 - 1e-12):
+        raise OrchestratorError(f"--resume {workdir}: its last frame is at {time:.6g} s, not before the end time "
+                                f"{end:.6g} s; nothing is left to run (--until T runs it on to a later time T, s)")
     with h5py.File(input_path, "r") as h5:
         masses = np.asarray(h5["masses"][()])
         material = np.asarray(h5["material"][()]) if "material" in h5 else None
@@ -124,7 +130,7 @@ def write_resume_input(workdir: Path, deck_name: str = "deck.json", output: str 
             h5["material"] = np.where(known, material[row], inlet_material).astype(np.int32)
         if wall_point is not None:
             h5["wall_point"] = np.where(known[:, None], wall_point[row], np.nan)
-    deck.update(particles_file=RESUME_PARTICLES, t_start=time, step_start=step)
+    deck.update(particles_file=RESUME_PARTICLES, t_start=time, step_start=step, t_end=end)
     (workdir / RESUME_DECK).write_text(json.dumps(deck, indent=1))
     return RESUME_DECK
 

@@ -41,8 +41,9 @@ class SphFlow(Adapter):
         return read_sph_output(workdir, scene)
 
     def resume_input(self, engine, scene, workdir: Path) -> tuple[list[str], dict[str, str]]:
-        """Continue the stopped run in workdir from its last frame (resume.py): its deck from that frame's time."""
-        deck = write_resume_input(Path(workdir), DECK, OUTPUT)
+        """Continue the stopped run in workdir from its last frame (resume.py): its deck from that frame's time to the
+        case's simulation.duration (later than the run's own with `run --resume --until`)."""
+        deck = write_resume_input(Path(workdir), DECK, OUTPUT, t_end=scene.case.simulation.duration)
         return [engine.executable or "sph", deck], engine.environment(scene.case.numerics.thread_wait)
 
 
