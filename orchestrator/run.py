@@ -28,7 +28,8 @@ class RunSummary:
     """What `orchestrator run` prints: status, engine, times, sizes and measured quantities (SI).
 
     wall_time_s is the engine's wall time; overhead_s the orchestrator's own time around it (s), the sum of
-    overhead_phases_s (OVERHEAD_PHASES -> s).
+    overhead_phases_s (OVERHEAD_PHASES -> s); peak_memory_mb the engine processes' peak resident memory (MiB,
+    sampled every 0.2 s; None where /proc does not tell).
     """
 
     status: str
@@ -45,6 +46,7 @@ class RunSummary:
     dt: float | None = None
     overhead_s: float | None = None
     overhead_phases_s: dict = field(default_factory=dict)
+    peak_memory_mb: float | None = None  # the engine's peak resident memory, MiB (runner.peak_memory)
 
     def as_dict(self) -> dict:
         """Plain dict (what --json prints)."""
@@ -180,6 +182,8 @@ def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float |
                 "case_source": str(loaded.source),
                 "preset": loaded.preset or "",
                 "wall_time_s": execution.wall_time_s,
+                **({"engine_peak_memory_mb": execution.peak_memory_bytes / 2**20}
+                   if execution.peak_memory_bytes is not None else {}),
                 **clock.attrs(),  # overhead_write_s and the total are rewritten once run.h5 is written
                 "n_particles": scene.n_particles,
                 "started": started,
@@ -202,6 +206,8 @@ def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float |
         dt=float(result.attrs["dt"]),
         overhead_s=round(overhead["orchestrator_overhead_s"], 6),
         overhead_phases_s={name: round(overhead[f"overhead_{name}_s"], 6) for name in OVERHEAD_PHASES},
+        peak_memory_mb=(round(execution.peak_memory_bytes / 2**20, 1)
+                        if execution.peak_memory_bytes is not None else None),
     )
     if interrupted is None and signals.pending() is not None:
         interrupted = signals.Interrupted(signals.pending())  # arrived while run.h5 was written

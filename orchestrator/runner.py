@@ -28,6 +28,7 @@ class Execution:
     timing: Timing | None
     log_path: Path
     last_progress: Progress | None = None
+    peak_memory_bytes: int | None = None  # the engine's peak resident memory (peak_memory), None where unmeasured
 
     def log_tail(self, lines: int = 40) -> str:
         """The last lines of the engine's log."""
@@ -45,6 +46,29 @@ def tail(path: Path, lines: int = 40) -> str:
     except OSError:
         return ""
     return "\n".join(text.splitlines()[-lines:])
+
+
+def peak_memory(pid: int) -> int | None:
+    """Peak resident memory of process pid and its descendants so far, bytes: the sum of their high-water marks
+    (VmHWM in /proc/PID/status; one process: exactly its peak). None where /proc does not tell (not Linux, gone)."""
+    total, seen, todo = 0, set(), [pid]
+    while todo:
+        current = todo.pop()
+        if current in seen:
+            continue
+        seen.add(current)
+        try:
+            with open(f"/proc/{current}/status", "rb") as fh:
+                for line in fh:
+                    if line.startswith(b"VmHWM:"):
+                        total += int(line.split()[1]) * 1024  # kB
+                        break
+            with open(f"/proc/{current}/task/{current}/children", "rb") as fh:
+                todo.extend(int(child) for child in fh.read().split())
+        except (OSError, ValueError):
+            if current == pid:
+                return None
+    return total
 
 
 class _Bar:
@@ -93,7 +117,8 @@ def execute(command: list[str], env: dict[str, str], workdir: Path, timeout_s: f
     timing probe. The engine is killed (its whole process group) on timeout,
     Ctrl-C, SIGTERM or SIGHUP (signals.Interrupted); the KeyboardInterrupt is
     re-raised after the kill with the Execution (interrupted set) as its
-    `execution` attribute.
+    `execution` attribute. The engine's peak memory (peak_memory) is sampled
+    with each poll (every 0.2 s).
     """
     workdir = Path(workdir)
     log_path = workdir / LOG_NAME
@@ -107,11 +132,14 @@ def execute(command: list[str], env: dict[str, str], workdir: Path, timeout_s: f
         proc = subprocess.Popen(command, cwd=workdir, env=full_env, stdout=log, stderr=subprocess.STDOUT,
                                 stdin=subprocess.DEVNULL, start_new_session=True)
     timed_out = False
+    peak = None
     try:
         with open(log_path, "rb") as reader:
             pending = b""
             while True:
                 signals.check()
+                sample = peak_memory(proc.pid)  # before poll: a process that has exited no longer reports
+                peak = max(peak or 0, sample) if sample is not None else peak
                 returncode = proc.poll()
                 chunk = reader.read()
                 if chunk:
@@ -138,10 +166,11 @@ def execute(command: list[str], env: dict[str, str], workdir: Path, timeout_s: f
             _kill(proc)
             bar.close()
         exc.execution = Execution(proc.returncode, False, True, time.monotonic() - start, timing, log_path,
-                                  last_progress)
+                                  last_progress, peak)
         raise
     bar.close()
-    return Execution(proc.returncode, timed_out, False, time.monotonic() - start, timing, log_path, last_progress)
+    return Execution(proc.returncode, timed_out, False, time.monotonic() - start, timing, log_path, last_progress,
+                     peak)
 
 
 def _kill(proc: subprocess.Popen) -> None:

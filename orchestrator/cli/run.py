@@ -103,6 +103,8 @@ def _print_summary(summary, loaded, as_json: bool) -> int:
         print(f"particles    {summary.n_particles}")
         print(f"steps        {summary.n_steps}")
         print(f"wall time    {summary.wall_time_s:.1f} s")
+        if summary.peak_memory_mb is not None:
+            print(f"memory       {summary.peak_memory_mb:.0f} MiB (the engine's peak resident)")
         if summary.overhead_s is not None and summary.wall_time_s > 0:
             print(f"overhead     {summary.overhead_s:.2f} s ({100 * summary.overhead_s / summary.wall_time_s:.2g} % of "
                   "the engine's wall time; per phase in run.h5)")
