@@ -208,3 +208,15 @@ def test_until_goes_with_resume_only_and_after_the_runs_duration(tmp_path, capsy
     (run / MARKER).write_text(json.dumps({"engine": "yade", "preset": "", "mpi_ranks": None}))
     assert _run("--resume", str(run), "--until", "9.0") == 2
     assert "only sph runs" in capsys.readouterr().err
+
+
+def test_resume_input_after_a_resume_that_wrote_nothing_takes_the_part_before(tmp_path):
+    run = _stopped_run(tmp_path)
+    write_resume_input(run)  # out.h5 -> out.1.h5; say the engine then refused its input and wrote no out.h5
+    assert not (run / "out.h5").exists()
+    assert write_resume_input(run, t_end=2.0) == RESUME_DECK
+    assert [p.name for p in sorted(run.glob("out*.h5"))] == ["out.1.h5"]  # nothing renamed
+    deck = json.loads((run / RESUME_DECK).read_text())
+    assert deck["t_end"] == 2.0 and deck["t_start"] == 0.0
+    with h5py.File(run / RESUME_PARTICLES, "r") as h5:
+        np.testing.assert_array_equal(h5["ids"][()], [0, 1, 2, 7])

@@ -21,6 +21,7 @@ Particles<D> make_particles(const Deck& deck, const ParticleInput& in, std::size
   P.resize(in.n);
   const std::vector<MaterialSpec> materials = deck.material_list();
   const std::size_t nm = materials.size();
+  const bool resumed = deck.t_start > 0.0 || deck.step_start > 0;
   std::vector<double> mass_sum(nm, 0.0);
   std::vector<std::size_t> fluid(nm, 0);
   if (!in.material.empty() && deck.materials.empty())
@@ -46,7 +47,14 @@ Particles<D> make_particles(const Deck& deck, const ParticleInput& in, std::size
     P.material[i] = static_cast<std::uint8_t>(mat);
     if (P.kind[i] == Kind::fluid) {
       const double speed = P.v[i].norm();
-      if (speed > deck.v_max)
+      // A new run's fluid starts within v_max, the speed its c0 was chosen for. A resumed run (t_start or
+      // step_start > 0) continues a state its run reached, where a jet may exceed v_max; only c0 (the run's
+      // own stop criterion, check_stability) bounds it.
+      if (resumed && speed > materials[mat].c0)
+        throw InputError("particle " + std::to_string(i) + " starts at " + std::to_string(speed) +
+                         " m/s, above its material's c0 = " + std::to_string(materials[mat].c0) +
+                         " m/s: the state this run resumes from is not weakly compressible");
+      if (!resumed && speed > deck.v_max)
         throw InputError("particle " + std::to_string(i) + " starts at " + std::to_string(speed) +
                          " m/s, above v_max = " + std::to_string(deck.v_max) + " m/s; raise v_max (and c0)");
       mass_sum[mat] += P.mass[i];

@@ -4,6 +4,7 @@
 #include "check.h"
 #include "deck.h"
 #include "physics_terms.h"
+#include "setup.h"
 #include "test_files.h"
 
 using namespace sph;
@@ -331,4 +332,29 @@ TEST(a_resumed_runs_start_is_checked) {
   j = good_deck();
   j["step_start"] = -3;
   CHECK(mentions(rejection(j), "'step_start' must be an integer >= 0"));
+}
+
+// A new run's fluid starts within v_max (its c0 was chosen for that speed); a resumed run's frame may hold a jet
+// faster than v_max, which its run reached and ran on with, so only c0 bounds it there.
+TEST(a_resumed_runs_fluid_may_exceed_v_max_but_not_c0) {
+  ParticleInput in;
+  in.n = 2, in.dimension = 2;
+  in.positions = {0.0, 0.0, 1e-3, 0.0};
+  in.velocities = {1.5, 0.0, 0.0, 0.0};  // m/s: above v_max = 1, below c0 = 20
+  in.masses = {1e-3, 1e-3}, in.densities = {1000.0, 1000.0}, in.kind = {0, 0};
+  auto message = [&](const Deck& d) {
+    try {
+      make_particles<2>(d, in);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  json j = good_deck();
+  CHECK(mentions(message(parse_deck(j, deck_dir().string())), "starts at 1.500000"));
+  CHECK(mentions(message(parse_deck(j, deck_dir().string())), "above v_max = 1.000000"));
+  j["t_start"] = 0.04, j["step_start"] = 1200;
+  CHECK(message(parse_deck(j, deck_dir().string())).empty());
+  in.velocities[0] = 25.0;  // above c0 = 20
+  CHECK(mentions(message(parse_deck(j, deck_dir().string())), "above its material's c0 = 20.000000"));
 }

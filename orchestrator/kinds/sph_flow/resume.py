@@ -68,7 +68,8 @@ def _inlet_particle(deck: dict) -> tuple[float, int]:
 def write_resume_input(workdir: Path, deck_name: str = "deck.json", output: str = "out.h5",
                        t_end: float | None = None) -> str:
     """Write particles_resume.h5 and deck_resume.json that continue the stopped run in workdir from its last frame,
-    after moving its output to out.<k>.h5; returns the deck's name. t_end (s): the end time of the continued run;
+    after moving its output to out.<k>.h5 (a resume whose engine failed before it wrote out.h5: from the last
+    out.<k>.h5); returns the deck's name. t_end (s): the end time of the continued run;
     later than the deck's, it also runs a finished run on (default: the deck's). Raises OrchestratorError naming why
     a run cannot be resumed (no output, finished, unstable, PTT or Lees-Edwards state, an unknown particle id, an
     end time not after the last frame)."""
@@ -76,6 +77,9 @@ def write_resume_input(workdir: Path, deck_name: str = "deck.json", output: str 
 
     workdir = Path(workdir)
     out, deck_path, input_path = workdir / output, workdir / deck_name, workdir / "particles.h5"
+    earlier = [path for path in part_files(workdir, output)[:-1] if path.is_file()]
+    if not out.is_file() and earlier:  # the last resume failed before its engine wrote: from the part before it
+        out = earlier[-1]
     for path in (out, deck_path, input_path):
         if not path.is_file():
             raise OrchestratorError(f"--resume {workdir}: no {path.name}; there is nothing to continue from, start the "
@@ -111,10 +115,11 @@ def write_resume_input(workdir: Path, deck_name: str = "deck.json", output: str 
         raise OrchestratorError(f"--resume: {out} holds negative particle ids; it is not this run's output")
     row = np.where(known, ids, 0)
     inlet_mass, inlet_material = _inlet_particle(deck) if (~known).any() else (1.0, 0)
-    k = 1
-    while (workdir / f"{Path(output).stem}.{k}{Path(output).suffix}").exists():
-        k += 1
-    out.rename(workdir / f"{Path(output).stem}.{k}{Path(output).suffix}")
+    if out.name == output:
+        k = 1
+        while (workdir / f"{Path(output).stem}.{k}{Path(output).suffix}").exists():
+            k += 1
+        out.rename(workdir / f"{Path(output).stem}.{k}{Path(output).suffix}")
     if wall_point is not None and densities is not None:
         # a wall particle's density is the fluid's Shepard value at each evaluation (eq. WP3), not a state: engines
         # before 2026-11-28 integrated it anyway and frames may hold it drifted (below 0, which the engine refuses)
