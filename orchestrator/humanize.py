@@ -5,6 +5,7 @@ from __future__ import annotations
 import datetime as _dt
 import errno
 import os
+import re
 import signal
 from pathlib import Path
 
@@ -110,11 +111,17 @@ def check_out_dir(path, option: str = "--out") -> Path:
     return path
 
 
+#: Characters of a case name kept in a folder name made from it (file systems allow 255 bytes per name).
+STAMPED_NAME_MAX = 100
+
+
 def stamped_dir(name: str, root=Path("runs")) -> Path:
     """root/<name>-<UTC timestamp, seconds>, with -2, -3 ... appended when that exists (the path of a new folder,
-    not created): how every command names the folder it makes when no --out is given."""
+    not created): how every command names the folder it makes when no --out is given. The name keeps letters,
+    digits and ._+- (other runs of characters become _) and at most STAMPED_NAME_MAX characters."""
     stamp = _dt.datetime.now(_dt.timezone.utc).strftime("%Y%m%dT%H%M%S")
-    base = Path(root) / f"{name}-{stamp}"
+    name = re.sub(r"[^A-Za-z0-9._+-]+", "_", name).strip("._") or "run"
+    base = Path(root) / f"{name[:STAMPED_NAME_MAX]}-{stamp}"
     path, n = base, 1
     while path.exists():
         n += 1

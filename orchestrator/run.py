@@ -18,6 +18,8 @@ from orchestrator.errors import EngineFailed, EngineTimeout, EngineUnstable, Orc
 from orchestrator.humanize import describe_returncode, os_problem, stamped_dir
 from orchestrator.kinds import Bound, get_kind
 from orchestrator.rundir import MARKER, RunDirectory, run_info
+from orchestrator.outputs import CASE_FILE, WriteError, write_text
+from orchestrator.processes import probe_bound
 from orchestrator.runh5 import RUN_FILE, write_run
 from orchestrator.runner import LOG_NAME, Execution, execute
 from orchestrator.templating import files_hash
@@ -143,12 +145,20 @@ def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float |
         profile["mpi_ranks"] = mpi_ranks
     program = get_engine(engine, **profile)
     program.check_available()
-    version = program.version()
+    started_at = time.monotonic()
+    with probe_bound(timeout_s):
+        version = program.version()
     clock.lap("setup")
     try:
-        scene = kind.scene(case)
+        with signals.time_limit(timeout_s, EngineTimeout(
+                f"building the scene of {case.case.name} took longer than --timeout {timeout_s:g} s; nothing was "
+                "written (a finer particle spacing or larger geometry costs more: check the case's sizes)"
+                if timeout_s else "")):
+            scene = kind.scene(case)
     except ValueError as exc:
         raise OrchestratorError(f"cannot build the scene of {case.case.name}: {exc}") from None
+    if timeout_s is not None:  # what preprocessing took counts against the limit
+        timeout_s = max(timeout_s - (time.monotonic() - started_at), 1.0)
     backend = Bound(program, kind.adapter(engine, scene))
     backend.check_scene(scene)  # e.g. a scene too big for the reference DEM: refused before anything is written
     clock.lap("scene")
@@ -159,15 +169,12 @@ def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float |
     with RunDirectory(out_dir if out_dir is not None else default_run_dir(case.case.name, engine),
                       force, resume, info) as run_dir:
         if not resume:
-            try:
-                (run_dir / "case.toml").write_text(loaded.toml_text)
-            except OSError as exc:
-                raise OrchestratorError(f"cannot write into the run directory {run_dir}: {os_problem(exc)}") from None
+            write_text(run_dir / CASE_FILE, loaded.toml_text, "--out", own_run_file=True)
         started = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
         command, execution, interrupted = _run_engine(backend, scene, run_dir, clock, timeout_s, progress,
                                                       f"{engine} {case.case.name}", on_timing, resume)
-        if resume and (run_dir / "case.toml").read_text() != loaded.toml_text:  # --until: the run's new duration
-            (run_dir / "case.toml").write_text(loaded.toml_text)
+        if resume and (run_dir / CASE_FILE).read_text() != loaded.toml_text:  # --until: the run's new duration
+            write_text(run_dir / CASE_FILE, loaded.toml_text, "--resume", own_run_file=True)
         with signals.shielded():  # a signal now is remembered: run.h5 is written first
             result = _read_result(backend, scene, run_dir, execution, interrupted, timeout_s)
             clock.lap("parse")
@@ -196,7 +203,7 @@ def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float |
             # A stopped engine wrote no final status: take the steps from its last progress line.
             result.attrs.setdefault("n_steps", execution.last_progress.done if execution.last_progress else 0)
             result.attrs.setdefault("dt", scene.timestep)
-            write_run(run_dir / RUN_FILE, result, root, loaded.toml_text, loaded.resolved, execution.log_tail(200))
+            _write_run_or_say_where(run_dir, result, root, loaded, execution)
             overhead = _store_write_time(run_dir / RUN_FILE, clock)
     summary = RunSummary(
         status=result.status, engine=engine, engine_version=version, case_name=case.case.name,
@@ -334,6 +341,18 @@ def _raise_for_status(summary: RunSummary, engine: str, timeout_s, execution) ->
         ).with_summary(summary)
 
 
+def _write_run_or_say_where(run_dir: Path, result, root: dict, loaded, execution) -> None:
+    """write_run; when it cannot be written (a full disk), the WriteError says that the engine's own output is
+    kept and where, and a run stopped by a signal still ends with the signal's exit code."""
+    try:
+        write_run(run_dir / RUN_FILE, result, root, loaded.toml_text, loaded.resolved, execution.log_tail(200))
+    except WriteError as exc:
+        kept = sorted(p.name for p in run_dir.iterdir() if p.is_file() and not p.name.startswith("."))
+        raise WriteError(f"{exc}. The run's status was {result.status}; the engine's own output is kept in "
+                         f"{run_dir} ({', '.join(kept[:8])}{', ...' if len(kept) > 8 else ''}): free some space "
+                         "and run the case again into a new --out") from None
+
+
 def _store_write_time(path: Path, clock: PhaseClock) -> dict[str, float]:
     """Time the run.h5 write (ends here) and put it and the new total into run.h5's root attributes; returns them.
 
@@ -341,9 +360,12 @@ def _store_write_time(path: Path, clock: PhaseClock) -> dict[str, float]:
     """
     import h5py
 
-    with h5py.File(path, "r+") as h5:
-        clock.lap("write")
-        attrs = clock.attrs()
-        h5.attrs["overhead_write_s"] = attrs["overhead_write_s"]
-        h5.attrs["orchestrator_overhead_s"] = attrs["orchestrator_overhead_s"]
+    clock.lap("write")
+    attrs = clock.attrs()
+    try:
+        with h5py.File(path, "r+") as h5:
+            h5.attrs["overhead_write_s"] = attrs["overhead_write_s"]
+            h5.attrs["orchestrator_overhead_s"] = attrs["orchestrator_overhead_s"]
+    except (OSError, RuntimeError):  # a disk that filled up since: run.h5 keeps the estimate written before
+        pass
     return attrs

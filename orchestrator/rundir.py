@@ -3,8 +3,8 @@
 A run directory holds the engine's input and output, the resolved case and run.h5. Three rules keep runs from
 hurting each other or the user's files:
 
-- a folder that is not empty and holds no marker of ours (``.orchestrator-run``, ``.orchestrator.lock`` or a
-  run.h5) is the user's: it is refused, with or without --force;
+- a folder that is not empty and holds no marker of ours (``.orchestrator-run``; a run.h5 or a lock file alone
+  proves nothing) is the user's: it is refused, with or without --force, and nothing is written into it;
 - a run holds an exclusive lock (``fcntl.flock`` on ``.orchestrator.lock``) from before it writes anything until
   run.h5 is written; a second run into the same folder fails at once naming the first (pid, start time, command);
 - --force empties the directory (outputs of the old run included) under that lock, before the engine starts, so
@@ -23,20 +23,12 @@ from pathlib import Path
 
 from orchestrator.errors import OrchestratorError
 from orchestrator.humanize import check_out_dir, os_problem
+from orchestrator.outputs import LOCK, MARKER, is_ours, write_text
 from orchestrator.runh5 import RUN_FILE
-
-MARKER = ".orchestrator-run"
-LOCK = ".orchestrator.lock"
-#: Names that make a folder a run directory of ours.
-OURS = (MARKER, LOCK, RUN_FILE)
 
 
 class RunDirBusy(OrchestratorError):
     """Another run holds the directory's lock (exit 2)."""
-
-
-def _is_ours(path: Path) -> bool:
-    return any((path / name).exists() for name in OURS)
 
 
 class RunDirectory:
@@ -59,9 +51,9 @@ class RunDirectory:
         path = self.path
         option = "--resume" if self.resume else "--out"
         check_out_dir(path, option)  # a file, a device, a name too long, a folder that cannot be written
-        if self.resume and not (path.is_dir() and _is_ours(path)):
+        if self.resume and not (path.is_dir() and is_ours(path)):
             raise OrchestratorError(f"--resume {path}: not a run directory of orchestrator (no {MARKER})")
-        if path.is_dir() and any(path.iterdir()) and not _is_ours(path):
+        if path.is_dir() and any(path.iterdir()) and not is_ours(path):
             raise OrchestratorError(
                 f"{path} is not empty and is not a run directory of orchestrator (no {MARKER}); refusing to write "
                 "into it, with or without --force: give a new or empty folder as --out"
@@ -89,7 +81,7 @@ class RunDirectory:
                 info = {**run_info(path), "resumed": [*run_info(path).get("resumed", []), _now()]}
             else:
                 info = {"created": _now(), **self.info}
-            (path / MARKER).write_text(json.dumps(info) + "\n")
+            write_text(path / MARKER, json.dumps(info) + "\n", option, own_run_file=True)
         except OSError as exc:
             self._release()
             raise OrchestratorError(f"cannot write into the run directory {path}: {os_problem(exc)}") from None

@@ -3,8 +3,8 @@ atomically (a temporary name, then rename). Layout in DESIGN.md."""
 
 from __future__ import annotations
 
+import io
 import json
-import os
 import tomllib
 from pathlib import Path
 
@@ -12,58 +12,88 @@ import numpy as np
 
 from orchestrator.engines.base import Result
 from orchestrator.errors import OrchestratorError, ReadError
+from orchestrator.humanize import byte_size
+from orchestrator.outputs import RUN_FILE, WriteError, atomic, free_bytes, write_bytes
 from orchestrator.kinds import get_kind
 
-RUN_FILE = "run.h5"
+
+#: run.h5 files up to this size (bytes, estimated from the arrays) are built in memory and written in one piece,
+#: so that a full disk is one clean OSError of a plain write rather than a failure inside libhdf5.
+IN_MEMORY_LIMIT = 1 << 30
 
 
 def write_run(path: Path, result: Result, root_attrs: dict, case_toml: str, case_params: dict, log_tail: str) -> Path:
-    """Write run.h5 at path (write to path.tmp, then rename); returns path."""
+    """Write run.h5 at path through the output policy (outputs.atomic: a temporary name, then rename); returns
+    path. Raises outputs.WriteError (nothing half-written stays) when the device lacks the space the arrays need
+    or the write fails."""
     import h5py
 
     path = Path(path)
-    tmp = path.with_name(path.name + ".tmp")
-    with h5py.File(tmp, "w") as h5:
-        for key, value in {**root_attrs, **result.attrs}.items():
-            h5.attrs[key] = _attr(value)
-        h5.attrs["status"] = result.status
-        h5.attrs["message"] = result.message
-        case = h5.create_group("case")
-        case.attrs["toml"] = case_toml
-        _write_params(case, case_params)
-        series = h5.create_group("series")
-        if result.time is not None:
-            series.create_dataset("time", data=result.time).attrs["units"] = "s"
-        for name, item in result.series.items():
-            ds = series.create_dataset(name, data=item.values)
-            ds.attrs["units"] = item.units
-            if item.description:
-                ds.attrs["description"] = item.description
-        for group_name, entries in (("frames", result.frames), ("contacts", result.contacts)):
-            group = h5.create_group(group_name)
-            for k, (time_s, arrays) in enumerate(entries):
-                sub = group.create_group(str(k))
-                sub.attrs["time"] = time_s
-                for name, array in arrays.items():
-                    if np.ndim(array) == 0:
-                        sub.attrs[name] = array
-                    else:
-                        sub.create_dataset(name, data=array)
-        if result.events:
-            events = h5.create_group("events")
-            for name, item in result.events.items():
-                events.create_dataset(name, data=item.values).attrs["units"] = item.units
-        meshes = h5.create_group("meshes")
-        for name, arrays in result.meshes.items():
-            sub = meshes.create_group(name)
-            for key, array in arrays.items():
-                sub.create_dataset(key, data=array)
-        measured = h5.create_group("measured")
-        for key, value in result.measured.items():
-            measured.attrs[key] = _attr(value)
-        h5.create_dataset("log", data=log_tail)
-    os.replace(tmp, path)
+    need = _estimated_bytes(result) + len(case_toml) + len(log_tail) + (1 << 20)
+    free = free_bytes(path.parent)
+    if free is not None and free < need:
+        raise WriteError(f"cannot write {path}: about {byte_size(need)} needed, {byte_size(free)} free on its device")
+    if need <= IN_MEMORY_LIMIT:
+        buffer = io.BytesIO()
+        with h5py.File(buffer, "w") as h5:
+            _fill(h5, result, root_attrs, case_toml, case_params, log_tail)
+        return write_bytes(path, buffer.getvalue(), RUN_FILE, own_run_file=True)
+    with atomic(path, RUN_FILE, own_run_file=True) as tmp, h5py.File(tmp, "w") as h5:
+        _fill(h5, result, root_attrs, case_toml, case_params, log_tail)
     return path
+
+
+def _estimated_bytes(result: Result) -> int:
+    """Bytes of the arrays a Result holds (what run.h5 stores, before HDF5's own overhead)."""
+    total = 0 if result.time is None else np.asarray(result.time).nbytes
+    total += sum(np.asarray(item.values).nbytes for item in result.series.values())
+    total += sum(np.asarray(item.values).nbytes for item in result.events.values())
+    for entries in (result.frames, result.contacts):
+        total += sum(np.asarray(a).nbytes for _, arrays in entries for a in arrays.values())
+    total += sum(np.asarray(a).nbytes for arrays in result.meshes.values() for a in arrays.values())
+    return int(total)
+
+
+def _fill(h5, result: Result, root_attrs: dict, case_toml: str, case_params: dict, log_tail: str) -> None:
+    """Write a run's groups and attributes into an open HDF5 file (layout in DESIGN.md)."""
+    for key, value in {**root_attrs, **result.attrs}.items():
+        h5.attrs[key] = _attr(value)
+    h5.attrs["status"] = result.status
+    h5.attrs["message"] = result.message
+    case = h5.create_group("case")
+    case.attrs["toml"] = case_toml
+    _write_params(case, case_params)
+    series = h5.create_group("series")
+    if result.time is not None:
+        series.create_dataset("time", data=result.time).attrs["units"] = "s"
+    for name, item in result.series.items():
+        ds = series.create_dataset(name, data=item.values)
+        ds.attrs["units"] = item.units
+        if item.description:
+            ds.attrs["description"] = item.description
+    for group_name, entries in (("frames", result.frames), ("contacts", result.contacts)):
+        group = h5.create_group(group_name)
+        for k, (time_s, arrays) in enumerate(entries):
+            sub = group.create_group(str(k))
+            sub.attrs["time"] = time_s
+            for name, array in arrays.items():
+                if np.ndim(array) == 0:
+                    sub.attrs[name] = array
+                else:
+                    sub.create_dataset(name, data=array)
+    if result.events:
+        events = h5.create_group("events")
+        for name, item in result.events.items():
+            events.create_dataset(name, data=item.values).attrs["units"] = item.units
+    meshes = h5.create_group("meshes")
+    for name, arrays in result.meshes.items():
+        sub = meshes.create_group(name)
+        for key, array in arrays.items():
+            sub.create_dataset(key, data=array)
+    measured = h5.create_group("measured")
+    for key, value in result.measured.items():
+        measured.attrs[key] = _attr(value)
+    h5.create_dataset("log", data=log_tail)
 
 
 def _attr(value):

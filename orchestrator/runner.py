@@ -4,7 +4,6 @@ progress with an ETA, report timing estimates, enforce a timeout, never leave th
 from __future__ import annotations
 
 import os
-import signal
 import subprocess
 import sys
 import time
@@ -12,6 +11,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from orchestrator import signals
+from orchestrator.processes import leftovers, stop_session
 from orchestrator.engines.base import Progress, Timing, parse_progress_line
 
 LOG_NAME = "engine.log"
@@ -169,20 +169,11 @@ def execute(command: list[str], env: dict[str, str], workdir: Path, timeout_s: f
                                   last_progress, peak)
         raise
     bar.close()
+    leftovers(proc)  # what the engine put in the background and left running
     return Execution(proc.returncode, timed_out, False, time.monotonic() - start, timing, log_path, last_progress,
                      peak)
 
 
 def _kill(proc: subprocess.Popen) -> None:
-    """SIGTERM the engine's process group, then SIGKILL after 5 s."""
-    for sig, wait in ((signal.SIGTERM, 5.0), (signal.SIGKILL, 5.0)):
-        try:
-            os.killpg(proc.pid, sig)
-        except ProcessLookupError:
-            proc.poll()
-            return
-        try:
-            proc.wait(wait)
-            return
-        except subprocess.TimeoutExpired:
-            continue
+    """SIGTERM every process of the engine's session, then SIGKILL what is left after 5 s."""
+    stop_session(proc, grace_s=5.0)

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import contextlib
 import signal
+import threading
 
 HANDLED = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
 
@@ -25,6 +26,9 @@ class Interrupted(KeyboardInterrupt):
     def __init__(self, signum: int):
         super().__init__(signal.Signals(signum).name)
         self.signum = signum
+
+    def __reduce__(self):  # raised in a pool worker, it crosses to the parent by pickle
+        return (Interrupted, (self.signum,))
 
     @property
     def signal_name(self) -> str:
@@ -43,8 +47,9 @@ class Interrupted(KeyboardInterrupt):
 
 def _handler(signum, frame) -> None:
     global _pending
-    if _pending is None:
-        _pending = signum
+    if _pending is not None:
+        return  # a second signal while the first is being acted on (cleanup, run.h5): absorbed, never a traceback
+    _pending = signum
     if not _deferring:
         raise Interrupted(_pending)
 
@@ -121,3 +126,23 @@ def task():
         yield
     finally:
         _in_task -= 1
+
+
+@contextlib.contextmanager
+def time_limit(seconds: float | None, error: BaseException):
+    """Raise `error` inside the block once `seconds` of wall time have passed (SIGALRM; no limit when seconds is
+    None). For work in this process that a --timeout must bound (building a scene before the engine starts)."""
+    if seconds is None or threading.current_thread() is not threading.main_thread():
+        yield  # signal handlers can only be set from the main thread
+        return
+
+    def expired(signum, frame):
+        raise error
+
+    previous = signal.signal(signal.SIGALRM, expired)
+    signal.setitimer(signal.ITIMER_REAL, seconds)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)

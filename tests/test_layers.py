@@ -18,7 +18,7 @@ PACKAGE = Path(__file__).resolve().parent.parent / "orchestrator"
 
 #: (layer, path patterns relative to orchestrator/); the first pattern that matches decides.
 LAYERS = [
-    (0, ["errors.py", "humanize.py", "signals.py", "templating.py", "plots.py"]),
+    (0, ["errors.py", "humanize.py", "outputs.py", "processes.py", "signals.py", "templating.py", "plots.py"]),
     (1, ["reference/*"]),
     (2, ["engines/*"]),
     (3, ["kinds/__init__.py", "kinds/base.py"]),

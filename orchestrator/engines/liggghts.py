@@ -26,6 +26,7 @@ import subprocess
 from functools import cached_property
 
 from orchestrator.engines.base import Engine
+from orchestrator.processes import run_probe
 from orchestrator.errors import EngineNotFound, OrchestratorError
 
 #: Largest number of MPI ranks accepted (a typo guard, not a machine limit).
@@ -60,8 +61,7 @@ class Liggghts(Engine):
         """First line LIGGGHTS prints ('LIGGGHTS (Version LIGGGHTS-PUBLIC 3.8.0, ...)'), '' if it cannot run."""
         try:
             # -log none: with only -h LIGGGHTS leaves a log.liggghts in the working directory
-            out = subprocess.run([self.executable, "-log", "none", "-h"], capture_output=True, text=True, timeout=60,
-                                 stdin=subprocess.DEVNULL, env={**os.environ, **mpi_environment(1)}).stdout
+            out = run_probe([self.executable, "-log", "none", "-h"], env={**os.environ, **mpi_environment(1)}).stdout
         except (OSError, subprocess.SubprocessError):
             return ""
         return out.splitlines()[0] if out else ""

@@ -10,6 +10,7 @@ from functools import cached_property
 from pathlib import Path
 
 from orchestrator.engines.base import Engine
+from orchestrator.processes import run_probe
 
 #: libgomp spin iterations before an idle thread sleeps, with numerics.thread_wait = "spin" (-): 10^4
 #: measured best on 2 cores (2D dam break, 2 threads over 1: 10^3 1.70, 10^4 1.90, 10^5 1.69).
@@ -43,8 +44,8 @@ class Sph(Engine):
         if not self.executable:
             return "unknown"
         try:
-            out = subprocess.run([self.executable, "--version"], capture_output=True, text=True, timeout=30)
-        except (OSError, subprocess.TimeoutExpired):
+            out = run_probe([self.executable, "--version"])
+        except (OSError, subprocess.SubprocessError):
             return "unknown"
         words = (out.stdout or out.stderr).split()
         return words[-1] if words else "unknown"

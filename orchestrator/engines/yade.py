@@ -17,6 +17,7 @@ from functools import cached_property
 from pathlib import Path
 
 from orchestrator.engines.base import Engine
+from orchestrator.processes import run_probe
 
 
 class Yade(Engine):
@@ -55,7 +56,10 @@ class Yade(Engine):
         if self.launcher["version"]:
             return self.launcher["version"]
 
-        out = subprocess.run([self.executable, "--version"], capture_output=True, text=True, timeout=60).stdout
+        try:
+            out = run_probe([self.executable, "--version"]).stdout
+        except (OSError, subprocess.SubprocessError):
+            return "unknown"
         m = re.search(r"Yade version:\s*(\S+)", out)
         return m.group(1) if m else "unknown"
 

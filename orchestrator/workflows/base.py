@@ -21,7 +21,9 @@ from pathlib import Path
 from typing import Callable
 
 from orchestrator.errors import OrchestratorError
-from orchestrator.humanize import make_out_dir, stamped_dir
+from orchestrator import signals
+from orchestrator.humanize import stamped_dir
+from orchestrator.outputs import claim_folder
 
 #: The keys of one check row (`verify dem|sph --json`), in order.
 ROW_KEYS = ("scene", "engine", "quantity", "value", "expected", "rel_error", "tolerance", "passed")
@@ -79,13 +81,15 @@ class Workflow:
 
 
 def _call(function, args):
-    """function(*args) (what a pool worker runs for one job)."""
-    return function(*args)
+    """function(*args) (what a pool worker runs for one job: a signal stops it as signals.task describes)."""
+    with signals.task():
+        return function(*args)
 
 
 def workflow_dir(out_dir, name: str, root: Path = Path("runs")) -> Path:
-    """The workflow's folder, created: out_dir, or root/<name>-<UTC timestamp> when out_dir is None."""
-    return make_out_dir(Path(out_dir) if out_dir is not None else stamped_dir(name, root))
+    """The workflow's folder, created and marked as ours (outputs.claim_folder: a non-empty folder of the user's is
+    refused): out_dir, or root/<name>-<UTC timestamp> when out_dir is None."""
+    return claim_folder(Path(out_dir) if out_dir is not None else stamped_dir(name, root), "--out", name)
 
 
 def run_in_pool(function, jobs: list[tuple], workers: int | None = None, on_done=None,
@@ -101,7 +105,8 @@ def run_in_pool(function, jobs: list[tuple], workers: int | None = None, on_done
     if own:
         workers = workers or max(1, min(len(jobs), os.cpu_count() or 1))
         # processes, not threads: each run writes and reads its run.h5, and HDF5 is safest one file per process
-        executor = ProcessPoolExecutor(max_workers=max(1, min(workers, len(jobs))), initializer=initializer)
+        executor = ProcessPoolExecutor(max_workers=max(1, min(workers, len(jobs))),
+                                       initializer=initializer or signals.install_in_worker)
     try:
         futures = [executor.submit(function, *job) for job in jobs]
         if on_done is not None:
