@@ -96,7 +96,10 @@ class Kind:
     measure(case, result) -> {quantity: SI value}; analyze(run_dir, run, case, render) -> {name: path} (prints the
     kind's table, draws its pictures); adapters: engine name -> 'module:AdapterClass'; refusals: engine name ->
     'module:function(scene) -> message' for engines that have no adapter but can say why (e.g. the reference DEM and
-    a drag-finishing bowl); description: one line for help texts.
+    a drag-finishing bowl); description: one line for help texts; study_pictures: 'module:function(rows, quantity,
+    reference, tolerance) -> [{"title": str, "note": str, "png": bytes}]' drawing the kind's sections of a study
+    report (rows: the study's index rows, run_dir pointing at each run; quantity: the compared column; reference:
+    the reference row or None; tolerance: relative error accepted), empty when the kind has none.
     """
 
     name: str
@@ -107,6 +110,7 @@ class Kind:
     adapters: dict[str, str]
     refusals: dict[str, str] = field(default_factory=dict)
     description: str = ""
+    study_pictures: str = ""
 
     def engines(self) -> list[str]:
         """Names of the engines that run this kind (those with an adapter), sorted."""
@@ -127,6 +131,11 @@ class Kind:
     def analysis(self, run_dir, run: dict, case, render: bool) -> dict:
         """Print the kind's comparison of a stored run and draw its pictures; returns {name: path}."""
         return _load(self.analyze)(run_dir, run, case, render)
+
+    def draw_study_pictures(self, rows: list[dict], quantity: str, reference: dict | None,
+                            tolerance: float) -> list[dict]:
+        """The kind's sections of a study report (see study_pictures); [] when it declares none."""
+        return _load(self.study_pictures)(rows, quantity, reference, tolerance) if self.study_pictures else []
 
     def adapter(self, engine: str, scene=None) -> Adapter:
         """The adapter of engine for this kind; OrchestratorError (naming the engines that do run it) otherwise."""
