@@ -18,7 +18,7 @@ def add_parser(sub) -> None:
         "(idle threads spinning briefly, numerics.thread_wait = spin, and sleeping at once, passive): "
         "a 2D dam break (PySPH's dam_break_2d: 2278 fluid particles in a walled tank, dx = 0.03 m, h = 1.3 dx, "
         "--steps-2d steps); a 3D dam break (a slab periodic across the flow, 25 360 particles, dx = 0.02 m, "
-        "h = 1.3 dx, --steps-3d steps); the periodic 3D block of issue 13 (40 x 40 x 16 particles at dx = 1 mm, "
+        "h = 1.3 dx, --steps-3d steps); a periodic 3D block (40 x 40 x 16 particles at dx = 1 mm, "
         "h = 1.5 dx, Tait EOS c0 = 10 m/s, artificial viscosity alpha = 0.1, dt = 2 us, 2.5 x --steps-3d steps); "
         "and the material models side by side, a 2D Lees-Edwards shear cell (100 x 100 particles, dx = 0.01 m, "
         "shear rate 1/s, 300 steps) of a Newtonian fluid and of a PTT fluid with 1 and 5 modes. Peers on one "

@@ -14,7 +14,7 @@ def add_parser(sub) -> None:
     p = sub.add_parser(
         "rheometry", help="frequency sweep of the numerical rheometer: G'(omega), G''(omega) against Maxwell",
         description="Run a rheometer case (kind rheometer: a Lees-Edwards SPH sample of a multi-mode PTT fluid in "
-        "oscillatory shear gamma_A sin(omega t); Nutto et al., seed 002) at each angular frequency, in parallel on "
+        "oscillatory shear gamma_A sin(omega t); Nutto et al.) at each angular frequency, in parallel on "
         "the sph executable; fit eq. 17, tau = G' gamma_A sin(omega t) + G'' gamma_A cos(omega t), over the cycles "
         "after the start-up; print omega (rad/s), G' and G'' (Pa) against the multi-mode Maxwell forms (eqs. "
         "18-19) with their relative errors, the sample's mass-scaled density (kg/m^3), step (s), steps and engine "

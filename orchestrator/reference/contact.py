@@ -1,4 +1,4 @@
-"""The contact law of Uhlmann et al. 2015 (seed 004, eqs. 1-10) as small pure
+"""The contact law of Uhlmann et al. 2015 (eqs. 1-10) as small pure
 functions: Hertz normal force, Mindlin no-slip tangential stiffness with an
 incremental tangential force and a Coulomb limit, and Tsuji's non-linear
 viscous damping. SI units throughout (m, kg, s, N, Pa).

@@ -1,4 +1,4 @@
-"""1D hydraulic network of the ejector deep-hole drill of Canini, Gerken, Biermann & Eberhard (seed 000).
+"""1D hydraulic network of the ejector deep-hole drill of Canini, Gerken, Biermann & Eberhard.
 SI units: m, m^2, m^3/s, Pa (pressures absolute unless a name says gauge), kg/m^3, Pa s.
 
 Paths (the paper's names, eqs. 1-2: V_total = V_AG + V_EN, V_AG = V_IB + V_loss):
@@ -48,7 +48,7 @@ class DrillNetwork:
     """
 
     # --- fluid: water-based emulsion (not stated in the paper; ejector drilling usually runs on
-    # emulsion); rho = 1000 is the density behind the issue's anchor 1/2 rho (60 m/s)^2 = 18 bar.
+    # emulsion); rho = 1000 gives the dynamic head 1/2 rho (60 m/s)^2 = 18 bar of the paper's inflow.
     rho: float = 1000.0  # kg/m^3
     mu: float = 1.0e-3  # Pa s, water at 20 C; a 5 % emulsion is 1-1.5 mPa s (reconstruction)
     p_ambient: float = 101325.0  # Pa; the work area is flooded at atmospheric pressure (paper, sect. 4)

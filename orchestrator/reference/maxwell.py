@@ -1,6 +1,6 @@
 """Linear viscoelastic moduli of a multi-mode Maxwell fluid and their least-squares calibration.
 
-Nutto et al. (seed 002), eqs. 18-19, with G_i = eta_i / lambda_i (Pa):
+Nutto et al., eqs. 18-19, with G_i = eta_i / lambda_i (Pa):
 
     G'(omega)  = G_p + sum_i G_i (omega lambda_i)^2 / (1 + (omega lambda_i)^2)      storage modulus, Pa
     G''(omega) =       sum_i G_i  omega lambda_i    / (1 + (omega lambda_i)^2)      loss modulus, Pa

@@ -1,5 +1,5 @@
 """Reference weakly compressible SPH in numpy: the equations of the sph
-executable (engines/sph, seed 000: Canini et al.), written plainly over
+executable (engines/sph; Canini et al.), written plainly over
 explicit neighbour pairs, for small scenes (up to a few thousand particles).
 
 Same model and algorithm as the executable, departures from the paper

@@ -1,7 +1,7 @@
 """Reference (numpy, brute force) of the sph executable's multi-mode PTT fluid in a periodic box.
 
-The same equations as engines/sph (README "PTT viscoelastic fluid"): Wendland C2 kernel (eq. 8 of seed 000),
-Tait EOS (eq. 6) or the quadratic EOS of seed 002 (eq. 9), continuity (eq. 7), tensor momentum
+The same equations as engines/sph (README "PTT viscoelastic fluid"): Wendland C2 kernel (Canini et al. eq. 8),
+Tait EOS (eq. 6) or the quadratic EOS of Nutto et al. (eq. 9), continuity (eq. 7), tensor momentum
 dv_a/dt = sum_b m_b (sigma_a/rho_a^2 + sigma_b/rho_b^2) . grad_a W_ab (eq. T1), the kernel-corrected
 velocity gradient L_a = G_a M_a^-1 (eq. T2), per mode the linear PTT rate
 d tau/dt = L tau + tau L^T + (eta (L + L^T) - f tau) / lambda, f = 1 + (lambda eps / eta) tr tau (eq. R1),
@@ -21,7 +21,7 @@ import numpy as np
 @dataclass(frozen=True)
 class PttFluid:
     """One PTT material and its box: rho0 kg/m^3, c0 m/s, gamma (Tait), lambdas s, etas Pa s, epsilon,
-    eta_s Pa s, h m, box lengths m (origin 0), quadratic: seed 002's EOS instead of Tait."""
+    eta_s Pa s, h m, box lengths m (origin 0), quadratic: Nutto et al.'s EOS instead of Tait."""
 
     rho0: float
     c0: float
@@ -52,7 +52,7 @@ class PttState:
 
 
 def pressure(rho: np.ndarray, fluid: PttFluid) -> np.ndarray:
-    """EOS in Pa: Tait (seed 000 eq. 6) or p = c0^2 rho^2 / (2 rho0) (seed 002 eq. 9)."""
+    """EOS in Pa: Tait (Canini et al. eq. 6) or p = c0^2 rho^2 / (2 rho0) (Nutto et al. eq. 9)."""
     if fluid.quadratic:
         return fluid.c0 ** 2 * rho ** 2 / (2.0 * fluid.rho0)
     return fluid.rho0 * fluid.c0 ** 2 / fluid.gamma * ((rho / fluid.rho0) ** fluid.gamma - 1.0)

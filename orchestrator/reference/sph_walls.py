@@ -1,4 +1,4 @@
-"""Penalty walls of the reference SPH (seed 000, eq. 14), as the sph executable
+"""Penalty walls of the reference SPH (Canini et al., eq. 14), as the sph executable
 computes them (engines/sph/src/wall_geometry.h, wall_penalty.h), in numpy.
 
 A particle feels every face (triangle in 3D, segment in 2D) within range R,

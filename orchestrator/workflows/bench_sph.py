@@ -21,7 +21,7 @@ particles, steady shear) of a Newtonian fluid (Morris viscosity), a PTT
 fluid of 1 mode and of 5 modes (bench_scenes.shear_cell_case), the same
 particles and step, on the same thread counts.
 
-The periodic 3D block of issue 13 (bench_lammps: 25,600 particles, h = 1.5 dx,
+The periodic 3D block (bench_lammps: 25,600 particles, h = 1.5 dx,
 artificial viscosity, 2.5 x the 3D steps) on the same thread counts, and,
 when LAMMPS is importable, LAMMPS SPH on one core on the block and on the 3D
 dam break's particles, with the ratios per CPU second (bench_lammps.summary).

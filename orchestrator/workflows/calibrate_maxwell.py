@@ -1,5 +1,5 @@
 """`orchestrator calibrate maxwell`: fit multi-mode Maxwell modes (lambda_i s, eta_i Pa s; G_p Pa) to measured
-storage and loss moduli G'(omega), G''(omega) (Pa), as Nutto et al. (seed 002) did for the MF20 medium (Table III).
+storage and loss moduli G'(omega), G''(omega) (Pa), as Nutto et al. did for the MF20 medium (Table III).
 
 Input CSV: '#' comment lines, then a header naming the frequency column -- omega_rad_s (angular frequency, rad/s)
 or f_Hz (frequency, Hz; omega = 2 pi f) -- and G_storage_Pa and/or G_loss_Pa; then one row of numbers per

@@ -1,4 +1,4 @@
-"""`orchestrator rheometry`: a frequency sweep of the numerical rheometer (kind rheometer; Nutto et al., seed 002,
+"""`orchestrator rheometry`: a frequency sweep of the numerical rheometer (kind rheometer; Nutto et al.,
 section 3, Figs. 2-3). One run per angular frequency (the case's shear.omega replaced), the runs in parallel
 through the Workflow machinery; each run's G', G'' (eq. 17) against the multi-mode Maxwell forms (eqs. 18-19).
 A table, a JSON list and a figure of G'(omega), G''(omega) on log axes."""

@@ -1,4 +1,4 @@
-"""Drag finishing (seed 004, Uhlmann et al. 2015): a rod dragged on a circle through a bowl of ceramic media."""
+"""Drag finishing (Uhlmann et al. 2015): a rod dragged on a circle through a bowl of ceramic media."""
 
 from orchestrator.kinds.base import Kind
 

@@ -1,4 +1,4 @@
-"""The ejector deep-hole drill case (kind "ejector_drill", seed 000: Canini, Gerken, Biermann & Eberhard): the drill's
+"""The ejector deep-hole drill case (kind "ejector_drill"; Canini, Gerken, Biermann & Eberhard): the drill's
 dimensions ([drill], defaults = the reconstruction in reference.drill_network.DrillNetwork and
 kinds/ejector_drill/case_geometry.DrillGeometry), user meshes for any part ([parts]), which of the paper's two SPH
 scenes to build ([scene]: the flow-exit area or the drill-head area), the fluid, the SPH numerics and what is

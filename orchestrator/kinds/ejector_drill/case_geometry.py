@@ -1,4 +1,4 @@
-"""Parametric geometry of the ejector deep-hole drill of seed 000 (Canini et al.): watertight trimesh solids of the
+"""Parametric geometry of the ejector deep-hole drill of Canini et al.: watertight trimesh solids of the
 workpiece with its bore, the outer and inner tubes with the annular gap d_Diff between them, the drill head with its
 chip mouth and the groove that carries the gap to the radial adduction holes, and the passages (adduction holes,
 ejector nozzles) as separate solids. SI units (m); the drill axis is z, z = 0 the head's front face, the tubes run

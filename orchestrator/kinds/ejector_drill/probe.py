@@ -4,7 +4,7 @@ plus the inflow's volume over the whole duration), each on the run's deck; one '
 planned_steps=... estimate_s=...' line (runner protocol) gives the run's wall time as the planned steps x the mean
 of the two states' s/step: a step's cost grows with the wetted walls and the fluid, linearly while the scene fills.
 A scene that starts filled (nothing to grow) probes its end state only. Measured on the paper-resolution flow-exit
-run (2026-11-27): start 31.7 ms, end 218 ms per step, so 34.7 min against the run's 37.1 min (the end state's cost
+run: start 31.7 ms, end 218 ms per step, so 34.7 min against the run's 37.1 min (the end state's cost
 scaled by the particle count, (start + end) / (2 end), had announced 55 min: the boundary particles dominate the
 count but not the cost). A filled start's end state lies at rest and underestimates a moving run about 2-fold.
 

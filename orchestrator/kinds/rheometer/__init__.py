@@ -1,4 +1,4 @@
-"""The numerical rheometer (Nutto et al., seed 002, section 3): a periodic SPH sample of a multi-mode PTT fluid
+"""The numerical rheometer (Nutto et al., section 3): a periodic SPH sample of a multi-mode PTT fluid
 sheared by Lees-Edwards boundaries, steadily or in small-amplitude oscillation; G'(omega), G''(omega) fitted by
 eq. 17 against the multi-mode Maxwell forms (eqs. 18-19)."""
 

@@ -1,6 +1,6 @@
 """The rheometer case (kind "rheometer"): a square (2D) or cubic (3D) sample of a multi-mode PTT fluid, periodic
 in every direction and sheared along x with the gradient along y by Lees-Edwards boundaries; steady shear or
-oscillatory strain gamma(t) = gamma_A sin(omega t) (Nutto et al., seed 002, section 3: 1 cm x 1 cm in 2D,
+oscillatory strain gamma(t) = gamma_A sin(omega t) (Nutto et al., section 3: 1 cm x 1 cm in 2D,
 10 x 10 particles, gamma_A = 0.05 %). SI units (m, kg, s, Pa).
 
 [material] takes the key names `orchestrator calibrate maxwell` writes in its fragment ([material],
@@ -68,7 +68,7 @@ class RheometerMaterial(Frozen):
                                        description="the Maxwell modes: relaxation_time s, viscosity Pa s")
     epsilon: NonNegative = Field(0.0, description="PTT extensibility epsilon, - (0: Oldroyd-B / UCM)")
     solvent_viscosity: NonNegative = Field(0.0, description="solvent viscosity eta_s, Pa s")
-    eos: str = Field("quadratic", description="equation of state: quadratic (seed 002 eq. 9, the paper's) or tait")
+    eos: str = Field("quadratic", description="equation of state: quadratic (Nutto et al. eq. 9, the paper's) or tait")
     storage_plateau: float = Field(0.0, description="G_p of a calibrate-maxwell fragment, Pa: must be 0 (the PTT "
                                                     "law has no elastic plateau)")
 

@@ -49,7 +49,7 @@ def flow_case(case: RheometerCase) -> SphFlowCase:
 
 def _zero_pressure_shift(eos: str, sn) -> float:
     """p_B (Pa) that makes the pressure vanish at the reference density: -rho0 c0^2 / 2 for the quadratic EOS
-    (seed 002 eq. 9 gives rho0 c0^2 / 2 at rest), 0 for Tait. A uniform pressure moves nothing in the continuum,
+    (Nutto et al.'s eq. 9 gives rho0 c0^2 / 2 at rest), 0 for Tait. A uniform pressure moves nothing in the continuum,
     but across the Lees-Edwards faces, whose images are shifted by a fraction of dx, its discrete gradient
     (eq. 9) does not cancel and would stir the sample: at the paper's EOS it is 10^5 times the stress amplitude."""
     return -0.5 * sn.density * sn.sound_speed**2 if eos == "quadratic" else 0.0

@@ -1,4 +1,4 @@
-"""Weakly compressible SPH flows (seed 000's fluid model): channels, dam breaks, walls, inlets and outlets."""
+"""Weakly compressible SPH flows (the fluid model of Canini et al.): channels, dam breaks, walls, inlets and outlets."""
 
 from orchestrator.kinds.base import Kind
 

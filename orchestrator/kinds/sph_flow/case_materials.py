@@ -20,7 +20,7 @@ from [fluid] when the case has no [[materials]]). SI units (kg/m^3, m^2/s, m/s, 
 Across two materials the Morris term (eq. 10) takes the harmonic mean of their dynamic viscosities rho0 nu
 (engines/sph/src/material.h).
 
-A viscoelastic material is a multi-mode linear Phan-Thien-Tanner fluid (Nutto et al., seed 002, eqs. 1-9;
+A viscoelastic material is a multi-mode linear Phan-Thien-Tanner fluid (Nutto et al., eqs. 1-9;
 engines/sph/src/materials/ptt.h), its modes in the key names `orchestrator calibrate maxwell` writes, so a fitted
 fragment's [[material.modes]] tables paste in as [[materials.modes]]:
 
@@ -30,7 +30,7 @@ fragment's [[material.modes]] tables paste in as [[materials.modes]]:
     density = 1000.0              # kg/m^3
     epsilon = 0.1                 # -, extensibility (0: Oldroyd-B / UCM)
     solvent_viscosity = 0.0       # Pa s
-    eos = "quadratic"             # "tait" (eq. 6 of seed 000, default) or seed 002's p = c0^2 rho^2 / (2 rho0)
+    eos = "quadratic"             # "tait" (Canini et al. eq. 6, default) or Nutto et al.'s p = c0^2 rho^2 / (2 rho0)
 
     [[materials.modes]]
     relaxation_time = 0.5         # lambda_i, s
@@ -56,7 +56,7 @@ from orchestrator.kinds.sph_flow.case_parts import Finite
 #: Material models of the sph executable (engines/sph/src/material_models.h).
 MATERIAL_MODELS = ("newtonian", "ptt")
 
-#: Equations of state of the sph executable: Tait (seed 000 eq. 6) and seed 002's quadratic p = c0^2 rho^2/(2 rho0).
+#: Equations of state of the sph executable: Tait (Canini et al. eq. 6) and Nutto et al.'s quadratic p = c0^2 rho^2/(2 rho0).
 EQUATIONS_OF_STATE = ("tait", "quadratic")
 
 #: Most PTT modes a material may have (engines/sph max_stress_modes).
@@ -92,7 +92,7 @@ class Material(Frozen):
     )
     gamma: float = Field(7.0, ge=1, description="exponent of the Tait equation of state, -")
     background_pressure: Finite = Field(0.0, description="background pressure p_B of eq. 6, Pa")
-    eos: str = Field("tait", description="equation of state: tait (seed 000 eq. 6) or quadratic (seed 002 eq. 9, "
+    eos: str = Field("tait", description="equation of state: tait (Canini et al. eq. 6) or quadratic (Nutto et al. eq. 9, "
                                          "p = c0^2 rho^2 / (2 rho0) + p_B; gamma is then not used)")
     modes: tuple[PttMode, ...] = Field((), description="ptt: the Maxwell modes, 1 to 8 [[materials.modes]] tables")
     epsilon: NonNegative | None = Field(None, description="ptt: extensibility parameter epsilon of f_i, - (0: "

@@ -121,8 +121,8 @@ def write_resume_input(workdir: Path, deck_name: str = "deck.json", output: str 
             k += 1
         out.rename(workdir / f"{Path(output).stem}.{k}{Path(output).suffix}")
     if wall_point is not None and densities is not None:
-        # a wall particle's density is the fluid's Shepard value at each evaluation (eq. WP3), not a state: engines
-        # before 2026-11-28 integrated it anyway and frames may hold it drifted (below 0, which the engine refuses)
+        # a wall particle's density is the fluid's Shepard value at each evaluation (eq. WP3), not a state: older
+        # engines integrated it and their frames may hold it drifted (below 0, which the engine refuses)
         walled = known & (frame["kind"] == 1) & np.isfinite(wall_point[row]).all(axis=1)
         frame["densities"] = np.where(walled, densities[row], frame["densities"])
     with h5py.File(workdir / RESUME_PARTICLES, "w") as h5:
