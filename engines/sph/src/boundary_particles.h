@@ -69,19 +69,16 @@ namespace sph {
 // average of the fluid density, rho_b = sum_f W_bf rho_f / sum_f W_bf, the
 // density that goes with p_b (Adami et al. invert the EOS for it), in p_b /
 // rho_b^2 and V_b = m_b / rho_b: its own summation density may lie far below
-// rho0 where the fluid has not yet filled its support (the ejector drill's
-// walls start with the empty sites booked out), and p_b / rho_b^2 from that
-// density made the drill's quick flow-exit run unstable at 0.10 ms.
+// rho0 where the fluid has not yet filled its support (walls built with their
+// empty sites booked out), and p_b / rho_b^2 from that density makes the
+// fluid's first contact with such a wall unstable.
 // A wall never pulls (as the EOS of a wall's own density, Simulation::equation_of_state_at): p_b is at
 // least p_rest, the pressure of the wall material at rho0 (its background pressure). Fluid beside a wall
-// at a negative gauge pressure (a jet at 200 m/s leaving the drill's holes: -2,400 bar in the quick
-// flow-exit run) otherwise gave the wall's particles that tension, and the pairs' p_a/rho_a^2 + p_b/rho_b^2
-// then pulled the fluid into the wall: 860 fluid particles inside the drill's solids at 0.39 ms, where
-// the run went unstable; with the floor 286 at 0.40 ms (its end), none deeper than 0.8 dx. The density
-// that goes with the floor is rho_rest (rho0): at the stretched fluid's Shepard density (630-750 kg/m^3
-// beside the drill head in the paper-resolution run) V_b = m_b / rho_b made the wall look 1.6x its size in
-// the fluid's continuity sums, and a fluid particle gliding past at 560 m/s went to 818 kg/m^3 (-2,429 bar)
-// and stopped the run at 1.154 ms.
+// at a negative gauge pressure (a fast jet leaving a hole) would otherwise give the wall's particles that
+// tension, and the pairs' p_a/rho_a^2 + p_b/rho_b^2 would pull the fluid into the wall. The density that
+// goes with the floor is rho_rest (rho0): at a stretched fluid's Shepard density, V_b = m_b / rho_b would
+// make the wall look larger than it is in the fluid's continuity sums and drive fluid gliding past it into
+// tension.
 // Measured limits of WP2: max_fit_gain, the fit's noise gain
 // sum_f W_bf e^T N^-1 e (N the normal matrix, e = (-d_b, d_b^2, 0, ...); a
 // mirror-like linear fit gives (d_b / d_f)^2): the open pipe at h = 1.5 dx went
@@ -121,7 +118,7 @@ bool walls_move_together(const Particles<D>& P) {
 // Whether fixed boundary particle b has a wall point: its density and pressure are the Shepard values
 // of the fluid around it at each evaluation (eq. WP3, no_slip_velocity), so its stored density is
 // not a state and stays as it is (no continuity rate, no booking of particles that come or go;
-// integrated, it drifted over a long run, to -11,000 kg/m^3 beside an outlet).
+// integrated, it drifts over a long run beside an outlet).
 template <int D>
 bool holds_density(const Particles<D>& P, std::ptrdiff_t b) {
   return P.has_wall_points && P.kind[b] == Kind::boundary && !std::isnan(P.wall_offset[b][0]);

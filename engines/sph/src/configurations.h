@@ -46,7 +46,7 @@ using Configurations = std::tuple<                           //
     Configuration<config::N, config::morris | config::av | config::corrected>,  //
     Configuration<config::N, config::morris | config::eddy>,                  // Smagorinsky eddy viscosity
     Configuration<config::N, config::morris | config::av | config::eddy>,     //   (the drill's jets and clearances)
-    Configuration<config::P, 0>,                                              // PTT viscoelastic fluid (seed 002)
+    Configuration<config::P, 0>,                                              // PTT viscoelastic fluid (Nutto et al.)
     Configuration<config::P, config::av>,                                     //   with artificial viscosity
     Configuration<config::P, config::sheared>,                                // PTT Lees-Edwards cell (rheometer)
     Configuration<config::P, config::morris>>;  // PTT whose solvent viscosity is the Morris term (walled channels)

@@ -86,7 +86,7 @@ struct MaterialSpec {
   std::string name, model = "newtonian";
   double rho0 = 0, c0 = 0, gamma = 7, background_pressure = 0;  // kg/m^3, m/s, -, Pa
   double viscosity = 0;                                         // kinematic, m^2/s (Newtonian)
-  bool quadratic_eos = false;                                   // `eos`: "tait" (eq. 6) or "quadratic" (seed 002, eq. 9)
+  bool quadratic_eos = false;                                   // `eos`: "tait" (eq. 6) or "quadratic" (Nutto et al. eq. 9)
   std::optional<double> min_pressure;                           // cavitation floor of the pressure, Pa (eos.h)
   // PTT (materials/ptt.h): relaxation time s and viscosity Pa s per mode, extensibility, solvent viscosity Pa s
   std::vector<double> mode_lambda, mode_eta;

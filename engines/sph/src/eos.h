@@ -1,5 +1,5 @@
 // Tait equation of state with background pressure (Canini et al., eq. 6), or
-// the quadratic EOS of Nutto et al. (seed 002, eq. 9), p = c0^2 rho^2 / (2 rho0),
+// the quadratic EOS of Nutto et al. (eq. 9), p = c0^2 rho^2 / (2 rho0),
 // when `quadratic` (a material's `eos = "quadratic"`). With a `min_pressure`
 // p_min (a cavitation floor: the vapour pressure, gauge) the pressure is
 // max(p(rho), p_min): the fluid holds no tension beyond it, as water boils
@@ -17,12 +17,12 @@ struct TaitEos {
   double c0;                   // reference speed of sound, m/s
   double gamma;                // exponent (7 for water)
   double background_pressure;  // p_B, Pa
-  bool quadratic = false;      // seed 002, eq. 9 instead of eq. 6
+  bool quadratic = false;      // Nutto et al. eq. 9 instead of eq. 6
   double min_pressure = -std::numeric_limits<double>::infinity();  // p_min, Pa (none: -inf)
   double floor_rho = 0.0;      // the density of p_min, kg/m^3 (0: none)
 
   // p = rho0 c0^2 / gamma ((rho/rho0)^gamma - 1) + p_B, Pa
-  // or p = c0^2 rho^2 / (2 rho0) + p_B (seed 002, eq. 9; p_B is 0 unless the deck gives it)
+  // or p = c0^2 rho^2 / (2 rho0) + p_B (Nutto et al. eq. 9; p_B is 0 unless the deck gives it)
   double pressure(double rho) const {
     const double p = quadratic ? c0 * c0 * rho * rho / (2.0 * rho0) + background_pressure
                                : rho0 * c0 * c0 / gamma * (power(rho / rho0) - 1.0) + background_pressure;

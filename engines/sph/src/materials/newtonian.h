@@ -1,4 +1,4 @@
-// The weakly compressible Newtonian fluid (Canini et al., seed 000): Tait EOS
+// The weakly compressible Newtonian fluid (Canini et al.): Tait EOS
 // (eq. 6) and, with the `morris_viscosity` term, the Morris viscous force
 // (eq. 10) as a pair term. It carries no deviatoric stress, so scenes made of
 // it alone take the scalar pressure path of the pair loop (pair_loop.h).

@@ -1,6 +1,6 @@
 // The multi-mode Phan-Thien-Tanner (PTT) viscoelastic fluid of Nutto et al.
-// (seed 002, eqs. 1-9): weakly compressible (Tait, eq. 6 of seed 000, or the
-// quadratic EOS p = c0^2 rho^2 / (2 rho0), seed 002 eq. 9: the material key
+// (eqs. 1-9): weakly compressible (Tait, Canini et al. eq. 6, or the
+// quadratic EOS p = c0^2 rho^2 / (2 rho0), Nutto et al. eq. 9: the material key
 // `eos`), with the extra stress
 //   sigma = -p I + sum_i tau_i + 2 eta_s D                                  (eq. 3)
 // and per mode i the linear PTT law
