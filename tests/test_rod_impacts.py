@@ -22,7 +22,7 @@ from orchestrator.kinds.drag_finishing.impacts import (
 from orchestrator.kinds.drag_finishing.intensity import turn_z
 from orchestrator.kinds.drag_finishing.liggghts_deck import process_chunks
 from orchestrator.kinds.drag_finishing.plots_impacts import plot_impact_speeds
-from orchestrator.scene.geometry import rod_mesh
+from orchestrator.kinds.drag_finishing.scene import rod_mesh
 
 R_ROD, R_PATH, OMEGA, R_BALL, TIP = 0.005, 0.02, 0.5, 3.27e-3, 0.02
 

@@ -19,12 +19,16 @@ from orchestrator.case.common import (
     Numerics,
     Positive,
     mesh_file,
+    rayleigh_timestep,
 )
-from orchestrator.case.limits import check_drag_finishing
+from orchestrator.case.limits import MAX_CHECKPOINTS, check_interval, check_memory, check_steps
 
 #: Random loose packing of monodisperse spheres poured into a container; used
 #: only to tell a user early that a bed cannot fit in the bowl.
 DENSEST_RANDOM_PACKING = 0.64
+#: Memory one DEM ball takes in an engine (Yade's body, state and shape objects with about six interactions,
+#: LIGGGHTS's per-atom arrays and contact history), rounded up, bytes.
+BYTES_PER_DEM_PARTICLE = 4096
 
 
 class Media(Frozen):
@@ -287,3 +291,27 @@ class DragFinishingCase(MaterialCase):
     def angular_velocity(self) -> float:
         """Angular velocity of the rod about the bowl axis, rad/s."""
         return self.workpiece.speed / self.workpiece.path_radius
+
+
+def check_drag_finishing(case) -> None:
+    """Memory of the bed, step counts and the record interval of a drag-finishing case."""
+
+    check_memory(f"media.count = {case.media.count}", case.media.count, BYTES_PER_DEM_PARTICLE, "fewer balls")
+
+    media = case.media
+    r_min = media.radius - (2.0 if media.distribution == "normal" else 1.0) * media.radius_spread
+    material = case.materials[media.material]
+    step = case.numerics.timestep_factor * rayleigh_timestep(r_min, material, case.numerics.stiffness_scale)
+    settle = case.settling_timestep_factor * rayleigh_timestep(r_min, material, case.settling_stiffness_scale)
+    step_key = "the time step (numerics.timestep_factor x the Rayleigh step of the smallest ball)"
+    check_steps("process.duration", case.process.duration, step_key, step)
+    check_interval("output.record_interval", case.output.record_interval, "process.duration", case.process.duration,
+                   "numerics.timestep_factor x the Rayleigh step", step)
+    checkpoints = getattr(case.output, "checkpoint_interval", None)
+    if checkpoints is not None:  # each writes the whole scene: a few thousand at most
+        check_interval("output.checkpoint_interval", checkpoints, "process.duration", case.process.duration,
+                       most=MAX_CHECKPOINTS, what="checkpoints")
+    settle_time = case.settling.max_time + case.settling.relax_time + case.settling.stiffen_time
+    check_steps("settling.max_time + relax_time + stiffen_time", settle_time,
+                "the settling time step (settling.timestep_factor x the Rayleigh step at settling.stiffness_scale)",
+                settle)

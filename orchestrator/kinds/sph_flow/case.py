@@ -20,7 +20,7 @@ import math
 from pydantic import Field, model_validator
 
 from orchestrator.case.common import CaseMeta, Frozen
-from orchestrator.case.limits import check_sph
+from orchestrator.kinds.sph_flow.case_limits import check_sph
 from orchestrator.kinds.sph_flow.case_materials import (Material, check_materials, largest_c0_and_viscosity,
                                                        run_materials)
 from orchestrator.kinds.sph_flow.case_open import Inlet, Outlet

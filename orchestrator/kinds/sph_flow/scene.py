@@ -10,10 +10,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from orchestrator.case.limits import sph_timestep
 from orchestrator.kinds.sph_flow.case import SphFlowCase, Wall
 from orchestrator.kinds.sph_flow.case_materials import (RunMaterial, block_materials, largest_c0_and_viscosity,
                                                        run_materials)
+from orchestrator.kinds.sph_flow.case_limits import sph_timestep
 from orchestrator.scene.geometry import read_mesh
 
 #: Particle kinds of the sph executable's input (engines/sph/src/physics_terms.h).
