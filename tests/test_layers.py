@@ -1,36 +1,55 @@
 """The package's layers hold: a module imports only from its own layer or below, counting imports inside functions
-too, and the internal import graph has no cycle. Lazy (function-level) imports are for heavy libraries only.
+too, the internal import graph has no cycle, and no kind imports another kind. Lazy (function-level) imports are for
+heavy libraries only.
+
+A module's layer is its folder: every module under orchestrator/<folder>/ shares the folder's layer, and every module
+of a kind's folder orchestrator/kinds/<kind>/ shares the kinds' layer, whatever its name. Only the modules at the top
+of orchestrator/ and of orchestrator/kinds/ (outside any folder) are listed one by one.
 
 Layers, lowest first (docs/architecture.md draws them):
-utilities < reference solvers < engines (programs) < the kinds registry < shared case and scene helpers
-< each kind's case, scene and theory < the case loader and run.h5 < each kind's adapters, analysis and pictures
-< one run (run, report, export, measure, identity) < workflows (verify, compare, calibrate, sweeps, benches, studies)
-< the CLI.
+utilities < reference solvers < engines (programs) < the kinds registry < the case loader, shared scene helpers and
+run.h5 < packages shared by several kinds (dem) < the kinds < one run (run, report, export, measure, identity)
+< workflows and studies < the CLI.
 """
 
 from __future__ import annotations
 
 import ast
-from fnmatch import fnmatch
 from pathlib import Path
+
+import pytest
 
 PACKAGE = Path(__file__).resolve().parent.parent / "orchestrator"
 
-#: (layer, path patterns relative to orchestrator/); the first pattern that matches decides.
-LAYERS = [
-    (0, ["errors.py", "humanize.py", "outputs.py", "processes.py", "signals.py", "templating.py", "plots.py"]),
-    (1, ["reference/*"]),
-    (2, ["engines/*"]),
-    (3, ["kinds/__init__.py", "kinds/base.py"]),
-    (4, ["case/common.py", "case/limits.py", "scene/*"]),
-    (5, ["kinds/*/__init__.py", "kinds/*/case.py", "kinds/*/case_*.py", "kinds/*/scene.py", "kinds/*/theory.py",
-         "kinds/*/physics.py"]),
-    (6, ["case/*", "runh5.py", "rundir.py", "runner.py"]),
-    (7, ["kinds/*"]),
-    (8, ["run.py", "report.py", "export.py", "measure.py", "identity.py", "doctor.py"]),
-    (9, ["workflows/*", "study/*"]),
-    (10, ["cli/*", "cli.py", "__main__.py", "__init__.py"]),
-]
+UTILITIES, REFERENCE, ENGINES, REGISTRY, CASES, SHARED, KINDS, ONE_RUN, WORKFLOWS, CLI = range(10)
+#: The layer of each folder of orchestrator/: every module below it, at any depth.
+FOLDERS = {
+    "reference": REFERENCE,
+    "engines": ENGINES,
+    "case": CASES,
+    "scene": CASES,
+    "dem": SHARED,
+    "drill": SHARED,
+    "workflows": WORKFLOWS,
+    "study": WORKFLOWS,
+    "cli": CLI,
+}
+#: The modules outside any layer folder (at the top of orchestrator/ and of orchestrator/kinds/), one by one.
+FILES = {
+    "errors.py": UTILITIES, "humanize.py": UTILITIES, "outputs.py": UTILITIES, "processes.py": UTILITIES,
+    "signals.py": UTILITIES, "templating.py": UTILITIES, "plots.py": UTILITIES,
+    "kinds/__init__.py": REGISTRY, "kinds/base.py": REGISTRY,
+    "runh5.py": CASES, "rundir.py": CASES, "runner.py": CASES,
+    "run.py": ONE_RUN, "report.py": ONE_RUN, "export.py": ONE_RUN, "measure.py": ONE_RUN, "identity.py": ONE_RUN,
+    "doctor.py": ONE_RUN, "docs_tables.py": ONE_RUN,
+    "cli.py": CLI, "__main__.py": CLI, "__init__.py": CLI,
+}
+#: Kinds that still build on modules of another kind (kind, the other kind): the reason each is allowed. Their
+#: shared code belongs in a package of its own beside orchestrator/dem; clear a line when its imports are gone.
+KIND_IMPORTS_ALLOWED = {
+    ("ejector_drill", "sph_flow"): "its scenes are sph_flow cases and scenes, written by sph_flow's deck code",
+    ("rheometer", "sph_flow"): "its sample is an sph_flow case and scene, run by sph_flow's adapter",
+}
 #: The package's root __init__ is its public facade (load_case, run_case): it imports lazily so that
 #: ``import orchestrator`` stays light, and ``from orchestrator import X`` below it names submodules only.
 FACADE = "__init__.py"
@@ -40,11 +59,22 @@ HEAVY = {"pyvista", "vtk", "matplotlib", "dask", "distributed", "pandas", "h5py"
 
 
 def layer_of(relative: str) -> int:
-    """The layer of a module file (path relative to orchestrator/)."""
-    for layer, patterns in LAYERS:
-        if any(fnmatch(relative, pattern) for pattern in patterns):
-            return layer
-    raise AssertionError(f"orchestrator/{relative} is in no layer; add it to LAYERS in {Path(__file__).name}")
+    """The layer of a module file (path relative to orchestrator/): its folder's, or its own entry in FILES."""
+    if relative in FILES:
+        return FILES[relative]
+    parts = relative.split("/")
+    if parts[0] == "kinds" and len(parts) > 2:
+        return KINDS
+    if len(parts) > 1 and parts[0] in FOLDERS:
+        return FOLDERS[parts[0]]
+    where = f"FOLDERS (orchestrator/{parts[0]}/)" if len(parts) > 1 else "FILES"
+    raise AssertionError(f"orchestrator/{relative} is in no layer; add it to {where} in {Path(__file__).name}")
+
+
+def kind_of(relative: str | None) -> str | None:
+    """The kind whose folder holds a module file (path relative to orchestrator/), or None."""
+    parts = (relative or "").split("/")
+    return parts[1] if parts[0] == "kinds" and len(parts) > 2 else None
 
 
 def module_file(name: str) -> str | None:
@@ -139,10 +169,38 @@ def test_the_import_graph_has_no_cycle():
     assert not cycles, "import cycles:\n" + "\n".join(cycles)
 
 
+def kind_imports() -> dict[tuple[str, str], list[str]]:
+    """(kind, other kind) -> where a module of the first kind's folder imports a module of the other's."""
+    found: dict[tuple[str, str], list[str]] = {}
+    for path in sorted((PACKAGE / "kinds").rglob("*.py")):
+        relative = path.relative_to(PACKAGE).as_posix()
+        mine = kind_of(relative)
+        for name, line, _ in imports(path):
+            theirs = kind_of(module_file(name))
+            if mine and theirs and theirs != mine:
+                found.setdefault((mine, theirs), []).append(f"{relative}:{line} imports {name}")
+    return found
+
+
+def test_no_kind_imports_another_kind():
+    """Code two kinds share lives in a shared package (orchestrator/dem for the DEM kinds), not in one of them."""
+    found = kind_imports()
+    new = [line for pair, lines in sorted(found.items()) if pair not in KIND_IMPORTS_ALLOWED for line in lines]
+    assert not new, "a kind imports another kind (move the shared code into a shared package):\n" + "\n".join(new)
+    cleared = sorted(set(KIND_IMPORTS_ALLOWED) - set(found))
+    assert not cleared, f"no longer imported, remove from KIND_IMPORTS_ALLOWED: {cleared}"
+
+
 def test_a_module_out_of_its_layer_is_caught(tmp_path):
-    """The checker itself: an upward import is reported (the test above can fail)."""
-    assert layer_of("kinds/impact/case.py") < layer_of("kinds/impact/analysis.py") < layer_of("run.py")
+    """The checker itself: layers come from folders, an upward import is reported (the test above can fail)."""
+    assert layer_of("kinds/impact/case.py") == layer_of("kinds/impact/analysis.py") < layer_of("run.py")
+    assert layer_of("kinds/impact/any_helper_name.py") == layer_of("kinds/impact/case.py")
+    assert layer_of("dem/yade_law.py") < layer_of("kinds/drag_finishing/liggghts_deck.py")
     assert layer_of("engines/yade.py") < layer_of("kinds/__init__.py") < layer_of("workflows/verify.py")
+    assert layer_of("case/loader.py") < layer_of("kinds/impact/case.py")
+    with pytest.raises(AssertionError, match="add it to FOLDERS"):
+        layer_of("newfolder/module.py")
+    assert kind_of("kinds/impact/yade.py") == "impact" and kind_of("kinds/base.py") is None
     source = tmp_path / "probe.py"
     source.write_text("def f():\n    from orchestrator.run import run_case\n")
     found = list(imports(source))

@@ -1,4 +1,4 @@
-"""The paper's law on LIGGGHTS (orchestrator/backends/liggghts_physics.py), checked against LIGGGHTS-PUBLIC
+"""The paper's law on LIGGGHTS (orchestrator/dem/liggghts_law.py), checked against LIGGGHTS-PUBLIC
 3.8's own formulas (normal_model_hertz.h, global_properties.cpp) written out here; no engine needed."""
 
 import math
@@ -6,9 +6,9 @@ import math
 import numpy as np
 import pytest
 
-from orchestrator.kinds.liggghts_physics import (MAX_BETA, MIN_COEFFICIENT_RESTITUTION, beta_for_restitution,
-                                                    liggghts_beta, restitution_for_beta, tangential_damping_ratio,
-                                                    wall_copies, wall_material)
+from orchestrator.dem.liggghts_law import (MAX_BETA, MIN_COEFFICIENT_RESTITUTION, beta_for_restitution,
+                                              liggghts_beta, restitution_for_beta, tangential_damping_ratio,
+                                              wall_copies, wall_material)
 from orchestrator.reference import closed_form, contact
 
 SQRT_FIVE_SIXTHS = math.sqrt(5.0 / 6.0)

@@ -13,7 +13,7 @@ from pathlib import Path
 import pytest
 
 from orchestrator.kinds.impact.theory import CLOSED_FORMS
-from orchestrator.kinds.impact.yade import yade_native_alpha
+from orchestrator.dem.yade_law import yade_native_alpha
 from orchestrator.case import load_case
 from orchestrator.reference import closed_form
 from orchestrator.run import run_case

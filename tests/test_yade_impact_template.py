@@ -17,8 +17,8 @@ import pytest
 from orchestrator.kinds import bind
 from orchestrator.kinds.impact.yade import impact_context
 
-from orchestrator.kinds.impact.yade import (mindlin_shear_coefficient, read_impact_output, thornton_betan,
-                                               yade_damping_parameters)
+from orchestrator.dem.yade_law import mindlin_shear_coefficient, thornton_betan, yade_damping_parameters
+from orchestrator.kinds.impact.yade import read_impact_output
 from orchestrator.case import load_case
 from orchestrator.reference import closed_form, contact
 from orchestrator.kinds import build_scene

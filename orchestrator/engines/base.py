@@ -31,8 +31,8 @@ class Result:
     frames / contacts: lists of (time_s, {name: array}); meshes: name ->
     {"vertices", "faces", per-face fields}; events: one row per contact
     from first touch to separation (impact cases; columns in
-    analysis.impact.EVENT_FIELDS); measured: the case's measured quantities
-    (filled by the analysis).
+    orchestrator.reference.dem_forces.EVENT_FIELDS); measured: the case's
+    measured quantities (filled by the analysis).
     """
 
     status: str = "ok"

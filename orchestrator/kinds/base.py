@@ -15,7 +15,7 @@ import abc
 import importlib
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 from orchestrator.errors import OrchestratorError
 
@@ -185,6 +185,3 @@ class Bound:
     def resume_input(self, scene, workdir: Path):
         """See Adapter.resume_input."""
         return self.adapter.resume_input(self.engine, scene, Path(workdir))
-
-
-Measure = Callable[[Any, Any], dict]

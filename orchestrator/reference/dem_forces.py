@@ -20,8 +20,13 @@ import numpy as np
 
 from orchestrator.reference import contact
 
-EVENT_FIELDS = ("sphere", "other_kind", "other", "wall", "start_time", "end_time", "impact_speed",
-                "rebound_speed", "peak_normal_force", "peak_time", "max_overlap")
+#: Columns of the contact-event table (one row per contact from first touch to separation) and their units:
+#: the reference DEM's life record, and Result.events / run.h5 /events of every engine's impact runs
+#: (definitions: orchestrator.kinds.impact.analysis).
+EVENT_FIELDS: dict[str, str] = {
+    "sphere": "-", "other_kind": "-", "other": "-", "start_time": "s", "end_time": "s", "impact_speed": "m/s",
+    "rebound_speed": "m/s", "peak_normal_force": "N", "peak_time": "s", "max_overlap": "m",
+}
 KIND_SPHERE, KIND_PLANE, KIND_TRIANGLE = 0, 1, 2
 
 
@@ -163,8 +168,7 @@ class ContactLaw:
         for name in self.last:
             self.last[name][found] = kept_last[name]
         new = ~found
-        for name, values in (("sphere", batch.sphere), ("other_kind", batch.kind), ("other", batch.other),
-                             ("wall", batch.wall)):
+        for name, values in (("sphere", batch.sphere), ("other_kind", batch.kind), ("other", batch.other)):
             self.life[name][new] = values[new]
         self.life["peak_normal_force"][new] = -np.inf
         self.life["max_overlap"][new] = 0.0
@@ -200,7 +204,7 @@ class ContactLaw:
         open_now["rebound_speed"] = np.full(len(self.keys), np.nan)
         parts = self.closed + [open_now]
         out = {name: np.concatenate([p[name] for p in parts]) for name in EVENT_FIELDS}
-        for name in ("sphere", "other_kind", "other", "wall"):
+        for name in ("sphere", "other_kind", "other"):
             out[name] = out[name].astype(np.int64)
         order = np.argsort(out["start_time"], kind="stable")
         return {name: values[order] for name, values in out.items()}

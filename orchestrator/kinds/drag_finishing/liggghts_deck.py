@@ -7,7 +7,7 @@ kinetic_energy, unbalanced_force, n_contacts, rod_tip_z, phase; frames;
 interaction networks; the rod's per-face contact intensity).
 
 Where the deck differs from the Yade script (besides the contact law, see
-liggghts_physics.py):
+orchestrator.dem.liggghts_law):
 - the rest criterion's mean contact force is the mean *normal* force (from
   the per-atom virial for ball-ball contacts, the stored wall force for
   ball-wall ones); Yade's includes the tangential part (at most 6 % more at
@@ -28,11 +28,11 @@ from pathlib import Path
 
 import numpy as np
 
+from orchestrator.dem.liggghts_law import liggghts_beta, restitution_for_beta
+from orchestrator.dem.yade_law import yade_native_alpha
 from orchestrator.engines.liggghts_files import write_data_file, write_stl_ascii
 from orchestrator.kinds.drag_finishing.impacts import template_values
 from orchestrator.kinds.drag_finishing.schedule import every, schedule
-from orchestrator.kinds.impact.yade import yade_native_alpha
-from orchestrator.kinds.liggghts_physics import liggghts_beta, restitution_for_beta
 
 TEMPLATE = Path(__file__).resolve().parent / "templates" / "liggghts.in.j2"
 DATA_FILE = "balls.data"

@@ -1,7 +1,8 @@
 """Impact runs: the measured quantities (from the contact events and the
 series every backend writes) and the case's checks against them.
 
-Contact events (Result.events, run.h5 /events) hold one row per contact
+Contact events (Result.events, run.h5 /events; columns and units in
+orchestrator.reference.dem_forces.EVENT_FIELDS) hold one row per contact
 from first touch to separation, with the same definitions on every engine:
 start_time = t_1 - delta_1 / rate_1 at the first step in contact (t_1, the
 overlap delta_1 and its rate), end_time likewise at the last step,
@@ -18,11 +19,6 @@ import numpy as np
 
 from orchestrator.kinds.impact.theory import NotApplicable, expected_value
 
-#: Columns of the contact-event table and their units.
-EVENT_FIELDS: dict[str, str] = {
-    "sphere": "-", "other_kind": "-", "other": "-", "start_time": "s", "end_time": "s", "impact_speed": "m/s",
-    "rebound_speed": "m/s", "peak_normal_force": "N", "peak_time": "s", "max_overlap": "m",
-}
 #: other_kind codes of an event: the other body is a sphere, or the plane.
 OTHER_SPHERE, OTHER_PLANE = 0, 1
 #: Contact events are recorded for scenes of at most this many spheres (impacts); a dense scene's

@@ -1,7 +1,8 @@
 """LIGGGHTS backend, impact scenes: the deck's context (materials, damping,
-wall copies; liggghts_physics.py says how the law maps), the files it reads,
-and the reader that turns its dumps into the series and contact events Yade's
-impact runs have (analysis.impact.EVENT_FIELDS, same definitions).
+wall copies; orchestrator.dem.liggghts_law says how the law maps), the files
+it reads, and the reader that turns its dumps into the series and contact
+events Yade's impact runs have (orchestrator.reference.dem_forces.EVENT_FIELDS,
+same definitions).
 
 The deck dumps the spheres at every record and, while a contact is on or may
 start before the next record (a sphere within reach of the plane or of
@@ -20,15 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from orchestrator.engines.liggghts_files import write_data_file, write_stl_ascii
-from orchestrator.errors import OrchestratorError
-from orchestrator.kinds.impact.analysis import EVENT_LIMIT
-from orchestrator.kinds.impact.case import RIGID
-from orchestrator.kinds.impact.physics import energy_scale, fastest_closing_speeds, poisson_ratio, young_modulus
-from orchestrator.kinds.impact.yade import (
-    domain_radius,
-)
-from orchestrator.kinds.liggghts_physics import (
+from orchestrator.dem.liggghts_law import (
     MAX_BETA,
     beta_for_restitution,
     liggghts_beta,
@@ -36,6 +29,14 @@ from orchestrator.kinds.liggghts_physics import (
     tangential_damping_ratio,
     wall_copies,
     wall_material,
+)
+from orchestrator.engines.liggghts_files import write_data_file, write_stl_ascii
+from orchestrator.errors import OrchestratorError
+from orchestrator.kinds.impact.analysis import EVENT_LIMIT
+from orchestrator.kinds.impact.case import RIGID
+from orchestrator.kinds.impact.physics import energy_scale, fastest_closing_speeds, poisson_ratio, young_modulus
+from orchestrator.kinds.impact.yade import (
+    domain_radius,
 )
 
 TEMPLATE = Path(__file__).resolve().parent / "templates" / "liggghts.in.j2"

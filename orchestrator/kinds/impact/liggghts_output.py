@@ -20,6 +20,7 @@ from orchestrator.kinds.impact.yade import (
     fill_impact_series,
     instability_advice,
 )
+from orchestrator.reference.dem_forces import EVENT_FIELDS
 from orchestrator.runner import LOG_NAME
 
 
@@ -82,7 +83,7 @@ def _merge_steps(*tables) -> dict[int, dict]:
 
 
 def contact_events(steps: dict[int, dict], dt: float) -> dict[str, np.ndarray]:
-    """Contact events (analysis.impact.EVENT_FIELDS) from the contacts of consecutive dumped steps, as Yade's
+    """Contact events (the columns of EVENT_FIELDS) from the contacts of consecutive dumped steps, as Yade's
     track() builds them: start/end extrapolated with overlap / rate at the first / last step in contact."""
     open_events, closed = {}, []
     for step in sorted(steps):
@@ -111,9 +112,7 @@ def contact_events(steps: dict[int, dict], dt: float) -> dict[str, np.ndarray]:
             closed.append(event)
     rows = closed + [dict({k: v for k, v in e.items() if k != "last"}, end_time=math.nan, rebound_speed=math.nan)
                      for e in open_events.values()]
-    columns = ("sphere", "other_kind", "other", "start_time", "end_time", "impact_speed", "rebound_speed",
-               "peak_normal_force", "peak_time", "max_overlap")
-    return {c: np.array([row[c] for row in rows], dtype=float) for c in columns}
+    return {c: np.array([row[c] for row in rows], dtype=float) for c in EVENT_FIELDS}
 
 
 def _atom_records(out: Path, n_spheres: int) -> tuple[np.ndarray, dict[str, np.ndarray]]:

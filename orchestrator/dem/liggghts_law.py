@@ -49,7 +49,7 @@ on the whole. Sphere-sphere contacts have no such way out and are refused.
 
 Drag finishing (no model.damping in its case): Yade's drag template gives
 Yade its en/es, which Yade 2023 maps by Thornton et al.'s fit; the deck gets
-the same alpha (yade_native_alpha), so both engines run the same damping.
+the same alpha (yade_law.yade_native_alpha), so both engines run the same damping.
 Yade's Cundall damping while the bed settles has no LIGGGHTS-PUBLIC command;
 the deck applies the same force, -damping |F| sign(v) per component, with
 fix addforce on per-atom variables (forces only: Yade also damps torques).
@@ -60,12 +60,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from orchestrator.dem import RIGID_POISSON, RIGID_STIFFNESS_FACTOR
+
 #: LIGGGHTS 3.8 refuses coefficientRestitution <= 0.05; we stay above this value.
 MIN_COEFFICIENT_RESTITUTION = 0.06
-#: An immovable rigid wall's E, as a multiple of the stiffest sphere material's (as Yade's impact template).
-RIGID_STIFFNESS_FACTOR = 1e6
-#: Poisson's ratio given to a rigid wall (it has no effect: E is 1e6 times larger).
-RIGID_POISSON = 0.3
 
 
 def liggghts_beta(alpha: float) -> float:
