@@ -36,7 +36,8 @@ from xml.sax.saxutils import quoteattr
 import numpy as np
 
 from orchestrator.errors import OrchestratorError, ReadError
-from orchestrator.humanize import make_out_dir, os_problem
+from orchestrator.humanize import os_problem
+from orchestrator.outputs import claim_folder, write_text
 from orchestrator.runh5 import RUN_FILE, normal_force_of, read_run
 
 #: run.h5 frame names -> the singular names used as VTK point data.
@@ -63,7 +64,7 @@ def export_vtk(run_dir, out_dir=None) -> list[Path]:
     if "case" not in run or "status" not in run.get("attrs", {}):
         raise ReadError(f"{h5_path} has no /case group or status: it was not written by 'orchestrator run' "
                         "(or is damaged); export needs a run directory written by 'orchestrator run'")
-    out = make_out_dir(Path(out_dir) if out_dir is not None else h5_path.parent / "vtk", "--out")
+    out = claim_folder(Path(out_dir) if out_dir is not None else h5_path.parent / "vtk", "--out", "export")
     try:
         return _write_all(run, out)
     except OSError as exc:
@@ -179,5 +180,4 @@ def _write_pvd(path: Path, entries: list[tuple[float, str]]) -> Path:
     for time_s, name in sorted(entries):
         lines.append(f'    <DataSet timestep="{time_s!r}" group="" part="0" file={quoteattr(name)}/>')
     lines += ["  </Collection>", "</VTKFile>", ""]
-    path.write_text("\n".join(lines))
-    return path
+    return write_text(path, "\n".join(lines), "--out")

@@ -118,12 +118,13 @@ def _same_file(a: Path, b: Path) -> bool:
 
 @contextlib.contextmanager
 def atomic(path, option: str = "output", inputs=(), own_run_file: bool = False, suffix: str = ""):
-    """Context manager yielding a temporary path beside path (same folder) to write into; when the block ends
-    without error the temporary file replaces path. An OSError inside the block or at the rename becomes a
+    """Context manager yielding a temporary path beside path (same folder, made if missing) to write into; when the
+    block ends without error the temporary file replaces path. An OSError inside the block or at the rename becomes a
     WriteError naming path; the temporary file never stays behind."""
     path = check_target(path, option, inputs, own_run_file, suffix)
     tmp = path.with_name(f".{path.name[:200]}.{os.getpid()}.tmp")
     try:
+        path.parent.mkdir(parents=True, exist_ok=True)
         yield tmp
         os.replace(tmp, path)
     except OSError as exc:

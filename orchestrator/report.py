@@ -10,6 +10,8 @@ from pathlib import Path
 
 from orchestrator.errors import OrchestratorError, ReadError
 from orchestrator.kinds import get_kind
+from orchestrator.humanize import os_problem
+from orchestrator.outputs import RUN_FILE, check_target, write_text
 from orchestrator.runh5 import read_run, stored_case
 
 
@@ -41,14 +43,13 @@ def write_summary(run_dir, path, render: bool = True) -> Path:
     (SUMMARY_ATTRS), its resolved case (TOML text), its measured quantities (SI) and the printed report (lines):
     a few kB that stand for a run whose raw data stay out of the repository. Returns path; OrchestratorError,
     before anything is analysed, when path cannot be written."""
-    path = Path(path)
-    try:  # checked first: a summary that cannot be written should not cost the analysis
+    run_files = [Path(run_dir) / name for name in (RUN_FILE, "case.toml")]
+    # checked first: a summary that cannot be written (a FIFO, a folder, the run's own files) costs no analysis
+    path = check_target(path, "--summary", inputs=run_files)
+    try:
         path.parent.mkdir(parents=True, exist_ok=True)
-        with open(path, "a"):
-            pass
     except OSError as exc:
-        raise OrchestratorError(f"--summary {path}: cannot write there ({exc.strerror}); give a file in a "
-                                "writable folder") from None
+        raise OrchestratorError(f"--summary {path}: cannot create its folder: {os_problem(exc)}") from None
     buffer = io.StringIO()
     with contextlib.redirect_stdout(buffer):
         analyze_run(run_dir, render)
@@ -60,5 +61,4 @@ def write_summary(run_dir, path, render: bool = True) -> Path:
                "measured": {k: plain(v) for k, v in run.get("measured", {}).get("attrs", {}).items()},
                "case": str(run.get("case", {}).get("attrs", {}).get("toml", "")),
                "report": text.splitlines()}
-    path.write_text(json.dumps(summary, indent=1, allow_nan=True) + "\n")
-    return path
+    return write_text(path, json.dumps(summary, indent=1, allow_nan=True) + "\n", "--summary", inputs=run_files)

@@ -4,17 +4,21 @@ from __future__ import annotations
 
 import dataclasses
 import datetime as _dt
+import errno
 import math
 import sys
 import time
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
+from pydantic import ValidationError
+
 from orchestrator import __version__, signals
 from orchestrator.case import load_case
 from orchestrator.engines import get_engine
 from orchestrator.engines.base import Result
-from orchestrator.errors import EngineFailed, EngineTimeout, EngineUnstable, OrchestratorError, ReadError
+from orchestrator.case.loader import format_validation_error
+from orchestrator.errors import CaseError, EngineFailed, EngineTimeout, EngineUnstable, OrchestratorError, ReadError
 from orchestrator.humanize import describe_returncode, os_problem, stamped_dir
 from orchestrator.kinds import Bound, get_kind
 from orchestrator.rundir import MARKER, RunDirectory, run_info
@@ -117,6 +121,19 @@ def resumable_run(run_dir, until: float | None = None) -> tuple:
     return dataclasses.replace(loaded, preset=info.get("preset") or None), info["engine"], info.get("mpi_ranks")
 
 
+def checked_scene(case):
+    """The scene of a validated case model, built by its kind; a value the builder derives out of its range
+    (a pydantic ValidationError) or a geometry it cannot build (ValueError) is a CaseError naming the key."""
+    try:
+        return get_kind(case.case.kind).scene(case)
+    except ValidationError as exc:
+        lines = format_validation_error(exc, get_kind(case.case.kind).model())
+        raise CaseError(f"cannot build the scene of {case.case.name}: a value derived from the case is out of its "
+                        f"range:\n{lines}") from None
+    except ValueError as exc:
+        raise CaseError(f"cannot build the scene of {case.case.name}: {exc}") from None
+
+
 def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float | None = None,
              progress: bool = True, force: bool = False, on_timing=None, extra_attrs=None,
              mpi_ranks: int | None = None, resume: bool = False) -> RunSummary:
@@ -149,14 +166,11 @@ def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float |
     with probe_bound(timeout_s):
         version = program.version()
     clock.lap("setup")
-    try:
-        with signals.time_limit(timeout_s, EngineTimeout(
-                f"building the scene of {case.case.name} took longer than --timeout {timeout_s:g} s; nothing was "
-                "written (a finer particle spacing or larger geometry costs more: check the case's sizes)"
-                if timeout_s else "")):
-            scene = kind.scene(case)
-    except ValueError as exc:
-        raise OrchestratorError(f"cannot build the scene of {case.case.name}: {exc}") from None
+    with signals.time_limit(timeout_s, EngineTimeout(
+            f"building the scene of {case.case.name} took longer than --timeout {timeout_s:g} s; nothing was "
+            "written (a finer particle spacing or larger geometry costs more: check the case's sizes)"
+            if timeout_s else "")):
+        scene = checked_scene(case)
     if timeout_s is not None:  # what preprocessing took counts against the limit
         timeout_s = max(timeout_s - (time.monotonic() - started_at), 1.0)
     backend = Bound(program, kind.adapter(engine, scene))
@@ -236,7 +250,7 @@ def _run_engine(backend, scene, run_dir: Path, clock: PhaseClock, timeout_s, pro
     command: list[str] = []
     try:
         if resume:
-            command, env = backend.resume_input(scene, run_dir)
+            command, env = _resume_input(backend, scene, run_dir)
             _keep_log(run_dir / LOG_NAME)
         else:
             try:
@@ -260,6 +274,19 @@ def _run_engine(backend, scene, run_dir: Path, clock: PhaseClock, timeout_s, pro
         if execution is None:  # stopped before the engine started
             execution = Execution(None, False, True, 0.0, None, run_dir / LOG_NAME)
         return command, execution, exc
+
+
+def _resume_input(backend, scene, run_dir: Path):
+    """backend.resume_input; an output it cannot read (a truncated out.h5) is a ReadError (exit 6), a file it
+    cannot write a WriteError (exit 8)."""
+    try:
+        return backend.resume_input(scene, run_dir)
+    except OSError as exc:
+        if exc.errno in (errno.ENOSPC, errno.EDQUOT, errno.EROFS, errno.EACCES, errno.EPERM):
+            raise WriteError(f"--resume {run_dir}: cannot write the input that continues the run: "
+                             f"{os_problem(exc)}") from None
+        raise ReadError(f"--resume {run_dir}: cannot read the run's output to continue from it ({exc}); the "
+                        "file is damaged or truncated: start the run again into a new --out") from None
 
 
 def _keep_log(log: Path) -> None:

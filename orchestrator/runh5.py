@@ -29,7 +29,7 @@ def write_run(path: Path, result: Result, root_attrs: dict, case_toml: str, case
     import h5py
 
     path = Path(path)
-    need = _estimated_bytes(result) + len(case_toml) + len(log_tail) + (1 << 20)
+    need = int(1.05 * _estimated_bytes(result)) + len(case_toml) + len(log_tail) + (64 << 10)
     free = free_bytes(path.parent)
     if free is not None and free < need:
         raise WriteError(f"cannot write {path}: about {byte_size(need)} needed, {byte_size(free)} free on its device")

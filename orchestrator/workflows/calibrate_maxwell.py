@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from orchestrator.errors import OrchestratorError
+from orchestrator.outputs import check_target, write_text
 from orchestrator.plots import save_pyplot_figure
 from orchestrator.reference.maxwell import MaxwellFit, Mode, fit_maxwell, loss_modulus, storage_modulus
 
@@ -24,13 +25,25 @@ MODULUS_COLUMNS = ("G_storage_Pa", "G_loss_Pa")
 FORMAT = "a header naming omega_rad_s or f_Hz and G_storage_Pa and/or G_loss_Pa, then rows of numbers"
 
 
+#: Bounds of a moduli CSV, checked before the fit: its size in bytes, its data rows (the fit's time grows with
+#: them), each value's magnitude (frequencies rad/s or Hz, moduli Pa: the fitted relaxation times must stay
+#: within the limits of case files), and the number of modes.
+MAX_CSV_BYTES = 4 * 2**20
+MAX_ROWS = 2000
+VALUE_RANGE = (1e-20, 1e20)
+MAX_MODES = 20
+
+
 def read_moduli(path):
     """(omega rad/s, G' Pa or None, G'' Pa or None) from a moduli CSV; OrchestratorError (exit 2) naming the
-    file, line and column of the first bad value."""
+    file, line and column of the first bad value, or the bound (MAX_CSV_BYTES, MAX_ROWS, VALUE_RANGE) passed."""
     path = Path(path)
     if not path.is_file():
         raise OrchestratorError(f"no CSV file at {path}" if not path.exists() else f"{path} is not a regular file"
                                 + f"; give a CSV with {FORMAT}")
+    if path.stat().st_size > MAX_CSV_BYTES:
+        raise OrchestratorError(f"{path}: {path.stat().st_size} bytes; allowed: at most {MAX_CSV_BYTES} bytes "
+                                f"(and {MAX_ROWS} data rows)")
     try:
         with open(path, newline="") as fh:
             lines = [(k + 1, row) for k, row in enumerate(csv.reader(fh))]
@@ -50,6 +63,9 @@ def read_moduli(path):
         raise OrchestratorError(f"{path}: line {header_line}: the header {','.join(header)!r} names no modulus "
                                 "column; expected G_storage_Pa and/or G_loss_Pa")
     wanted = frequency + moduli
+    if len(lines) - 1 > MAX_ROWS:
+        raise OrchestratorError(f"{path}: {len(lines) - 1} data rows; allowed: at most {MAX_ROWS} (average or "
+                                "thin the measurements)")
     columns = {name: [] for name in wanted}
     for line, row in lines[1:]:
         if len(row) != len(header):
@@ -61,9 +77,9 @@ def read_moduli(path):
                 value = float(text)
             except ValueError:
                 raise OrchestratorError(f"{path}: line {line}, column {name}: {text!r} is not a number") from None
-            if not (math.isfinite(value) and value > 0):
-                raise OrchestratorError(f"{path}: line {line}, column {name}: {text}; allowed: a finite number "
-                                        "above 0")
+            if not (math.isfinite(value) and VALUE_RANGE[0] <= value <= VALUE_RANGE[1]):
+                raise OrchestratorError(f"{path}: line {line}, column {name}: {text}; allowed: a number from "
+                                        f"{VALUE_RANGE[0]:g} to {VALUE_RANGE[1]:g}")
             columns[name].append(value)
     if len(columns[frequency[0]]) < 3:
         raise OrchestratorError(f"{path}: {len(columns[frequency[0]])} data rows; the fit needs at least 3")
@@ -78,6 +94,8 @@ def read_moduli(path):
 def calibrate(path, n_modes: int, fit: str = "both", plateau: bool = False, cross: bool = False):
     """Read the CSV at path and fit n_modes modes to G' ('storage'), G'' ('loss') or both; returns
     (omega rad/s, G' Pa, G'' Pa, MaxwellFit), the moduli not fitted set to None."""
+    if not 1 <= n_modes <= MAX_MODES:
+        raise OrchestratorError(f"--modes {n_modes}: allowed: 1 to {MAX_MODES}")
     omega, storage, loss = read_moduli(path)
     for name, data, column in (("storage", storage, "G_storage_Pa"), ("loss", loss, "G_loss_Pa")):
         if fit in (name, "both") and data is None:
@@ -130,8 +148,9 @@ def fit_as_dict(result: MaxwellFit) -> dict:
 
 
 def write_fragment(result: MaxwellFit, out, source: str, force: bool = False) -> Path:
-    """Write the modes as a case-file fragment (TOML) at out; refuse an existing file unless force."""
-    out = Path(out)
+    """Write the modes as a case-file fragment (TOML) at out through the output policy (never over the data file
+    `source`, a FIFO or a folder); refuse an existing file unless force."""
+    out = check_target(out, "--out", inputs=(source,))
     if out.exists() and not force:
         raise OrchestratorError(f"{out} exists; give --force to overwrite it")
     lines = [f"# Multi-mode Maxwell fit of {source} by `orchestrator calibrate maxwell` ({result.fitted} moduli).",
@@ -142,9 +161,7 @@ def write_fragment(result: MaxwellFit, out, source: str, force: bool = False) ->
                   f"viscosity = {float(m.viscosity)!r}"]
     if result.cross is not None:  # eta_0, eta_inf Pa s; K s; m -
         lines += ["", "[material.cross_loss]"] + [f"{k} = {float(v)!r}" for k, v in asdict(result.cross).items()]
-    out.parent.mkdir(parents=True, exist_ok=True)
-    out.write_text("\n".join(lines) + "\n")
-    return out
+    return write_text(out, "\n".join(lines) + "\n", "--out", inputs=(source,))
 
 
 def plot_fit(omega, storage, loss, result: MaxwellFit, png, title: str = "") -> Path:
@@ -185,9 +202,7 @@ def write_moduli_csv(path, omega, storage, loss, comment: str = "") -> Path:
     """A moduli CSV (omega_rad_s, G_storage_Pa, G_loss_Pa; 6 significant digits) with '#' comment lines."""
     lines = [f"# {line}" for line in comment.splitlines()] + ["omega_rad_s,G_storage_Pa,G_loss_Pa"]
     lines += [f"{w:.6g},{s:.6g},{g:.6g}" for w, s, g in zip(omega, storage, loss)]
-    path = Path(path)
-    path.write_text("\n".join(lines) + "\n")
-    return path
+    return write_text(path, "\n".join(lines) + "\n", "moduli CSV")
 
 
 __all__ = ["Mode", "calibrate", "format_fit", "plot_fit", "read_moduli", "synthetic_moduli", "write_fragment"]

@@ -18,7 +18,7 @@ from orchestrator.errors import EngineNotFound, OrchestratorError
 from orchestrator.kinds.rheometer.analysis import maxwell_moduli
 from orchestrator.kinds.rheometer.physics import sample_numerics
 from orchestrator.plots import save_pyplot_figure
-from orchestrator.run import run_case
+from orchestrator.run import checked_scene, run_case
 from orchestrator.workflows.base import Workflow
 
 ENGINE = "sph"
@@ -107,7 +107,7 @@ def run_sweep(case_file: Path, frequencies=None, out_dir=None, overrides=(), wor
     def prepare():
         omegas[:] = frequencies_of(case_file, frequencies, overrides)
         for w in omegas:  # every point validates (and its step count is bounded) before anything runs
-            load_case(case_file, overrides=[*overrides, f"shear.omega={w!r}"])
+            checked_scene(load_case(case_file, overrides=[*overrides, f"shear.omega={w!r}"]).model)
 
     def jobs(folder: Path):
         get_engine(ENGINE).check_available()

@@ -11,13 +11,13 @@ A PNG overlays the normal-force curves of every engine per scene.
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
 from orchestrator.case import load_case
+from orchestrator.case.loader import read_toml_file
 from orchestrator.engines import engine_names, get_engine
-from orchestrator.errors import EngineNotFound, OrchestratorError
+from orchestrator.errors import CaseError, EngineNotFound, OrchestratorError
 from orchestrator.humanize import stamped_dir
 from orchestrator.kinds import engines_for_kind
 from orchestrator.kinds.impact.analysis import evaluate_checks
@@ -51,10 +51,10 @@ def scene_files(directory: Path | None = None, kind: str = "impact") -> list[Pat
                                 "cases/verification")
     files = []
     for path in sorted(directory.glob("*.toml")):
-        try:
-            meta = tomllib.loads(path.read_text(encoding="utf-8")).get("case", {})
+        try:  # read_toml_file refuses FIFOs, devices and oversized files before reading anything
+            meta = read_toml_file(path, "case").get("case", {})
             file_kind = meta.get("kind") if isinstance(meta, dict) else kind
-        except (OSError, ValueError, RecursionError):  # ValueError: TOMLDecodeError and UnicodeDecodeError
+        except CaseError:
             file_kind = kind  # let the case loader report what is wrong with it
         if file_kind == kind:
             files.append(path)
