@@ -8,18 +8,20 @@ from pathlib import Path
 
 import numpy as np
 
+from orchestrator.humanize import os_problem
+from orchestrator.outputs import WriteError, save_figure
 
-def save_pyplot_figure(fig, path, dpi: int = 110) -> Path:
-    """Lay out a pyplot figure, write it as a PNG at path (parent folders made; dpi in dots per inch),
-    close it (pyplot keeps open figures alive) and return the path."""
-    import matplotlib.pyplot as plt
 
-    fig.tight_layout()
+def save_pyplot_figure(fig, path, dpi: int = 110, option: str = "picture", inputs=()) -> Path:
+    """Lay out a pyplot figure, write it as a PNG at path (dpi in dots per inch; parent folders made) through the
+    output policy (outputs.save_figure: a .png name, a regular file, never an input, a temporary name then a
+    rename), close it (pyplot keeps open figures alive) and return the path."""
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=dpi)
-    plt.close(fig)
-    return path
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise WriteError(f"{option} {path}: cannot create its folder: {os_problem(exc)}") from None
+    return save_figure(fig, path, option, dpi, inputs)
 
 
 # ---------------------------------------------------------------- force series
