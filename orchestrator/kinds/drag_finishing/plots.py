@@ -15,6 +15,7 @@ from orchestrator.errors import ReadError
 from orchestrator.kinds.drag_finishing.analysis import force_statistics, process_series
 from orchestrator.plots import font_file, polydata, quiet_headless_vtk
 from orchestrator.runh5 import normal_force_of
+from orchestrator.outputs import save_figure
 
 #: Mean ball radius of the paper's media (Uhlmann et al. 2015), m; used when a run has no frames.
 DEFAULT_BALL_RADIUS = 3.27e-3
@@ -85,7 +86,7 @@ def plot_drag_finishing_forces(run: dict, case, path) -> Path:
     fig.legend([h for h, _ in entries], [lab for _, lab in entries], loc="outside lower center", ncols=2,
                fontsize=8, frameon=False)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path)
+    save_figure(fig, path, dpi=fig.dpi, layout=False)  # the output policy: temporary name, rename
     return path
 
 
@@ -159,7 +160,7 @@ def plot_engine_forces(runs: list[tuple[str, dict]], case, path) -> Path:
     fig.legend([h for h, _ in entries], [lab for _, lab in entries], loc="outside lower center", ncols=1,
                fontsize=8, frameon=False)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path)
+    save_figure(fig, path, dpi=fig.dpi, layout=False)  # the output policy: temporary name, rename
     return path
 
 

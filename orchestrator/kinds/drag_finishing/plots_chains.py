@@ -19,6 +19,7 @@ import numpy as np
 from orchestrator.kinds.drag_finishing.chains import analyze_chains, chain_strength, find_chains, snapshots_of
 from orchestrator.kinds.drag_finishing.intensity import intensity_summary, intensity_text, rod_angle
 from orchestrator.plots import font_file, polydata, quiet_headless_vtk
+from orchestrator.outputs import save_figure
 
 
 def figure(width: float, height: float):
@@ -33,7 +34,7 @@ def figure(width: float, height: float):
 def save(fig, path) -> Path:
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path)
+    save_figure(fig, path, dpi=fig.dpi, layout=False)  # the output policy: temporary name, rename
     return path
 
 
