@@ -12,6 +12,7 @@ import numpy as np
 from orchestrator.kinds.rheometer.physics import sample_numerics
 from orchestrator.reference.maxwell import Mode, loss_modulus, storage_modulus
 from orchestrator.reference.viscoelastic_flows import ptt_steady_shear
+from orchestrator.outputs import save_figure
 
 
 def maxwell_moduli(material, omega) -> tuple[np.ndarray, np.ndarray]:
@@ -155,5 +156,5 @@ def plot_stress(run: dict, case, path: Path) -> Path:
     ax.set_xlabel("t [s]")
     ax.set_ylabel("tau_xy [Pa]")
     ax.legend(fontsize=8, loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=2, frameon=False)
-    fig.savefig(path)
+    save_figure(fig, path, dpi=fig.dpi, layout=False)  # the output policy: temporary name, rename
     return Path(path)

@@ -7,6 +7,8 @@ from pathlib import Path
 
 import numpy as np
 
+from orchestrator.outputs import save_figure
+
 #: Series whose last value is reported as <name>_last (by prefix), with their meaning.
 LAST_VALUE_SERIES = ("pressure_probe_", "flow_rate_", "inflow_", "outflow_")
 
@@ -92,7 +94,7 @@ def plot_sph_series(run: dict, path: Path) -> Path:
         if len(names) > 1:
             ax.legend(fontsize=8)
     axes[-1].set_xlabel("t [s]")
-    fig.savefig(path)
+    save_figure(fig, path, dpi=fig.dpi, layout=False)  # the output policy: temporary name, rename
     return Path(path)
 
 
@@ -115,5 +117,5 @@ def plot_sph_frame(frame: dict, path: Path) -> Path:
     ax.set_xlabel("x [m]")
     ax.set_ylabel(("y" if vertical == 1 else "z") + " [m]")
     ax.set_title(f"t = {frame['attrs'].get('time', float('nan')):.4g} s")
-    fig.savefig(path)
+    save_figure(fig, path, dpi=fig.dpi, layout=False)  # the output policy: temporary name, rename
     return Path(path)
