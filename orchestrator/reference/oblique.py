@@ -27,7 +27,6 @@ import math
 from dataclasses import dataclass
 from functools import lru_cache
 
-
 from orchestrator.reference.closed_form import (
     TOLERANCES,
     dimensionless_normal_force,
@@ -106,6 +105,143 @@ class MindlinObliqueImpact:
     slid: bool
 
 
+STICK, SLIP, PINNED = "stick", "slip", "pinned"
+
+
+def _event(function, direction: int = 0):
+    """function as a terminal solve_ivp event that fires when it crosses zero in direction (0: either way)."""
+    function.terminal, function.direction = True, direction
+    return function
+
+
+class _ObliqueLaw:
+    """The right-hand sides and events of oblique_impact_mindlin's phases (its docstring has the equations).
+
+    q = (x, x', v, w, phi); direction: the sign of the limited force while a phase rides the Coulomb limit.
+    """
+
+    def __init__(self, friction, stiffness_ratio, alpha, no_tension, gyration, overlap_over_radius):
+        self.lam, self.mu, self.eps = float(stiffness_ratio), float(friction), float(overlap_over_radius)
+        self.alpha, self.no_tension, self.gyration = alpha, no_tension, gyration
+        self.direction = 0.0
+
+    def normal(self, x, y):
+        force = dimensionless_normal_force(x, y, self.alpha)
+        return max(force, 0.0) if self.no_tension else force
+
+    def viscous(self, x, s):
+        return self.alpha * max(x, 0.0) ** 0.25 * s
+
+    def arm(self, x):
+        return 1.0 - 0.5 * self.eps * x
+
+    def contact_point(self, q):
+        return q[2] - self.arm(q[0]) * q[3]
+
+    def limit(self, q):
+        """mu F_n, the Coulomb limit of the tangential force."""
+        return self.mu * max(self.normal(q[0], q[1]), 0.0)
+
+    def motion(self, q, f):
+        return [q[1], -self.normal(q[0], q[1]), f, -self.arm(q[0]) * f / self.gyration]
+
+    def stick_rhs(self, _, q):
+        s = self.contact_point(q)
+        return self.motion(q, q[4] - self.viscous(q[0], s)) + [-self.lam * math.sqrt(max(q[0], 0.0)) * s]
+
+    def limited_rhs(self, _, q):
+        return self.motion(q, self.direction * self.limit(q)) + [0.0]
+
+    def sticking_keeps_up(self, _, q):
+        """d|f|/dtau if it stuck now, minus d(mu F_n)/dtau: sticking resumes when this is >= 0."""
+        x, y, s = max(q[0], 1e-300), q[1], abs(self.contact_point(q))
+        alpha, mu = self.alpha, self.mu
+        force = max(self.normal(x, y), 0.0)
+        spin_factor = 1.0 + self.arm(x) ** 2 / self.gyration
+        d_force = 1.5 * math.sqrt(x) * y + alpha * (0.25 * x**-0.75 * y * y - x**0.25 * force)
+        d_margin = self.lam * math.sqrt(x) * s + alpha * (0.25 * x**-0.75 * y * s + x**0.25 * spin_factor * mu * force)
+        return d_margin + mu * d_force
+
+    def phase_events(self) -> dict[str, list]:
+        """The events that end each phase (the contact's end comes first, separately)."""
+        starts_slipping = _event(lambda _, q: abs(q[4] - self.viscous(q[0], self.contact_point(q))) - self.limit(q),
+                                 direction=1)
+        contact_point_stops = _event(lambda _, q: self.contact_point(q))
+        contact_point_moves = _event(lambda _, q: abs(self.contact_point(q)) - _PINNED_SPEED, direction=1)
+        # undamped: a step slides while lambda sqrt(x) |s| > mu dF_n/dtau = 1.5 mu sqrt(x) x'
+        limit_outgrows_spring = _event(lambda _, q: self.lam * abs(self.contact_point(q)) - 1.5 * self.mu * q[1],
+                                       direction=-1)
+        return {
+            STICK: [starts_slipping] if math.isfinite(self.mu) else [],
+            SLIP: [contact_point_stops] + ([] if self.alpha > 0 else [limit_outgrows_spring]),
+            PINNED: [_event(lambda tau, q: self.sticking_keeps_up(tau, q), direction=1), contact_point_moves],
+        }
+
+    def first_phase(self, q) -> str:
+        """The phase at first touch (and the direction of the limited force if it slips)."""
+        slip0 = self.contact_point(q)
+        # first instant: F_n ~ alpha x^(1/4), f ~ alpha x^(1/4) s (or, undamped, both ~ x^(3/2))
+        initial_demand = abs(slip0) if self.alpha > 0 else 2.0 / 3.0 * self.lam * abs(slip0)
+        if initial_demand > self.mu:
+            self.direction = -math.copysign(1.0, slip0)
+            return SLIP
+        self.direction = 0.0
+        return STICK
+
+    def leave_stick(self, q) -> str:
+        """The phase after |f| reached the limit while sticking (q at the event; phi may jump)."""
+        s = self.contact_point(q)
+        self.direction = math.copysign(1.0, q[4] - self.viscous(q[0], s))
+        if self.direction * s < -_PINNED_SPEED:  # at s ~ 0 the force itself sets where s goes: along f
+            return SLIP
+        if self.alpha > 0 and abs(s) >= _PINNED_SPEED:
+            q[4] = self.direction * self.limit(q)  # one sliding step, then the dash-pot keeps |f| below the limit
+            return STICK
+        return PINNED
+
+    def leave_limit(self, phase, which, tau, q) -> str:
+        """The phase after the event `which` (1-based among the phase's) ended slip or pinned (phi set in q).
+
+        Back to sticking: from slip, or from pinned once sticking keeps up, with f continuous (phi = f + alpha
+        x^(1/4) s); from pinned once s is off zero, as after a sliding step (phi = f, so the dash-pot now lowers
+        |f| below the limit).
+        """
+        keeps_up = phase == PINNED and which == 1
+        q[4] = self.direction * self.limit(q) + (self.viscous(q[0], self.contact_point(q)) if keeps_up else 0.0)
+        if phase == SLIP and self.alpha > 0 and self.sticking_keeps_up(tau, q) < 0:
+            # s = 0 with f at a falling limit: sticking cannot hold it, so ride the limit
+            return PINNED
+        self.direction = 0.0
+        return STICK
+
+
+def _integrate(law: _ObliqueLaw, q: list) -> tuple[float, list, bool]:
+    """Run the contact from first touch (state q) to its end: (tau, q at the end, whether it slid)."""
+    from scipy.integrate import solve_ivp
+
+    end = normal_force_zero_event(law.alpha)
+    events = law.phase_events()
+    phase = law.first_phase(q)
+    tau, slid = 0.0, phase == SLIP
+    for _ in range(_MAX_SWITCHES):
+        rhs = law.stick_rhs if phase == STICK else law.limited_rhs
+        solution = solve_ivp(rhs, (tau, tau + 100.0), q, events=[end] + events[phase], **TOLERANCES)
+        fired = [i for i, times in enumerate(solution.t_events) if len(times)]
+        if solution.status != 1 or not fired:
+            raise RuntimeError(f"oblique impact did not end: {solution.message}")
+        which = min(fired, key=lambda i: solution.t_events[i][0])
+        tau, q = solution.t_events[which][0], list(solution.y_events[which][0])
+        if which == 0:
+            return tau, q, slid
+        if phase == STICK:
+            slid = True
+            phase = law.leave_stick(q)
+        else:
+            phase = law.leave_limit(phase, which, tau, q)
+        tau += 1e-15  # step off the event so it does not fire again at once
+    raise RuntimeError(f"oblique impact switched between stick and slip more than {_MAX_SWITCHES} times")
+
+
 @lru_cache(maxsize=512)
 def oblique_impact_mindlin(tangent_of_incidence: float, friction: float, stiffness_ratio: float, alpha: float,
                            no_tension: bool = True, gyration: float = SOLID_SPHERE_GYRATION, spin: float = 0.0,
@@ -139,109 +275,8 @@ def oblique_impact_mindlin(tangent_of_incidence: float, friction: float, stiffne
     The tangential force ends with F_n (mu F_n = 0); the normal motion does
     not feel it.
     """
-    from scipy.integrate import solve_ivp
-
-    lam, mu, eps = float(stiffness_ratio), float(friction), float(overlap_over_radius)
-    stick, slip, pinned = "stick", "slip", "pinned"
-
-    def normal(x, y):
-        force = dimensionless_normal_force(x, y, alpha)
-        return max(force, 0.0) if no_tension else force
-
-    def viscous(x, s):
-        return alpha * max(x, 0.0) ** 0.25 * s
-
-    def arm(x):
-        return 1.0 - 0.5 * eps * x
-
-    def contact_point(q):
-        return q[2] - arm(q[0]) * q[3]
-
-    def motion(q, f):
-        return [q[1], -normal(q[0], q[1]), f, -arm(q[0]) * f / gyration]
-
-    def stick_rhs(_, q):
-        s = contact_point(q)
-        return motion(q, q[4] - viscous(q[0], s)) + [-lam * math.sqrt(max(q[0], 0.0)) * s]
-
-    def limited_rhs(_, q):
-        return motion(q, direction * mu * max(normal(q[0], q[1]), 0.0)) + [0.0]
-
-    def starts_slipping(_, q):
-        return abs(q[4] - viscous(q[0], contact_point(q))) - mu * max(normal(q[0], q[1]), 0.0)
-
-    def contact_point_stops(_, q):
-        return contact_point(q)
-
-    def contact_point_moves(_, q):
-        return abs(contact_point(q)) - _PINNED_SPEED
-
-    def limit_outgrows_spring(_, q):
-        # undamped: a step slides while lambda sqrt(x) |s| > mu dF_n/dtau = 1.5 mu sqrt(x) x'
-        return lam * abs(contact_point(q)) - 1.5 * mu * q[1]
-
-    def sticking_keeps_up(_, q):
-        # d|f|/dtau if it stuck now, minus d(mu F_n)/dtau: sticking resumes when this is >= 0
-        x, y, s = max(q[0], 1e-300), q[1], abs(contact_point(q))
-        force = max(normal(x, y), 0.0)
-        spin_factor = 1.0 + arm(x) ** 2 / gyration
-        d_force = 1.5 * math.sqrt(x) * y + alpha * (0.25 * x**-0.75 * y * y - x**0.25 * force)
-        d_margin = lam * math.sqrt(x) * s + alpha * (0.25 * x**-0.75 * y * s + x**0.25 * spin_factor * mu * force)
-        return d_margin + mu * d_force
-
-    starts_slipping.terminal, starts_slipping.direction = True, 1
-    contact_point_stops.terminal = True
-    contact_point_moves.terminal, contact_point_moves.direction = True, 1
-    limit_outgrows_spring.terminal, limit_outgrows_spring.direction = True, -1
-    sticking_keeps_up.terminal, sticking_keeps_up.direction = True, 1
-    end = normal_force_zero_event(alpha)
-    phase_events = {
-        stick: [starts_slipping] if math.isfinite(mu) else [],
-        slip: [contact_point_stops] + ([] if alpha > 0 else [limit_outgrows_spring]),
-        pinned: [sticking_keeps_up, contact_point_moves],
-    }
-
-    q = [1e-14, 1.0, float(tangent_of_incidence), float(spin), 0.0]
-    slip0 = contact_point(q)
-    # first instant: F_n ~ alpha x^(1/4), f ~ alpha x^(1/4) s (or, undamped, both ~ x^(3/2))
-    initial_demand = abs(slip0) if alpha > 0 else 2.0 / 3.0 * lam * abs(slip0)
-    phase, direction = (slip, -math.copysign(1.0, slip0)) if initial_demand > mu else (stick, 0.0)
-    tau, slid = 0.0, phase == slip
-    for _ in range(_MAX_SWITCHES):
-        rhs = stick_rhs if phase == stick else limited_rhs
-        solution = solve_ivp(rhs, (tau, tau + 100.0), q, events=[end] + phase_events[phase], **TOLERANCES)
-        fired = [i for i, times in enumerate(solution.t_events) if len(times)]
-        if solution.status != 1 or not fired:
-            raise RuntimeError(f"oblique impact did not end: {solution.message}")
-        which = min(fired, key=lambda i: solution.t_events[i][0])
-        tau, q = solution.t_events[which][0], list(solution.y_events[which][0])
-        if which == 0:
-            break
-        limit, s = mu * max(normal(q[0], q[1]), 0.0), contact_point(q)
-        if phase == stick:
-            slid = True
-            direction = math.copysign(1.0, q[4] - viscous(q[0], s))
-            if direction * s < -_PINNED_SPEED:  # at s ~ 0 the force itself sets where s goes: along f
-                phase = slip
-            elif alpha > 0 and abs(s) >= _PINNED_SPEED:
-                q[4] = direction * limit  # one sliding step, then the dash-pot keeps |f| below the limit
-            else:
-                phase = pinned
-        else:
-            # back to sticking: from slip, or from pinned once sticking keeps up, with f
-            # continuous (phi = f + alpha x^(1/4) s); from pinned once s is off zero, as
-            # after a sliding step (phi = f, so the dash-pot now lowers |f| below the limit)
-            keeps_up = phase == pinned and which == 1
-            q[4] = direction * limit + (viscous(q[0], s) if keeps_up else 0.0)
-            if phase == slip and alpha > 0 and sticking_keeps_up(tau, q) < 0:
-                # s = 0 with f at a falling limit: sticking cannot hold it, so ride the limit
-                phase = pinned
-            else:
-                phase, direction = stick, 0.0
-        tau += 1e-15  # step off the event so it does not fire again at once
-    else:
-        raise RuntimeError(f"oblique impact switched between stick and slip more than {_MAX_SWITCHES} times")
-
+    law = _ObliqueLaw(friction, stiffness_ratio, alpha, no_tension, gyration, overlap_over_radius)
+    tau, q, slid = _integrate(law, [1e-14, 1.0, float(tangent_of_incidence), float(spin), 0.0])
     x_end, y_end, v_end, w_end, _ = q
     if no_tension or x_end <= 0.0:
         restitution = -y_end
