@@ -298,3 +298,34 @@ def test_check_target_refuses_devices_and_folders(tmp_path):
     with pytest.raises(OrchestratorError, match="is a folder"):
         outputs.check_target(tmp_path, "--out")
     assert outputs.check_target(tmp_path / "new.json", "--out") == tmp_path / "new.json"
+
+
+STL_FACET = "solid t\nfacet normal 0 0 1\nouter loop\nvertex {a}\nvertex {b}\nvertex {c}\nendloop\nendfacet\nendsolid t\n"
+
+
+@pytest.mark.parametrize("vertices, words", [
+    (("0 0 0", "1e300 0 0", "0 1 0"), "beyond 1e+30 m"),
+    (("0 0 0", "0 0 0", "0 0 0"), "degenerate"),
+])
+def test_meshes_are_checked_before_any_scene_is_built(capsys, tmp_path, vertices, words):
+    mesh = tmp_path / "m.stl"
+    mesh.write_text(STL_FACET.format(a=vertices[0], b=vertices[1], c=vertices[2]))
+    channel = Path(__file__).parent / "data" / "sph_channel_3d.toml"
+    err = refused(capsys, ["run", str(channel), "--set", f'walls.2.file="{mesh}"', "--out", str(tmp_path / "r")])
+    assert "walls[2].file" in err and words in err
+    assert not (tmp_path / "r").exists()
+
+
+@pytest.mark.sph
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM])
+def test_pool_workers_stop_quietly_on_a_signal(tmp_path, sig):
+    proc = subprocess.Popen([sys.executable, "-m", "orchestrator", "rheometry", str(UCM), "--frequencies", "0.5",
+                             "1", "2", "4", "--workers", "2", "--out", str(tmp_path / "r")],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline and not list((tmp_path / "r").glob("omega_*/engine.log")):
+        time.sleep(0.1)
+    proc.send_signal(sig)
+    out, err = proc.communicate(timeout=120)
+    assert proc.returncode == 128 + sig, err
+    assert "Traceback" not in err and err.count("error:") == 1, err

@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 import stat
 import typing
+import warnings
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -180,7 +181,32 @@ def mesh_file(value, base_dir: str, extensions=MESH_EXTENSIONS):
                          f"{', '.join(extensions)}")
     if info.st_size > MAX_MESH_BYTES:
         raise ValueError(f"{path} holds {info.st_size} bytes; allowed: mesh files up to {MAX_MESH_BYTES} bytes")
+    check_mesh_content(path)
     return path.resolve()
+
+
+def check_mesh_content(path: Path) -> None:
+    """Raise ValueError when the mesh file at path cannot be read, has no triangle of non-zero area, or has a
+    vertex coordinate that is not finite or beyond MAX_MAGNITUDE metres (before any scene is built from it)."""
+    import numpy as np
+    import trimesh
+
+    try:  # overflowing normals of a huge mesh are reported below, not as numpy warnings
+        with np.errstate(all="ignore"), warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            mesh = trimesh.load(str(path), force="mesh", process=False)
+            vertices = np.asarray(mesh.vertices, dtype=float)
+            faces = np.asarray(mesh.faces)
+            area = float(np.sum(mesh.area_faces)) if len(faces) else 0.0
+    except Exception as exc:  # trimesh raises many types for unreadable files
+        raise ValueError(f"{path} cannot be read as a mesh ({type(exc).__name__}: {exc})") from None
+    if len(vertices) == 0 or len(faces) == 0:
+        raise ValueError(f"{path} holds no triangles; give a surface mesh")
+    if not np.all(np.isfinite(vertices)) or np.abs(vertices).max() > MAX_MAGNITUDE:
+        raise ValueError(f"{path} has a vertex coordinate that is not finite or beyond {MAX_MAGNITUDE:g} m; "
+                         "allowed: finite coordinates in metres within that magnitude")
+    if not area > 0.0:
+        raise ValueError(f"{path} is degenerate: all its triangles have zero area")
 
 
 def rayleigh_timestep(radius_m: float, material: Material, stiffness_scale: float = 1.0) -> float:
