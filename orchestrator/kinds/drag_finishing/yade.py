@@ -179,70 +179,88 @@ def read_drag_finishing_output(scene, workdir: Path) -> Result:
     """Parse output/ of a drag-finishing Yade run, complete or partial."""
     out = workdir / "output"
     result = Result()
-    status_path = out / "status.json"
-    if status_path.is_file():
-        status = json.loads(status_path.read_text())
-        result.status = status["status"]
-        result.message = status["message"]
-        result.attrs.update(
-            n_steps=int(status["n_steps"]),
-            dt=float(status["dt"]),
-            simulated_time=float(status["time"]),
-            last_phase=status["phase"],
-            bed_height=float("nan") if status["bed_height"] is None else float(status["bed_height"]),
-            settled=bool(status["settled"]),
-            process_start_time=float("nan") if status["process_start_time"] is None else status["process_start_time"],
-            engine_wall_time_s=float(status["wall_time_s"]),
-        )
-    else:
+    _read_status(result, out / "status.json")
+    if (out / "series.csv").is_file():
+        _read_series(result, out / "series.csv")
+    _read_networks_and_frames(result, out, len(scene.case.output.network_times))
+    final = _load_npz_written(out / "final.npz") if (out / "final.npz").is_file() else None
+    _read_meshes(result, scene, final)
+    impacts = out / "impacts.csv"
+    if impacts.is_file() and (out / "final.npz").is_file():  # the rod's pose is known at the end only
+        cols = read_series_csv(impacts)
+        raw = impact_rows(np.column_stack([cols[name] for name in ENGINE_COLUMNS]))
+        raw["time"] = cols["time"]
+        attach_impacts(result, raw, scene.case.angular_velocity, float(final["time"]))
+    return result
+
+
+def _read_status(result: Result, status_path: Path) -> None:
+    """Result.status, message and the run's attributes from status.json ("failed" without one)."""
+    if not status_path.is_file():
         result.status = "failed"
         result.message = "the engine wrote no status (it was stopped or crashed)"
-    series_path = out / "series.csv"
-    if series_path.is_file():
-        cols = read_series_csv(series_path)
-        if "step" in cols and len(cols["step"]) and "n_steps" not in result.attrs:
-            result.attrs["n_steps"] = int(cols["step"][-1])  # a stopped run: its last recorded step
-        result.time = cols["time"]
-        stack = lambda *names: np.column_stack([cols[n] for n in names])  # noqa: E731
-        result.series = {
-            "phase": Series(cols["phase"].astype(np.int8), "-", "0 settle, 1 insert, 2 relax, 3 process"),
-            "workpiece_force": Series(
-                stack("wf_normal", "wf_tangential", "wf_vertical"),
-                "N",
-                "force of the media on the rod in the workpiece frame: [along the rod's velocity, "
-                "horizontal outward (radial), vertical]; NaN before the process phase",
-            ),
-            "rod_force": Series(stack("rod_fx", "rod_fy", "rod_fz"), "N", "force on the rod, global frame"),
-            "bowl_force": Series(stack("bowl_fx", "bowl_fy", "bowl_fz"), "N", "force on the bowl, global frame"),
-            "kinetic_energy": Series(cols["kinetic_energy"], "J", "translational kinetic energy of the balls"),
-            "unbalanced_force": Series(cols["unbalanced_force"], "-", "Yade's unbalanced-force ratio"),
-            "n_contacts": Series(cols["n_contacts"].astype(np.int64), "-", "real interactions"),
-            "rod_tip_z": Series(cols["rod_tip_z"], "m", "height of the rod tip above the floor"),
-        }
-    for k in range(len(scene.case.output.network_times)):
+        return
+    status = json.loads(status_path.read_text())
+    result.status = status["status"]
+    result.message = status["message"]
+    result.attrs.update(
+        n_steps=int(status["n_steps"]),
+        dt=float(status["dt"]),
+        simulated_time=float(status["time"]),
+        last_phase=status["phase"],
+        bed_height=float("nan") if status["bed_height"] is None else float(status["bed_height"]),
+        settled=bool(status["settled"]),
+        process_start_time=float("nan") if status["process_start_time"] is None else status["process_start_time"],
+        engine_wall_time_s=float(status["wall_time_s"]),
+    )
+
+
+def _read_series(result: Result, series_path: Path) -> None:
+    """Result.time and Result.series from series.csv."""
+    cols = read_series_csv(series_path)
+    if "step" in cols and len(cols["step"]) and "n_steps" not in result.attrs:
+        result.attrs["n_steps"] = int(cols["step"][-1])  # a stopped run: its last recorded step
+    result.time = cols["time"]
+    stack = lambda *names: np.column_stack([cols[n] for n in names])  # noqa: E731
+    result.series = {
+        "phase": Series(cols["phase"].astype(np.int8), "-", "0 settle, 1 insert, 2 relax, 3 process"),
+        "workpiece_force": Series(
+            stack("wf_normal", "wf_tangential", "wf_vertical"),
+            "N",
+            "force of the media on the rod in the workpiece frame: [along the rod's velocity, "
+            "horizontal outward (radial), vertical]; NaN before the process phase",
+        ),
+        "rod_force": Series(stack("rod_fx", "rod_fy", "rod_fz"), "N", "force on the rod, global frame"),
+        "bowl_force": Series(stack("bowl_fx", "bowl_fy", "bowl_fz"), "N", "force on the bowl, global frame"),
+        "kinetic_energy": Series(cols["kinetic_energy"], "J", "translational kinetic energy of the balls"),
+        "unbalanced_force": Series(cols["unbalanced_force"], "-", "Yade's unbalanced-force ratio"),
+        "n_contacts": Series(cols["n_contacts"].astype(np.int64), "-", "real interactions"),
+        "rod_tip_z": Series(cols["rod_tip_z"], "m", "height of the rod tip above the floor"),
+    }
+
+
+def _read_networks_and_frames(result: Result, out: Path, n_networks: int) -> None:
+    """Result.contacts from network_<k>.npz, Result.frames from frame_<k>.npz, settled.npz and final.npz (by time);
+    the networks stop at the first one missing or cut off."""
+    for k in range(n_networks):
         path = out / f"network_{k}.npz"
         if not path.is_file():
             break
         net = _load_npz_written(path)
         if net is None:
             break
-        result.contacts.append(
-            (
-                float(net["time"]),
-                {
-                    "id1": net["id1"],
-                    "id2": net["id2"],
-                    "normal_force": net["normal_force"],
-                    "normal_force_vector": net["normal_force_vector"],
-                    "tangential_force": net["tangential_force"],
-                    "branch": net["point2"] - net["point1"],
-                    "point1": net["point1"],
-                    "point2": net["point2"],
-                    "body2_role": net["body2_role"],
-                    "process_time": np.float64(net["process_time"]),
-                },
-            )
-        )
+        result.contacts.append((float(net["time"]), {
+            "id1": net["id1"],
+            "id2": net["id2"],
+            "normal_force": net["normal_force"],
+            "normal_force_vector": net["normal_force_vector"],
+            "tangential_force": net["tangential_force"],
+            "branch": net["point2"] - net["point1"],
+            "point1": net["point1"],
+            "point2": net["point2"],
+            "body2_role": net["body2_role"],
+            "process_time": np.float64(net["process_time"]),
+        }))
         frame = out / f"frame_{k}.npz"
         data = _load_npz_written(frame) if frame.is_file() else None
         if data is not None:
@@ -252,25 +270,21 @@ def read_drag_finishing_output(scene, workdir: Path) -> Result:
         if data is not None:
             result.frames.append(_frame(data))
     result.frames.sort(key=lambda item: item[0])
+
+
+def _read_meshes(result: Result, scene, final) -> None:
+    """Result.meshes: the bowl, and the rod in its final pose with its per-face contact intensity (from final.npz,
+    when the run got there)."""
     bowl = scene.meshes["bowl"].mesh
     result.meshes["bowl"] = {"vertices": np.asarray(bowl.vertices), "faces": np.asarray(bowl.faces)}
     rod = scene.meshes["rod"].mesh
     rod_entry = {"vertices": np.asarray(rod.vertices, dtype=float).copy(), "faces": np.asarray(rod.faces)}
-    last = out / "final.npz"
-    final = _load_npz_written(last) if last.is_file() else None
     if final is not None:
         soup = final["rod_vertices"]
         rod_entry["vertices"][rod_entry["faces"].ravel()] = soup.reshape(-1, 3)
         rod_entry["contact_intensity"] = final["rod_intensity"]
         rod_entry["contact_count"] = final["rod_contact_count"]
     result.meshes["rod"] = rod_entry
-    impacts = out / "impacts.csv"
-    if impacts.is_file() and last.is_file():  # the rod's pose is known at the end only
-        cols = read_series_csv(impacts)
-        raw = impact_rows(np.column_stack([cols[name] for name in ENGINE_COLUMNS]))
-        raw["time"] = cols["time"]
-        attach_impacts(result, raw, scene.case.angular_velocity, float(final["time"]))
-    return result
 
 
 def _frame(data: dict[str, np.ndarray]) -> tuple[float, dict[str, np.ndarray]]:
