@@ -24,7 +24,7 @@ from orchestrator.kinds import get_kind, kind_names
 DOCS = Path(__file__).resolve().parent.parent / "docs"
 #: The opening and closing markers of a kind's table; {kind} is the kind's registered name.
 BEGIN, END = "<!-- keys:{kind} begin -->", "<!-- keys:{kind} end -->"
-_MARKER = re.compile(r"<!-- keys:([A-Za-z0-9_]+) begin -->")
+_MARKER = re.compile(r"<!-- keys:([a-z0-9_]+) begin -->")  # kind names are lower case; KIND in prose is no marker
 
 _BASE_UNIT = r"(?:kg|m|mm|s|Pa|N|J|W|K|rad|deg|l|min|Hz|1)(?:\^-?\d)?"
 #: A unit as the case models write it: "-" (dimensionless), "m", "m/s", "kg/m^3", "Pa s", "l/min", "1/s", ...
