@@ -21,7 +21,7 @@ import numpy as np
 import pytest
 
 from orchestrator.case import load_case
-from orchestrator.workflows.compare import Comparison, EngineRun, parse_engines, text_tables, unit_of
+from orchestrator.workflows.compare import Comparison, EngineRun, parse_engines, text_tables
 from orchestrator.errors import OrchestratorError
 from orchestrator.run import OVERHEAD_PHASES, PhaseClock, RunSummary, run_case
 
@@ -100,7 +100,7 @@ def test_drag_finishing_forces_are_placed_against_the_reference_bands():
         EngineRun("a", "ok", "", summary("a", {"fn_mean": -1.81, "fn_std": 0.25, "ft_mean": -0.3, "ft_std": 0.5})),
         EngineRun("b", "ok", "", summary("b", {"fn_mean": -2.9, "fn_std": 0.4, "fn_sem": 0.05})),
     ])
-    rows = {row["source"]: row for row in comparison.force_rows()}
+    rows = {row["source"]: row for row in comparison.reference_rows()}
     assert list(rows) == ["a", "b", "Uhlmann 2015, simulated"]
     a, b = rows["a"]["against"][0], rows["b"]["against"][0]
     assert a["fn_rel_difference"] == pytest.approx((-1.81 + 1.99) / 1.99) and a["in_band"]
@@ -109,7 +109,9 @@ def test_drag_finishing_forces_are_placed_against_the_reference_bands():
     assert rows["Uhlmann 2015, simulated"]["fn_mean"] == -1.99
     table = dict((title.split(" ")[0], cells) for title, _, cells in text_tables(comparison))["force"]
     assert table[0][-1] == "+9 % (in band)" and table[1][-1] == "-46 % (outside band)"
-    assert unit_of("contact_fn_max") == "N" and unit_of("bed_height") == "m" and unit_of("max_overlap") == "m"
+    assert comparison.unit_of("contact_fn_max") == "N" and comparison.unit_of("bed_height") == "m"
+    impact = Comparison(load_case(IMPACT).model, None, Path("/nowhere"))
+    assert impact.unit_of("max_overlap") == "m" and impact.reference_rows() == []
 
 
 def test_overlay_plot_of_two_engines(tmp_path):
@@ -196,7 +198,7 @@ def test_yade_and_reference_agree_within_the_verification_tolerance(impact_compa
         assert row["spread"] == pytest.approx(abs(row["values"]["yade"] - row["values"]["reference"]))
         for value in row["values"].values():  # and each engine is on the closed form
             assert value == pytest.approx(row["expected"], rel=check.tolerance)
-    assert doc["case"] == case.case.name and doc["kind"] == "impact" and doc["forces"] == []
+    assert doc["case"] == case.case.name and doc["kind"] == "impact" and doc["references"] == []
     assert doc["plot"] == str(out / "compare_forces.png") and Path(doc["plot"]).is_file()
 
 
@@ -235,7 +237,7 @@ def test_tiny_bowl_compare_and_its_overhead(tmp_path):
     total = float(attrs["orchestrator_overhead_s"])
     assert total == pytest.approx(sum(float(attrs[key]) for key in PHASE_KEYS), abs=1e-9)
     assert 0 < total < float(attrs["wall_time_s"])
-    forces = {row["source"]: row for row in doc["forces"]}
+    forces = {row["source"]: row for row in doc["references"]}
     assert forces["yade"]["fn_mean"] == pytest.approx(measured["fn_mean"], rel=1e-12)
     assert forces["Uhlmann 2015, simulated"]["fn_mean"] == -1.99
     assert Path(doc["plot"]).is_file() and Path(doc["plot"]).stat().st_size > 20_000

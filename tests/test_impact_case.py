@@ -21,7 +21,7 @@ from orchestrator.case import load_case
 from orchestrator.errors import CaseError
 from orchestrator.kinds import build_scene
 from orchestrator.kinds.impact.physics import critical_timestep
-from orchestrator.workflows.verify import scene_files
+from orchestrator.workflows.verify import get_suite, scene_files
 
 ROOT = Path(__file__).parent.parent
 VERIFICATION = ROOT / "cases" / "verification"
@@ -39,7 +39,7 @@ def write_variant(tmp_path, changes: dict, base: dict = BASE) -> Path:
     return path
 
 
-@pytest.mark.parametrize("path", scene_files(VERIFICATION, kind="impact"), ids=lambda p: p.stem)
+@pytest.mark.parametrize("path", scene_files(get_suite("dem"), VERIFICATION), ids=lambda p: p.stem)
 def test_every_verification_scene_loads_and_its_closed_forms_evaluate(path):
     loaded = load_case(path)
     assert loaded.kind == "impact" and loaded.model.expected

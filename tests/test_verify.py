@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from orchestrator.workflows.base import ROW_KEYS
-from orchestrator.workflows.verify import scene_files
+from orchestrator.workflows.verify import get_suite, scene_files
 
 CASES = Path(__file__).parent.parent / "cases" / "verification"
 
@@ -26,7 +26,7 @@ def cli(*args, env=None):
 def checks_per_engine() -> int:
     import tomllib
 
-    return sum(len(tomllib.loads(path.read_text()).get("expected", [])) for path in scene_files(CASES))
+    return sum(len(tomllib.loads(path.read_text()).get("expected", [])) for path in scene_files(get_suite("dem"), CASES))
 
 
 def assert_png_has_content(path: Path) -> None:
@@ -44,7 +44,7 @@ def test_verify_on_the_reference_passes_and_prints_json_rows(tmp_path):
     assert len(rows) == checks_per_engine()
     assert all(list(row) == list(ROW_KEYS) for row in rows)
     assert all(row["passed"] and row["engine"] == "reference" for row in rows)
-    assert {row["scene"] for row in rows} == {path.stem for path in scene_files(CASES)}
+    assert {row["scene"] for row in rows} == {path.stem for path in scene_files(get_suite("dem"), CASES)}
     assert all(row["rel_error"] <= row["tolerance"] for row in rows)
     assert_png_has_content(tmp_path / "verify_dem.png")
 
@@ -100,9 +100,9 @@ SAME_PHYSICS = {
 @pytest.mark.yade
 @pytest.mark.yade
 def test_verify_passes_on_every_installed_engine(tmp_path):
-    from orchestrator.workflows.verify import dem_engines
+    from orchestrator.workflows.verify import installed
 
-    engines = set(dem_engines())
+    engines = set(installed(get_suite("dem").engines(), requested=False))
     proc = cli("verify", "dem", "--json", "--out", tmp_path)
     assert proc.returncode == 0, proc.stdout + proc.stderr
     rows = json.loads(proc.stdout)

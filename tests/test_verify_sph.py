@@ -18,12 +18,16 @@ from orchestrator.kinds.sph_flow.checks import CHECKS, check_dam_break, check_po
 from orchestrator.kinds.sph_flow.checks_base import tolerance_of
 from orchestrator.kinds.rheometer.case import CHECK_QUANTITIES as RHEOMETER_QUANTITIES
 from orchestrator.kinds.rheometer.checks import CHECKS as RHEOMETER_CHECKS
-from orchestrator.workflows.verify_sph import (
-    run_verification,
-    scene_files,
-    scene_jobs,
-    unit_of,
-)
+from orchestrator.workflows.verify import get_suite, run_verification, scene_runs
+from orchestrator.workflows.verify import scene_files as suite_files
+
+
+def scene_files(directory):
+    return suite_files(get_suite("sph"), directory)
+
+
+def unit_of(quantity):
+    return get_suite("sph").unit_of(quantity)
 
 CASES = Path(__file__).resolve().parent.parent / "cases" / "verification"
 needs_sph = pytest.mark.sph
@@ -64,7 +68,7 @@ def test_every_sph_scene_has_checks_and_units():
     assert set(RHEOMETER_CHECKS) == set(RHEOMETER_QUANTITIES)
     assert unit_of("storage_modulus(omega=0.1 rad/s)") == "Pa" and unit_of("centreline_velocity(t=1 s)") == "m/s"
     # a rheometer scene with a [sweep] runs once per frequency
-    assert [name for name, _ in scene_jobs(CASES / "sph_saos_one_mode.toml")] == [
+    assert [name for name, _ in scene_runs(CASES / "sph_saos_one_mode.toml")] == [
         "sph_saos_one_mode/omega_0.1", "sph_saos_one_mode/omega_1", "sph_saos_one_mode/omega_10"]
     assert unit_of("u_profile(t=0.1 s)") == "m/s" and unit_of("surge_front_Z[koshizuka_oka_1996]") == "-"
     bare = load_case(CASES / "sph_poiseuille_morris1997.toml", overrides=["expected=[]"]).model
@@ -128,7 +132,7 @@ def _key(row) -> tuple[str, str]:
 
 @needs_sph
 def test_every_scene_at_its_quick_preset_passes(tmp_path):
-    runs = run_verification(out_dir=tmp_path, cases_dir=CASES, workers=2, preset="quick")
+    runs = run_verification("sph", out_dir=tmp_path, cases_dir=CASES, workers=2, preset="quick")
     rows = [row for run in runs for row in run.rows]
     failed = [f"{r['scene']} {r['quantity']}: {r['value']} vs {r['expected']} ({r['rel_error']}) {r['note']}"
               for r in rows if not r["passed"] and _key(r) not in KNOWN_FAILURES]
@@ -177,16 +181,16 @@ def test_cli_verify_sph_refuses_another_engine(capsys):
 def test_cli_verify_timeout_reaches_every_run(tmp_path, monkeypatch):
     """--timeout S is each run's wall-time limit; without it the suite keeps its default. Also: the suite's annulus
     is the one at dx = 0.5 mm, and the 1 mm resolution study validates outside the suite's directory."""
-    from orchestrator.workflows import verify_sph
+    from orchestrator.workflows import verify
 
     seen = []
 
-    def fake(**kwargs):
+    def fake(suite, **kwargs):
         seen.append(kwargs.get("timeout_s", "default"))
         return []
 
-    monkeypatch.setattr(verify_sph, "run_verification", fake)
-    monkeypatch.setattr("orchestrator.cli.verify.plot_scenes", lambda runs, path: path)
+    monkeypatch.setattr(verify, "run_verification", fake)
+    monkeypatch.setattr(verify, "draw", lambda suite, runs, path: path)
     for extra in (["--timeout", "7200"], []):
         main(["verify", "sph", "--out", str(tmp_path / "out"), *extra])
     assert seen == [7200.0, "default"]

@@ -19,7 +19,7 @@ from typing import Any
 
 from pydantic import BaseModel, ValidationError
 
-from orchestrator.errors import CaseError
+from orchestrator.errors import CaseError, OrchestratorError
 from orchestrator.kinds import get_kind, kind_names
 
 #: Largest case or study file read, bytes (the shipped ones are a few kB).
@@ -277,3 +277,17 @@ def load_case(path: str | Path, preset: str | None = None, overrides=()) -> Load
     model = _validate(data, base_dir, where)
     resolved = model.model_dump(mode="json")
     return LoadedCase(model=model, source=path.resolve(), preset=preset, resolved=resolved, toml_text=to_toml(resolved))
+
+
+#: Where the package's own case folders lie: installed (orchestrator/<folder>_cases, see pyproject.toml's
+#: package-dir) or in a source checkout (cases/<folder>).
+_PACKAGE = Path(__file__).resolve().parent.parent
+
+
+def shipped_cases(folder: str = "verification") -> Path:
+    """The folder of case files shipped with the package, cases/<folder> (e.g. the verification scenes);
+    OrchestratorError when it is missing."""
+    for candidate in (_PACKAGE / f"{folder}_cases", _PACKAGE.parent / "cases" / folder):
+        if candidate.is_dir():
+            return candidate
+    raise OrchestratorError(f"the shipped cases (cases/{folder}) are missing; reinstall the package")

@@ -16,9 +16,10 @@ def add_parser(sub) -> None:
         description="Run CASE on each engine of --engines in turn (each into OUT/<engine>/run.h5) and print, per "
         "measured quantity, every engine's value and their spread (max - min, and relative to the mean); per engine "
         "the wall time, particle-steps per second (particles x steps / engine wall time) and the orchestrator's own "
-        "time (by phase, and as a % of the engine's). Drag-finishing cases add F_n and F_t (mean, std, N) next to "
-        "the paper's numbers; impact cases their closed forms. Writes OUT/compare_forces.png overlaying the engines' "
-        "force series. An engine that is not installed is skipped with how to install it; exit code 1 unless every "
+        "time (by phase, and as a % of the engine's). The case's kind adds what it declares: the values its case "
+        "predicts (closed forms) in an expected column, a table of its published values beside each engine's (e.g. "
+        "the force on the rod, N, against the paper's bands), and OUT/compare_forces.png overlaying the engines' "
+        "series. An engine that is not installed is skipped with how to install it; exit code 1 unless every "
         "engine ran ok.")
     compare.add_argument("case", metavar="CASE", help="TOML case file, e.g. cases/verification/"
                          "chung_ooi_test2_sphere_plane.toml or cases/drag_finishing_uhlmann2015.toml")
@@ -33,7 +34,8 @@ def add_parser(sub) -> None:
     compare.add_argument("--force", action="store_true", help="overwrite runs already in --out")
     compare.add_argument("--json", action="store_true",
                          help="print one JSON object: case, engines (times, speed, overhead by phase), quantities "
-                         "(values per engine, spread, rel_spread), forces (drag finishing, with the references), plot")
+                         "(values per engine, spread, rel_spread), references (the kind's published values beside each "
+                         "engine's; [] when it has none), plot")
     compare.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
     compare.set_defaults(func=cmd_compare)
 
@@ -57,6 +59,6 @@ def cmd_compare(args) -> int:
             print(f"note: {line}")
         print(f"compare took {duration(comparison.wall_time_s)} in all")
         if comparison.plot:
-            print(f"forces       {comparison.plot}")
+            print(f"picture      {comparison.plot}")
         print(f"runs         {comparison.out_dir}")
     return 0 if all(run.status == "ok" for run in comparison.runs) else 1

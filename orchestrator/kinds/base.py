@@ -14,8 +14,9 @@ from __future__ import annotations
 import abc
 import importlib
 from dataclasses import dataclass, field
+from fnmatch import fnmatchcase
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable
 
 from orchestrator.errors import OrchestratorError
 
@@ -82,67 +83,200 @@ class Adapter(abc.ABC):
         return type(self).resume_input is not Adapter.resume_input
 
 
-def _load(spec: str):
-    """'package.module:Name' -> the object (imported on first use)."""
-    module, _, name = spec.partition(":")
-    return getattr(importlib.import_module(module), name)
+class Lazy:
+    """A 'package.module:name' reference, imported on first use: call it (a function) or load() it (a class, a
+    table). Kinds name their parts this way, so that nothing of a kind is imported until it is asked for."""
+
+    __slots__ = ("spec",)
+
+    def __init__(self, spec: str):
+        if ":" not in spec:
+            raise ValueError(f"{spec!r}: a lazy reference reads 'package.module:name'")
+        self.spec = spec
+
+    def load(self):
+        """The object named (its module imported on first use)."""
+        module, _, name = self.spec.partition(":")
+        return getattr(importlib.import_module(module), name)
+
+    def __call__(self, *args, **kwargs):
+        return self.load()(*args, **kwargs)
+
+    def __eq__(self, other) -> bool:
+        return isinstance(other, Lazy) and other.spec == self.spec
+
+    def __hash__(self) -> int:
+        return hash(self.spec)
+
+    def __repr__(self) -> str:
+        return f"Lazy({self.spec!r})"
+
+
+def lazy(spec):
+    """A Lazy of a 'module:name' string (a Lazy as is; '' and None give None)."""
+    if spec is None or spec == "":
+        return None
+    return spec if isinstance(spec, Lazy) else Lazy(spec)
+
+
+@dataclass(frozen=True)
+class Verification:
+    """A kind's part of a verification suite, `orchestrator verify <suite>` (pytest's hooks are the model: the
+    suite loops over the kinds that declare it and names none of them).
+
+    suite: the suite's name; check: 'module:function(case, engine, run) -> (rows, picture)' (run: runh5.read_run's
+    dict, {"attrs": {}} when the run left none; rows: check rows with workflows.base.ROW_KEYS plus source and note;
+    picture: what the suite's picture draws of this run, a dict); units: 'module:TABLE' of the checked quantities,
+    {name: unit or (unit, meaning)} (a row's quantity 'name(t=0.1 s)' or 'name[source]' takes name's);
+    runs: 'module:function(case, stem) -> [(folder, overrides)]' when one scene runs several times (a frequency
+    sweep), else one run in folder stem. Suite-wide, given by the one kind that owns the suite: picture:
+    'module:function(runs, path) -> path' (runs: workflows.base.CheckedRun with .picture); description: what the
+    suite checks, for --help; timeout_s: each run's default wall-time limit, s; timestep_key: the case key that
+    `verify <suite> --timestep-factors` sweeps ('' when the suite has none); cases: the folder of the scenes, under
+    cases/ (shipped with the package).
+    """
+
+    suite: str
+    check: Lazy | str
+    units: Lazy | str
+    runs: Lazy | str | None = None
+    picture: Lazy | str | None = None
+    description: str = ""
+    timeout_s: float = 600.0
+    timestep_key: str = ""
+    cases: str = "verification"
+
+    def __post_init__(self):
+        for name in ("check", "units", "runs", "picture"):
+            object.__setattr__(self, name, lazy(getattr(self, name)))
+
+    @property
+    def owns_suite(self) -> bool:
+        """True for the kind that gives the suite's picture, description and defaults."""
+        return self.picture is not None
+
+
+@dataclass(frozen=True)
+class Command:
+    """A command a kind contributes to the command line: `orchestrator <name>`, or `orchestrator calibrate
+    <parameter>` for a name 'calibrate <parameter>' (Kind.commands).
+
+    help: one line for the list of commands; description: the command's --help text; add_arguments(parser): adds
+    its positional arguments and options (for a calibration: to the calibrate parser, its own options only);
+    run(args) -> exit code.
+    """
+
+    help: str
+    description: str
+    add_arguments: Callable
+    run: Callable
+
+
+def unit_in(table: dict, quantity: str) -> str:
+    """The unit of quantity in a table {name or fnmatch pattern: unit or (unit, meaning)}: its own entry, else the
+    entry of its base name ('u_profile(t=0.1 s)', 'surge_front_Z[paper]' -> 'u_profile', 'surge_front_Z'), else
+    the first pattern that matches; '' when none does."""
+    base = quantity.split("(")[0].split("[")[0]
+    for name in (quantity, base):
+        if name in table:
+            entry = table[name]
+            return entry if isinstance(entry, str) else entry[0]
+    for pattern, entry in table.items():
+        if any(c in pattern for c in "*?[") and (fnmatchcase(quantity, pattern) or fnmatchcase(base, pattern)):
+            return entry if isinstance(entry, str) else entry[0]
+    return ""
+
+
+#: The parts of a Kind that are lazy references ('module:name' strings given, Lazy held).
+LAZY_FIELDS = ("case_model", "build_scene", "measure", "analyze", "quantities", "expected", "references",
+               "compare_picture", "study_pictures")
 
 
 @dataclass(frozen=True)
 class Kind:
-    """A process kind (see the module docstring). Callables are 'module:name' strings, imported on first use.
+    """A process kind (see the module docstring). Its parts are 'module:name' strings, held as Lazy references and
+    imported on first use; a part that is a function is called under its own name (kind.build_scene(case)).
 
-    name: case.kind in case files; case_model: the pydantic model of its case files; build_scene(case) -> scene;
-    measure(case, result) -> {quantity: SI value}; analyze(run_dir, run, case, render) -> {name: path} (prints the
-    kind's table, draws its pictures); adapters: engine name -> 'module:AdapterClass'; refusals: engine name ->
-    'module:function(scene) -> message' for engines that have no adapter but can say why (e.g. the reference DEM and
-    a drag-finishing bowl); description: one line for help texts; study_pictures: 'module:function(rows, quantity,
-    reference, tolerance) -> [{"title": str, "note": str, "png": bytes}]' drawing the kind's sections of a study
-    report (rows: the study's index rows, run_dir pointing at each run; quantity: the compared column; reference:
-    the reference row or None; tolerance: relative error accepted), empty when the kind has none.
+    name: case.kind in case files; case_model: the pydantic model of its case files (kind.case_model.load());
+    build_scene(case) -> scene; measure(case, result) -> {quantity: SI value}; analyze(run_dir, run, case, render)
+    -> {name: path} (prints the kind's table, draws its pictures); adapters: engine name -> 'module:AdapterClass';
+    refusals: engine name -> 'module:function(scene) -> message' for engines that have no adapter but can say why
+    (e.g. the reference DEM and a drag-finishing bowl); description: one line for help texts.
+
+    Capabilities, each optional (None: the kind has none), looped over by the generic layers (run, compare,
+    verify, study, the command line), which name no kind:
+    quantities: 'module:TABLE' of its measured quantities, {name or fnmatch pattern: (unit, meaning)} (compare's
+    units; unit_in); expected(case) -> {quantity: value}: what the case predicts, e.g. closed forms (compare's
+    expected column); references(case, runs) -> (title, header, cells, rows): the case's published values beside
+    each engine's (runs: [(engine, measured)]; compare's table and its JSON 'references'); compare_picture(runs, case,
+    path) -> path or None: the engines overlaid (runs: [(label, runh5.read_run dict)]; compare_forces.png);
+    verification: its part of a suite (Verification); commands: name -> 'module:COMMAND' (a Command), the commands
+    it contributes ('rheometry', 'calibrate maxwell'); study_pictures(rows, quantity, reference, tolerance) ->
+    [{"title": str, "note": str, "png": bytes}]: the kind's sections of a study report (rows: the study's index
+    rows, run_dir pointing at each run; quantity: the compared column; reference: the reference row or None;
+    tolerance: relative error accepted). Its limits (memory, steps, records) are its case model's validators.
     """
 
     name: str
-    case_model: str
-    build_scene: str
-    measure: str
-    analyze: str
+    case_model: Lazy | str
+    build_scene: Lazy | str
+    measure: Lazy | str
+    analyze: Lazy | str
     adapters: dict[str, str]
     refusals: dict[str, str] = field(default_factory=dict)
     description: str = ""
-    study_pictures: str = ""
+    quantities: Lazy | str | None = None
+    expected: Lazy | str | None = None
+    references: Lazy | str | None = None
+    compare_picture: Lazy | str | None = None
+    verification: Verification | None = None
+    commands: dict[str, str] = field(default_factory=dict)
+    study_pictures: Lazy | str | None = None
+
+    def __post_init__(self):
+        for name in LAZY_FIELDS:
+            object.__setattr__(self, name, lazy(getattr(self, name)))
 
     def engines(self) -> list[str]:
         """Names of the engines that run this kind (those with an adapter), sorted."""
         return sorted(self.adapters)
 
     def model(self):
-        """The case model class."""
-        return _load(self.case_model)
+        """The case model class (case_model, loaded)."""
+        return self.case_model.load()
 
+    # The former names of build_scene, measure and analyze, until every caller uses those.
     def scene(self, case):
-        """The scene built from a validated case model."""
-        return _load(self.build_scene)(case)
+        """See build_scene."""
+        return self.build_scene(case)
 
     def measured(self, case, result) -> dict[str, float]:
-        """The case's measured quantities from a Result (SI units)."""
-        return _load(self.measure)(case, result)
+        """See measure."""
+        return self.measure(case, result)
 
     def analysis(self, run_dir, run: dict, case, render: bool) -> dict:
-        """Print the kind's comparison of a stored run and draw its pictures; returns {name: path}."""
-        return _load(self.analyze)(run_dir, run, case, render)
+        """See analyze."""
+        return self.analyze(run_dir, run, case, render)
+
+    def unit_of(self, quantity: str) -> str:
+        """SI unit of one of its measured quantities ('' when the kind does not say)."""
+        return unit_in(self.quantities.load(), quantity) if self.quantities is not None else ""
 
     def draw_study_pictures(self, rows: list[dict], quantity: str, reference: dict | None,
                             tolerance: float) -> list[dict]:
         """The kind's sections of a study report (see study_pictures); [] when it declares none."""
-        return _load(self.study_pictures)(rows, quantity, reference, tolerance) if self.study_pictures else []
+        return self.study_pictures(rows, quantity, reference, tolerance) if self.study_pictures else []
+
+    def command(self, name: str) -> Command:
+        """The Command the kind contributes under name (see commands)."""
+        return Lazy(self.commands[name]).load()
 
     def adapter(self, engine: str, scene=None) -> Adapter:
         """The adapter of engine for this kind; OrchestratorError (naming the engines that do run it) otherwise."""
         if engine in self.adapters:
-            return _load(self.adapters[engine])()
+            return Lazy(self.adapters[engine]).load()()
         if scene is not None and engine in self.refusals:
-            raise OrchestratorError(_load(self.refusals[engine])(scene))
+            raise OrchestratorError(Lazy(self.refusals[engine])(scene))
         raise OrchestratorError(f"the {engine} engine does not run {self.name} cases; use --engine "
                                 f"{' or '.join(self.engines())}")
 

@@ -6,7 +6,7 @@ to whoever tabulates and plots them. One result per run has check rows; one tabl
 
 A check row has ROW_KEYS (plus source and note): the scene, the engine, the measured quantity, its value, the
 expected value, rel_error = |value - expected| / |expected| (unless the note names another scale), the tolerance
-and whether it passed. `verify dem`, `verify sph` and the time-step sweep produce them; compare, bench, calibrate
+and whether it passed. `verify <suite>` and the time-step sweep produce them; compare, bench, calibrate
 and studies use the same folders and pool.
 """
 
@@ -25,14 +25,15 @@ from orchestrator import signals
 from orchestrator.humanize import stamped_dir
 from orchestrator.outputs import claim_folder
 
-#: The keys of one check row (`verify dem|sph --json`), in order.
+#: The keys of one check row (`verify <suite> --json`), in order.
 ROW_KEYS = ("scene", "engine", "quantity", "value", "expected", "rel_error", "tolerance", "passed")
 
 
 @dataclass
 class CheckedRun:
     """One scene run on one engine: status, check rows (ROW_KEYS plus source and note) and run directory;
-    wall_time_s: the engine's compute time, s."""
+    wall_time_s: the engine's compute time, s; picture: what the suite's picture draws of this run (the kind's
+    check says what, kinds.base.Verification)."""
 
     scene: str
     engine: str
@@ -41,6 +42,7 @@ class CheckedRun:
     run_dir: Path
     rows: list[dict] = field(default_factory=list)
     wall_time_s: float = math.nan
+    picture: dict = field(default_factory=dict)
 
 
 @dataclass

@@ -24,8 +24,8 @@ import numpy as np
 from orchestrator.errors import CaseError, OrchestratorError, ReadError
 from orchestrator.kinds.impact.theory import CLOSED_FORMS, NotApplicable, first_impact
 from orchestrator.reference import closed_form
+from orchestrator.case.loader import shipped_cases
 from orchestrator.runh5 import read_run, stored_case
-from orchestrator.workflows.verify import verification_dir
 
 #: A force sample counts as part of an impact above this fraction of the largest force.
 CONTACT_THRESHOLD = 0.05
@@ -239,7 +239,7 @@ def format_fit(fit: RestitutionFit) -> str:
 def drop_case_path() -> Path:
     """The shipped sphere-drop case (the paper's setup)."""
 
-    return verification_dir() / "uhlmann2015_sphere_drop.toml"
+    return shipped_cases("verification") / "uhlmann2015_sphere_drop.toml"
 
 
 __all__ = ["DropObservation", "RestitutionFit", "drop_model", "fit_restitution", "format_fit",

@@ -9,10 +9,11 @@ the others still run. Per measured quantity (RunSummary.measured, from
 orchestrator.analysis) the table shows every engine's value and their spread
 (max - min, and relative to the mean's magnitude); per engine the engine's
 wall time, particle-steps per second and the orchestrator's own overhead by
-phase (run.OVERHEAD_PHASES). Drag-finishing cases add F_n and F_t (mean and
-std, N) of each engine next to the case's [[reference]] bands, impact cases
-the closed form of each [[expected]] quantity. OUT/compare_forces.png
-overlays the engines' force series.
+phase (run.OVERHEAD_PHASES). What else a comparison shows is the case's
+kind's (kinds.base.Kind): the units of its quantities (quantities), what the
+case predicts for them (expected: closed forms), a table of its published
+values beside each engine's (references), and OUT/compare_forces.png, the
+engines' series overlaid (compare_picture).
 """
 
 from __future__ import annotations
@@ -25,22 +26,11 @@ from pathlib import Path
 
 from orchestrator.engines import engine_names, get_engine
 from orchestrator.errors import EngineNotFound, OrchestratorError, ReadError
-from orchestrator.kinds import engines_for_kind, kinds_for_engine
-from orchestrator.kinds.drag_finishing.analysis import comparison_rows
-from orchestrator.kinds.drag_finishing.plots import plot_engine_forces
-from orchestrator.kinds.impact.analysis import evaluate_checks
-from orchestrator.kinds.impact.plots import plot_force_curves
-from orchestrator.kinds.impact.theory import QUANTITIES
+from orchestrator.kinds import engines_for_kind, get_kind, kinds_for_engine
 from orchestrator.run import OVERHEAD_PHASES, run_case
 from orchestrator.runh5 import RUN_FILE, read_run
 from orchestrator.workflows.base import Workflow
-from orchestrator.workflows.verify import SceneRun
 
-#: Units of the drag-finishing measured quantities (analysis.drag_finishing) that are not forces; impact ones are
-#: in analysis.impact.QUANTITIES.
-DRAG_FINISHING_UNITS = {"bed_height": "m", "n_samples": "-", "process_time_simulated": "s"}
-#: Drag-finishing quantities named with these prefixes are forces, N (fn_mean, ft_std, fn_sem, contact_fn_max...).
-FORCE_PREFIXES = ("fn_", "ft_", "fv_", "contact_f")
 #: Status of an engine that did not run (not installed, or not for this kind of case).
 SKIPPED = "skipped"
 PLOT_FILE = "compare_forces.png"
@@ -96,67 +86,50 @@ class Comparison:
         """case.kind."""
         return self.case.case.kind
 
+    def unit_of(self, quantity: str) -> str:
+        """SI unit of one of the kind's measured quantities ('' when the kind does not say)."""
+        return get_kind(self.kind).unit_of(quantity)
+
     def quantity_rows(self) -> list[dict]:
-        """Per measured quantity: unit, each engine's value (None if it has none), spread = max - min and
-        rel_spread = spread / |mean| over the engines that have it, and the expected value where the case has one."""
+        """Per measured quantity, in the order of the kind's table of quantities: unit, each engine's value (None if
+        it has none), spread = max - min and rel_spread = spread / |mean| over the engines that have it, and the
+        expected value where the case predicts one (the kind's expected)."""
 
-        expected = {}
-        if self.kind == "impact":
-
-            expected = {check.quantity: check.expected for check in evaluate_checks(self.case, {})}
+        kind = get_kind(self.kind)
+        expected = kind.expected(self.case) if kind.expected is not None else {}
         names = list(dict.fromkeys(key for run in self.runs for key in run.measured))
-        if self.kind == "impact":
-            names.sort(key=lambda n: list(QUANTITIES).index(n) if n in QUANTITIES else len(QUANTITIES))
+        order = list(kind.quantities.load()) if kind.quantities is not None else []
+        names.sort(key=lambda n: order.index(n) if n in order else len(order))
         rows = []
         for name in names:
             values = {run.engine: _number(run.measured.get(name)) for run in self.runs}
             finite = [v for v in values.values() if math.isfinite(v)]
             spread = max(finite) - min(finite) if len(finite) > 1 else math.nan
             mean = sum(finite) / len(finite) if finite else math.nan
-            unit = unit_of(name)
-            rows.append({"quantity": name, "unit": unit, "values": values, "spread": spread,
+            rows.append({"quantity": name, "unit": kind.unit_of(name), "values": values, "spread": spread,
                          "rel_spread": abs(spread / mean) if math.isfinite(spread) and mean != 0 else math.nan,
                          "expected": expected.get(name, math.nan)})
         return rows
 
-    def force_rows(self) -> list[dict]:
-        """Drag finishing: source, F_n and F_t mean and std (N) of each engine that ran, then the case's
-        references; each engine row adds fn_sem (standard error of its mean F_n, N, nan if not measured) and, per
-        reference, the relative difference of its mean F_n and whether
-        it lies within the reference's band (mean +- std). Empty for other kinds."""
-        if self.kind != "drag_finishing":
-            return []
+    def reference_table(self):
+        """The kind's table of the case's published values beside each engine's that ran (Kind.references):
+        (title, header, cells, rows), or None when the kind has none."""
+        references = get_kind(self.kind).references
+        if references is None:
+            return None
+        return references(self.case, [(run.engine, run.measured) for run in self.runs if run.summary is not None])
 
-        references = comparison_rows(self.case, {})[1:]
-        rows = []
-        for run in self.runs:
-            if run.summary is None:
-                continue
-            row = {**comparison_rows(self.case, run.measured)[0], "source": run.engine,
-                   "fn_sem": _number(run.measured.get("fn_sem")), "against": []}
-            for ref in references:
-                rel = (row["fn_mean"] - ref["fn_mean"]) / abs(ref["fn_mean"]) if ref["fn_mean"] else math.nan
-                row["against"].append({"reference": ref["source"], "fn_rel_difference": rel,
-                                       "in_band": bool(abs(row["fn_mean"] - ref["fn_mean"]) <= ref["fn_std"])})
-            rows.append(row)
-        return rows + [{**ref, "fn_sem": math.nan} for ref in references]
+    def reference_rows(self) -> list[dict]:
+        """The rows of reference_table as JSON objects ([] when the kind has none)."""
+        table = self.reference_table()
+        return table[3] if table is not None else []
 
     def as_dict(self) -> dict:
         """One JSON-ready document (NaN stays float; the CLI turns it into null)."""
         return {"case": self.case.case.name, "kind": self.kind, "preset": self.preset or "",
                 "out_dir": str(self.out_dir), "plot": str(self.plot) if self.plot else None,
                 "wall_time_s": self.wall_time_s, "engines": [run.row() for run in self.runs],
-                "quantities": self.quantity_rows(), "forces": self.force_rows()}
-
-
-def unit_of(quantity: str) -> str:
-    """SI unit of a measured quantity ('' when unknown)."""
-
-    if quantity in QUANTITIES:
-        return QUANTITIES[quantity][0]
-    if quantity in DRAG_FINISHING_UNITS:
-        return DRAG_FINISHING_UNITS[quantity]
-    return "N" if quantity.startswith(FORCE_PREFIXES) else ""
+                "quantities": self.quantity_rows(), "references": self.reference_rows()}
 
 
 def parse_engines(text: str) -> list[str]:
@@ -240,43 +213,24 @@ def _run_engine(loaded, engine: str, k: int, total: int, folder: Path, timeout_s
 
 
 def plot_forces(comparison: Comparison) -> Path | None:
-    """Write out_dir/compare_forces.png overlaying the engines' force series (drag finishing: F_n and F_t on the
-    rod, N, against process time, s, with the reference bands; impact: normal force, N, against time, s).
-    Returns the path, or None when no engine left a run.h5."""
+    """Write out_dir/compare_forces.png, the engines' series overlaid as the kind draws them (Kind.compare_picture:
+    e.g. forces in N against time in s). Returns the path, or None when the kind draws none or no engine left a
+    run.h5."""
 
+    picture = get_kind(comparison.kind).compare_picture
+    if picture is None:
+        return None
     runs = []
     for run in comparison.runs:
         if run.summary is None:
             continue
         try:
-            runs.append((run, read_run(run.summary.run_dir)))
+            data = read_run(run.summary.run_dir)
         except ReadError:
             continue
-    if not runs:
-        return None
-    path = comparison.out_dir / PLOT_FILE
-    if comparison.kind == "drag_finishing":
-
-        labels = [f"{run.engine} {run.summary.engine_version}" + ("" if run.status == "ok" else f" ({run.status})")
-                  for run, _ in runs]
-        return plot_engine_forces(list(zip(labels, (data for _, data in runs))), comparison.case, path)
-    if comparison.kind == "impact":
-
-        return plot_force_curves([_scene_run(comparison, run, data) for run, data in runs], path)
-    return None
-
-
-def _scene_run(comparison: Comparison, run: EngineRun, data: dict):
-    """verify.SceneRun of an impact run (for verify's force-curve plot)."""
-    import numpy as np
-
-    scene = SceneRun(comparison.case.case.name, run.engine, run.status, run.message, Path(run.summary.run_dir))
-    series, events = data.get("series", {}), data.get("events", {})
-    if "normal_force" in series:
-        scene.time, scene.normal_force = series["time"], series["normal_force"]
-    if "peak_time" in events:
-        scene.peaks = np.column_stack([events["peak_time"], events["peak_normal_force"]])
-    return scene
+        label = f"{run.engine} {run.summary.engine_version}" + ("" if run.status == "ok" else f" ({run.status})")
+        runs.append((label, data))
+    return picture(runs, comparison.case, comparison.out_dir / PLOT_FILE) if runs else None
 
 
 def text_tables(comparison: Comparison) -> list[tuple[str, list[str], list[list[str]]]]:
@@ -292,22 +246,9 @@ def text_tables(comparison: Comparison) -> list[tuple[str, list[str], list[list[
                  + ([_cell(row["expected"])] if with_expected else []) for row in quantities]
         tables.append(("measured quantities (SI units; spread = max - min, rel_spread = spread / |mean|)",
                        header, cells))
-    forces = comparison.force_rows()
-    if forces:
-        refs = [row["source"] for row in forces if "against" not in row]
-        header = ["source", "F_n mean", "F_n std", "F_n sem", "F_t mean", "F_t std"] + [f"F_n vs {ref}"
-                                                                                          for ref in refs]
-        cells = []
-        for row in forces:
-            line = [row["source"]] + [_cell(row[k], ".4g") for k in ("fn_mean", "fn_std", "fn_sem", "ft_mean",
-                                                                      "ft_std")]
-            for against in row.get("against", []):
-                line.append(f"{_percent(against['fn_rel_difference'], signed=True)} "
-                            f"({'in band' if against['in_band'] else 'outside band'})")
-            cells.append(line + [""] * (len(header) - len(line)))
-        transient = comparison.case.analysis.transient_time
-        tables.append((f"force on the rod after the {transient:g} s transient, N (mean, standard deviation, standard "
-                       "error of the mean), engines and the case's references", header, cells))
+    references = comparison.reference_table()
+    if references is not None:
+        tables.append(references[:3])
     rows = [run.row() for run in comparison.runs]
     header = ["engine", "version", "status", "engine wall [s]", "particles", "steps", "particle-steps/s",
               "overhead [s]", "overhead [% of engine]"]

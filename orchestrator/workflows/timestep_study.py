@@ -1,5 +1,6 @@
-"""Speed against error: the verification scenes at several time-step factors
-(numerics.timestep_factor, the fraction of the critical step) on each engine.
+"""Speed against error: a verification suite's scenes at several time-step
+factors (the case key its owner names, Verification.timestep_key: e.g.
+numerics.timestep_factor, the fraction of the critical step) on each engine.
 
 For every (engine, factor) point: the worst check of every scene (relative
 error over its tolerance, and the relative error itself), how many checks
@@ -17,7 +18,8 @@ from pathlib import Path
 from orchestrator.plots import save_pyplot_figure
 from orchestrator.runh5 import read_run
 from orchestrator.workflows.base import Workflow
-from orchestrator.workflows.verify import dem_verification
+from orchestrator.errors import OrchestratorError
+from orchestrator.workflows.verify import get_suite, suites, verification
 
 #: Factors swept by default (fractions of the critical step).
 DEFAULT_FACTORS = (0.01, 0.02, 0.05, 0.1, 0.2, 0.5, 1.0)
@@ -40,11 +42,18 @@ class SweepPoint:
     steps: int
 
 
-def run_timestep_sweep(factors=DEFAULT_FACTORS, engines=None, out_dir=None, cases_dir=None, workers=None):
-    """Run verification at each factor; returns (points, runs by factor). Run directories: out_dir/f<factor>/..."""
+def run_timestep_sweep(suite: str, factors=DEFAULT_FACTORS, engines=None, out_dir=None, cases_dir=None,
+                       workers=None):
+    """Run the suite's verification at each factor; returns (points, runs by factor). Run directories:
+    out_dir/f<factor>/... OrchestratorError for a suite whose owner names no time-step key."""
 
-    sweeps = {factor: dem_verification(engines, cases_dir, [f"numerics.timestep_factor={factor}"])
-              for factor in factors}
+    chosen = get_suite(suite)
+    key = chosen.declared.timestep_key
+    if not key:
+        swept = [name for name, other in suites().items() if other.declared.timestep_key]
+        raise OrchestratorError(f"--timestep-factors: the {suite} suite has no time-step factor to sweep; suites "
+                                f"that do: {', '.join(swept) or 'none'}")
+    sweeps = {factor: verification(chosen, engines, cases_dir, [f"{key}={factor}"]) for factor in factors}
     planned: list[float] = []  # the factor of each job, in order
 
     def prepare():

@@ -1,11 +1,14 @@
-"""`orchestrator verify dem`: every verification scene on every installed DEM
-engine and on the reference, checked against its closed form.
+"""`orchestrator verify <suite>`: the verification scenes of a suite on its engines, checked against closed forms,
+series solutions and measurements.
 
-The scenes are the impact cases in cases/verification/ (shipped with the
-package); each case's [[expected]] table names the quantity, the closed form
-or value and the relative tolerance. One table row per (scene, engine,
-check); a run that ends unstable or failed gives failing rows with the reason.
-A PNG overlays the normal-force curves of every engine per scene.
+A suite is what the kinds declare (kinds.base.Verification, as pytest's plug-ins implement its hooks): each kind
+that takes part names the suite, how a run of one of its scenes becomes check rows (the one row format of
+workflows.base.ROW_KEYS) and the units of the checked quantities; the kind that owns the suite adds its picture,
+its description, its default timeout and, if any, the case key a time-step sweep varies. This module loops over
+the kinds and names none. A suite's scenes are the case files of its kinds in the shipped cases/<folder> (or
+--cases); each runs on every installed engine of its kind (or the requested ones), one run per scene and engine
+(or per point of the scene's own sweep), in parallel; a run that ends unstable or failed gives failing rows with
+the reason.
 """
 
 from __future__ import annotations
@@ -15,170 +18,219 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from orchestrator.case import load_case
-from orchestrator.case.loader import read_toml_file
+from orchestrator.case.loader import read_toml_file, shipped_cases
 from orchestrator.engines import engine_names, get_engine
 from orchestrator.errors import CaseError, EngineNotFound, OrchestratorError
 from orchestrator.humanize import stamped_dir
-from orchestrator.kinds import engines_for_kind
-from orchestrator.kinds.impact.analysis import evaluate_checks
-from orchestrator.kinds.impact.theory import QUANTITIES
+from orchestrator.kinds import get_kind, kind_names
+from orchestrator.kinds.base import Verification, unit_in
 from orchestrator.run import run_case
 from orchestrator.runh5 import read_run
 from orchestrator.workflows.base import CheckedRun, Workflow
 from orchestrator.workflows.base import format_table as base_table
 
-_CANDIDATE_DIRS = (
-    Path(__file__).resolve().parent.parent / "verification_cases",  # installed wheel
-    Path(__file__).resolve().parent.parent.parent / "cases" / "verification",  # source checkout / editable install
-)
+
+@dataclass(frozen=True)
+class Suite:
+    """A verification suite: its name, the kinds that take part ({kind: Verification}) and the owner's
+    declaration (picture, description, timeout_s, timestep_key, cases)."""
+
+    name: str
+    members: dict[str, Verification]
+    owner: str
+
+    @property
+    def declared(self) -> Verification:
+        """The owner's Verification."""
+        return self.members[self.owner]
+
+    def engines(self) -> list[str]:
+        """Every engine that runs one of the suite's kinds, sorted (installed or not)."""
+        return sorted({engine for kind in self.members for engine in get_kind(kind).engines()})
+
+    def unit_of(self, quantity: str) -> str:
+        """SI unit of a checked quantity ('u_profile(t=0.1 s)' -> 'm/s'; '' when no kind says)."""
+        for verification in self.members.values():
+            unit = unit_in(verification.units.load(), quantity)
+            if unit:
+                return unit
+        return ""
 
 
-def verification_dir() -> Path:
-    """Directory holding the verification scenes (cases/verification)."""
-    for candidate in _CANDIDATE_DIRS:
-        if candidate.is_dir():
-            return candidate
-    raise OrchestratorError("the verification scenes (cases/verification) are missing; reinstall the package")
+def suites() -> dict[str, Suite]:
+    """Every suite the registered kinds declare, by name (sorted). A suite must have exactly one owner."""
+    members: dict[str, dict[str, Verification]] = {}
+    for name in kind_names():
+        verification = get_kind(name).verification
+        if verification is not None:
+            members.setdefault(verification.suite, {})[name] = verification
+    out = {}
+    for suite, kinds in sorted(members.items()):
+        owners = [kind for kind, v in kinds.items() if v.owns_suite]
+        if len(owners) != 1:
+            raise OrchestratorError(f"the verification suite {suite!r} needs exactly one kind that owns it (gives its "
+                                    f"picture); owners: {', '.join(owners) or 'none'}")
+        out[suite] = Suite(suite, kinds, owners[0])
+    return out
 
 
-def scene_files(directory: Path | None = None, kind: str = "impact") -> list[Path]:
-    """The verification case files of one case kind (impact: DEM; sph_flow: SPH), sorted by name."""
+def get_suite(name: str) -> Suite:
+    """The suite registered under name (OrchestratorError naming the suites otherwise)."""
+    known = suites()
+    if name not in known:
+        raise OrchestratorError(f"unknown verification suite {name!r}; allowed: {', '.join(known)}")
+    return known[name]
 
-    directory = Path(directory) if directory is not None else verification_dir()
+
+def scene_files(suite: Suite, directory: Path | None = None) -> list[Path]:
+    """The suite's scenes in directory (default the shipped cases/<folder>): the case files of its kinds, sorted
+    by name. The owner's kind must have some; the other kinds' are optional."""
+    directory = Path(directory) if directory is not None else shipped_cases(suite.declared.cases)
     if not directory.is_dir():
         what = "does not exist" if not directory.exists() else "is not a directory"
         raise OrchestratorError(f"--cases {directory} {what}; give a directory of case files (*.toml), e.g. "
                                 "cases/verification")
-    files = []
+    files = {kind: [] for kind in suite.members}
     for path in sorted(directory.glob("*.toml")):
         try:  # read_toml_file refuses FIFOs, devices and oversized files before reading anything
             meta = read_toml_file(path, "case").get("case", {})
-            file_kind = meta.get("kind") if isinstance(meta, dict) else kind
+            file_kind = meta.get("kind") if isinstance(meta, dict) else suite.owner
         except CaseError:
-            file_kind = kind  # let the case loader report what is wrong with it
-        if file_kind == kind:
-            files.append(path)
-    if not files:
-        raise OrchestratorError(f"no {kind} case files (*.toml) in {directory}")
-    return files
+            file_kind = suite.owner  # let the case loader report what is wrong with it
+        if file_kind in files:
+            files[file_kind].append(path)
+    if not files[suite.owner]:
+        raise OrchestratorError(f"no {suite.owner} case files (*.toml) in {directory}")
+    return sorted((path for paths in files.values() for path in paths), key=lambda path: path.name)
 
 
-def load_scenes(files: list[Path], overrides=(), preset: str | None = None) -> None:
-    """Validate every scene with the overrides before any run starts (CaseError naming the file and key)."""
+def check_engines(suite: Suite, requested=None) -> list[str]:
+    """The requested engine names, each registered and running the suite's scenes (OrchestratorError otherwise),
+    duplicates dropped; None: the suite's engines (which of them are installed is asked when the runs start)."""
+    engines = suite.engines()
+    if not requested:
+        return engines
+    for name in requested:
+        if name not in engine_names():
+            raise OrchestratorError(f"unknown engine {name!r}; allowed: {', '.join(engine_names())}")
+        if name not in engines:
+            where = (f"the {engines[0]} engine only" if len(engines) == 1 else f"the engines {', '.join(engines)}")
+            raise OrchestratorError(f"{name} does not run {suite.name.upper()} verification scenes; verify "
+                                    f"{suite.name} runs on {where}")
+    return list(dict.fromkeys(requested))
 
-    for path in files:
-        load_case(path, preset=preset, overrides=overrides)
 
-
-def dem_engines(requested=None) -> list[str]:
-    """Engines that run impact cases: the requested ones (each must be installed), or every installed one.
-
-    Raises EngineNotFound for a requested engine that is missing and
-    OrchestratorError for one that cannot run impact cases.
-    """
+def installed(names: list[str], requested: bool) -> list[str]:
+    """The installed engines of names: all of them must be when they were requested (EngineNotFound names the
+    first missing one), and at least one otherwise."""
     if requested:
-        out = []
-        for name in requested:
-            if name not in engine_names():
-                raise OrchestratorError(f"unknown engine {name!r}; allowed: {', '.join(engine_names())}")
-            if name not in dem_engine_names():
-                raise OrchestratorError(f"{name} does not run DEM impact scenes; DEM engines: "
-                                        f"{', '.join(dem_engine_names())}")
+        for name in names:
             get_engine(name).check_available()
-            out.append(name)
-        return list(dict.fromkeys(out))
-    return [name for name in dem_engine_names() if get_engine(name).available()]
+        return names
+    found = [name for name in names if get_engine(name).available()]
+    if not found:
+        get_engine(names[0]).check_available()
+    return found
 
 
-def dem_engine_names() -> list[str]:
-    """Every registered engine that runs impact cases, installed or not."""
-    return engines_for_kind("impact")
+def scene_runs(path: Path, overrides=(), preset: str | None = None) -> list[tuple[str, tuple[str, ...]]]:
+    """(run folder, overrides) of each run of a scene: one in folder <stem>, or those its kind's runs says (e.g.
+    one per frequency of a sweep), with the given overrides first."""
+    model = load_case(path, preset=preset, overrides=overrides).model
+    runs = get_kind(model.case.kind).verification.runs
+    own = runs(model, path.stem) if runs is not None else [(path.stem, ())]
+    return [(folder, (*overrides, *extra)) for folder, extra in own]
 
 
-@dataclass
-class SceneRun(CheckedRun):
-    """One DEM scene on one engine: its rows, status and the curves to plot."""
-
-    time: object = None  # (n,) s
-    normal_force: object = None  # (n,) N
-    peaks: object = None  # (k, 2): peak time s, peak force N of each contact
-
-
-def run_scene(case_file: Path, engine: str, out_dir: Path, overrides=(), timeout_s: float | None = 600.0) -> SceneRun:
-    """Run one verification scene on one engine and check it (never raises for a failed run)."""
-    import numpy as np
-
-    loaded = load_case(case_file, overrides=overrides)
+def run_scene(case_file: Path, engine: str, out_dir: Path, overrides=(), timeout_s: float | None = 600.0,
+              preset: str | None = None) -> CheckedRun:
+    """Run one verification scene on one engine and check it with its kind's check (never raises for a failed
+    run: its rows fail, with the reason as their note)."""
+    loaded = load_case(case_file, preset=preset, overrides=overrides)
     run_dir = Path(out_dir)
-    status, message = "ok", ""
+    status, message, wall = "ok", "", math.nan
     try:
-        summary = run_case(loaded, engine=engine, out_dir=run_dir, timeout_s=timeout_s, progress=False, force=True)
-        measured, wall = summary.measured, summary.wall_time_s
+        wall = run_case(loaded, engine=engine, out_dir=run_dir, timeout_s=timeout_s, progress=False,
+                        force=True).wall_time_s
     except EngineNotFound:
         raise
     except OrchestratorError as exc:
-        summary = exc.summary
-        status = summary.status if summary is not None else "failed"
+        status = exc.summary.status if exc.summary is not None else "failed"
         message = str(exc).split("\n")[0]
-        measured = summary.measured if summary is not None else {}
-        wall = summary.wall_time_s if summary is not None else math.nan
-    result = SceneRun(loaded.name, engine, status, message, run_dir, wall_time_s=wall)
+        wall = exc.summary.wall_time_s if exc.summary is not None else math.nan
+    result = CheckedRun(loaded.name, engine, status, message, run_dir, wall_time_s=wall)
     try:
         run = read_run(run_dir)
     except OrchestratorError:
         run = {"attrs": {}}
-    deviation = run["attrs"].get("deviation", "")
-    for check in evaluate_checks(loaded.model, measured):
-        passed = check.passed and status == "ok"
-        note = message if status != "ok" else check.note or (f"{engine}: {deviation}" if not passed and deviation
-                                                              else "")
-        result.rows.append({"scene": loaded.name, "engine": engine, "quantity": check.quantity, "value": check.value,
-                            "expected": check.expected, "rel_error": check.rel_error, "tolerance": check.tolerance,
-                            "passed": bool(passed), "source": check.source, "note": note})
-    series = run.get("series", {})
-    if "normal_force" in series:
-        result.time, result.normal_force = series["time"], series["normal_force"]
-    events = run.get("events", {})
-    if "peak_time" in events:
-        result.peaks = np.column_stack([events["peak_time"], events["peak_normal_force"]])
+    check = get_kind(loaded.kind).verification.check
+    try:
+        result.rows, result.picture = check(loaded.model, engine, run)
+    except (KeyError, IndexError, ValueError) as exc:  # a run that stopped too early to measure
+        result.rows = [{"scene": loaded.name, "engine": engine, "quantity": "run", "value": None, "expected": None,
+                        "rel_error": None, "tolerance": None, "passed": False, "source": "",
+                        "note": f"cannot evaluate the checks: {type(exc).__name__}: {exc}"}]
+    for row in result.rows:
+        row["engine"] = engine
+        if status != "ok":
+            row["passed"], row["note"] = False, f"run {status}: {message}"
     return result
 
 
-def dem_verification(engines=None, cases_dir=None, overrides=(), timeout_s: float | None = 600.0,
-                     name: str = "verify-dem") -> Workflow:
-    """The Workflow of every scene in cases_dir on every engine, run directories <folder>/<scene>/<engine>.
+def verification(suite: Suite, engines=None, cases_dir=None, overrides=(), timeout_s: float | None = None,
+                 preset: str | None = None, only=None) -> Workflow:
+    """The Workflow of every scene of the suite (or those whose stem is in `only`) on every engine that runs its
+    kind, run directories <folder>/<run folder>/<engine> (<folder>/<run folder> when the suite has one engine).
 
-    engines: names (default: every installed DEM engine, the reference included); overrides: --set strings applied
-    to every scene (e.g. numerics.timestep_factor=0.1); timeout_s: wall-time limit of each run, s.
+    engines: names (default: every installed engine of the suite); overrides: --set strings applied to every
+    scene (e.g. numerics.timestep_factor=0.1); timeout_s: wall-time limit of each run, s (default the suite's).
     """
-    files = scene_files(cases_dir)
-    names: list[str] = []
+    files = [path for path in scene_files(suite, cases_dir) if not only or path.stem in only]
+    timeout_s = suite.declared.timeout_s if timeout_s is None else timeout_s
+    names = check_engines(suite, engines)
+    planned: list[tuple[Path, str, tuple, list[str]]] = []  # scene, run folder, overrides, its kind's engines
+    per_engine = len(suite.engines()) > 1
 
     def prepare():
-        load_scenes(files, overrides)
-        names[:] = dem_engines(engines)
+        planned.clear()
+        for path in files:  # every run validates before anything runs
+            for folder, extra in scene_runs(path, overrides, preset):
+                model = load_case(path, preset=preset, overrides=extra).model
+                if not getattr(model, "expected", None):
+                    raise OrchestratorError(f"{path}: {model.case.name} has no [[expected]] rows: nothing to check")
+                planned.append((path, folder, extra, get_kind(model.case.kind).engines()))
 
     def jobs(folder: Path):
-        return [(run_scene, (path, engine, folder / path.stem / engine, overrides, timeout_s))
-                for path in files for engine in names]
+        ready = installed(names, bool(engines))  # after the folder: a bad --out is named first
+        out = []
+        for path, name, extra, kind_engines in planned:
+            for engine in (e for e in ready if e in kind_engines):
+                where = folder / name / engine if per_engine else folder / name
+                out.append((run_scene, (path, engine, where, extra, timeout_s, preset)))
+        return out
 
-    return Workflow(name, jobs, prepare)
-
-
-def run_verification(engines=None, out_dir=None, cases_dir=None, overrides=(), workers: int | None = None,
-                     timeout_s: float | None = 600.0, on_done=None) -> list[SceneRun]:
-    """Run dem_verification (see there) into out_dir; workers: parallel runs (default: the number of cores);
-    on_done(run, done, total) as each run finishes. Returns the SceneRuns in the order scene x engine."""
-    return dem_verification(engines, cases_dir, overrides, timeout_s).run(out_dir, workers, on_done)[1]
+    return Workflow(f"verify-{suite.name}", jobs, prepare)
 
 
-def default_out_dir(root: Path = Path("runs"), suite: str = "dem") -> Path:
+def run_verification(suite: str, engines=None, out_dir=None, cases_dir=None, overrides=(), workers: int | None = None,
+                     timeout_s: float | None = None, on_done=None, only=None, preset: str | None = None
+                     ) -> list[CheckedRun]:
+    """Run the suite's verification (see there) into out_dir; workers: parallel runs (default: the number of
+    cores); on_done(run, done, total) as each run ends. Returns the CheckedRuns in the order scene x engine."""
+    workflow = verification(get_suite(suite), engines, cases_dir, overrides, timeout_s, preset, only)
+    return workflow.run(out_dir, workers, on_done)[1]
+
+
+def default_out_dir(suite: str, root: Path = Path("runs")) -> Path:
     """runs/verify-<suite>-<UTC timestamp> (humanize.stamped_dir)."""
     return stamped_dir(f"verify-{suite}", root)
 
 
-def format_table(runs: list[SceneRun], unit_of=None) -> str:
-    """base.format_table with the impact quantities' units by default."""
-    return base_table(runs, unit_of or (lambda quantity: QUANTITIES.get(quantity, ("",))[0]))
+def draw(suite: str, runs: list[CheckedRun], path: Path) -> Path:
+    """The suite's picture of the runs (its owner's Verification.picture) at path."""
+    return get_suite(suite).declared.picture(runs, Path(path))
 
 
+def format_table(runs: list[CheckedRun], suite: str) -> str:
+    """workflows.base.format_table with the units of the suite's kinds."""
+    return base_table(runs, get_suite(suite).unit_of)

@@ -12,4 +12,8 @@ KIND = Kind(
     adapters={"yade": "orchestrator.kinds.drag_finishing.yade:YadeDragFinishing",
               "liggghts": "orchestrator.kinds.drag_finishing.liggghts:LiggghtsDragFinishing"},
     refusals={"reference": "orchestrator.kinds.drag_finishing.reference:refusal"},
+    study_pictures="orchestrator.kinds.drag_finishing.study_pictures:drag_finishing_study_pictures",
+    quantities="orchestrator.kinds.drag_finishing.analysis:QUANTITIES",
+    references="orchestrator.kinds.drag_finishing.analysis:reference_table",
+    compare_picture="orchestrator.kinds.drag_finishing.plots:plot_engine_forces",
 )

@@ -13,6 +13,19 @@ import numpy as np
 
 PROCESS_PHASE = 3
 
+#: The measured quantities (measure_drag_finishing): name -> (SI unit, meaning).
+QUANTITIES: dict[str, tuple[str, str]] = {
+    **{f"{c}_{stat}": ("N", f"F_{c[1]} on the rod after the transient, {what}")
+       for c in ("fn", "ft", "fv") for stat, what in (("mean", "mean"), ("std", "standard deviation"))},
+    "fn_sem": ("N", "standard error of fn_mean (block averages)"),
+    "fn_peak": ("N", "the F_n sample of largest magnitude after the transient"),
+    "contact_fn_max": ("N", "largest normal contact force of the last network snapshot"),
+    "contact_fn_p99": ("N", "99th percentile of the normal contact forces of the last network snapshot"),
+    "bed_height": ("m", "height of the settled bed"),
+    "n_samples": ("-", "force samples after the transient"),
+    "process_time_simulated": ("s", "process time the run reached"),
+}
+
 
 def force_statistics(process_time: np.ndarray, force: np.ndarray, transient_time: float) -> dict[str, float]:
     """Mean and std (N) of the three workpiece-frame components for process_time >= transient_time (s)."""
@@ -112,3 +125,49 @@ def comparison_table(case, measured: dict) -> str:
             f"{fmt(row['ft_mean']):>8} {fmt(row['ft_std']):>8}  {rel:>11}"
         )
     return "\n".join(lines)
+
+
+def reference_table(case, runs: list[tuple[str, dict]]):
+    """`compare`'s table of the force on the rod: per engine that ran (runs: [(engine, measured)]) F_n and F_t
+    mean and std and fn_sem (N), and against each of the case's references the relative difference of its mean F_n
+    and whether it lies in the reference's band (mean +- std); then the references. Returns (title, header, cells,
+    rows); rows are the JSON objects (source, fn_mean, fn_std, fn_sem, ft_mean, ft_std, and against: [{reference,
+    fn_rel_difference, in_band}] for an engine)."""
+    references = comparison_rows(case, {})[1:]
+    rows = []
+    for engine, measured in runs:
+        row = {**comparison_rows(case, measured)[0], "source": engine,
+               "fn_sem": _number(measured.get("fn_sem")), "against": []}
+        for ref in references:
+            rel = (row["fn_mean"] - ref["fn_mean"]) / abs(ref["fn_mean"]) if ref["fn_mean"] else math.nan
+            row["against"].append({"reference": ref["source"], "fn_rel_difference": rel,
+                                   "in_band": bool(abs(row["fn_mean"] - ref["fn_mean"]) <= ref["fn_std"])})
+        rows.append(row)
+    rows += [{**ref, "fn_sem": math.nan} for ref in references]
+    header = ["source", "F_n mean", "F_n std", "F_n sem", "F_t mean", "F_t std"] + [
+        f"F_n vs {ref['source']}" for ref in references]
+    cells = []
+    for row in rows:
+        line = [row["source"]] + [_cell(row[k]) for k in ("fn_mean", "fn_std", "fn_sem", "ft_mean", "ft_std")]
+        for against in row.get("against", []):
+            line.append(f"{_signed_percent(against['fn_rel_difference'])} "
+                        f"({'in band' if against['in_band'] else 'outside band'})")
+        cells.append(line + [""] * (len(header) - len(line)))
+    title = (f"force on the rod after the {case.analysis.transient_time:g} s transient, N (mean, standard deviation, "
+             "standard error of the mean), engines and the case's references")
+    return title, header, cells, rows
+
+
+def _number(value) -> float:
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        return math.nan
+
+
+def _cell(value) -> str:
+    return "-" if not math.isfinite(value) else format(value, ".4g")
+
+
+def _signed_percent(fraction: float) -> str:
+    return "-" if not math.isfinite(fraction) else f"{100.0 * fraction:+.2g} %"

@@ -1,6 +1,6 @@
 """Impacts of spheres on spheres and planes (DEM verification, the sphere drop of Uhlmann et al. 2015)."""
 
-from orchestrator.kinds.base import Kind
+from orchestrator.kinds.base import Kind, Verification
 
 KIND = Kind(
     name="impact",
@@ -12,4 +12,15 @@ KIND = Kind(
     adapters={"yade": "orchestrator.kinds.impact.yade:YadeImpact",
               "liggghts": "orchestrator.kinds.impact.liggghts:LiggghtsImpact",
               "reference": "orchestrator.kinds.impact.reference:ReferenceImpact"},
+    quantities="orchestrator.kinds.impact.theory:QUANTITIES",
+    expected="orchestrator.kinds.impact.analysis:expected_values",
+    compare_picture="orchestrator.kinds.impact.plots:plot_compare_curves",
+    verification=Verification(
+        suite="dem", check="orchestrator.kinds.impact.verification:check_run",
+        units="orchestrator.kinds.impact.theory:QUANTITIES",
+        picture="orchestrator.kinds.impact.verification:plot_suite", timeout_s=600.0,
+        timestep_key="numerics.timestep_factor",
+        description="the DEM impacts (Chung & Ooi 2011 tests 1-4 and the sphere drop of Uhlmann et al. 2015) on "
+        "every installed DEM engine and the reference DEM, each [[expected]] row against its closed form; "
+        "verify_dem.png: normal force in N against time in ms, engines overlaid per scene."),
 )

@@ -131,3 +131,9 @@ def evaluate_checks(case, measured: dict) -> list[CheckResult]:
         rows.append(CheckResult(check.quantity, value, expected, error, check.tolerance,
                                 bool(math.isfinite(error) and error <= check.tolerance), source, note))
     return rows
+
+
+def expected_values(case) -> dict[str, float]:
+    """{quantity: expected value} of every [[expected]] check of the case (closed forms in SI; NaN where a
+    closed form does not apply): what `compare` prints beside the engines' values."""
+    return {check.quantity: check.expected for check in evaluate_checks(case, {})}

@@ -61,3 +61,20 @@ def plot_force_curves(runs: list, path: Path) -> Path:
     title = "contact normal force per verification scene (lines: recorded series; circles: each contact's peak)"
     fig.suptitle(title if columns > 1 else title.replace(" (", "\n("), fontsize=9)  # one panel: too narrow
     return save_pyplot_figure(fig, path)
+
+
+def plot_compare_curves(runs: list[tuple[str, dict]], case, path: Path) -> Path | None:
+    """`compare`'s picture of an impact case: the normal force (N) against time (ms) of every engine in one panel,
+    each contact's peak marked. runs: (label, runh5.read_run dict) per engine."""
+    import numpy as np
+
+    curves = []
+    for label, run in runs:
+        series, events = run.get("series", {}), run.get("events", {})
+        curve = ForceCurve(case.case.name, label, "ok")
+        if "normal_force" in series:
+            curve.time, curve.normal_force = series["time"], series["normal_force"]
+        if "peak_time" in events:
+            curve.peaks = np.column_stack([events["peak_time"], events["peak_normal_force"]])
+        curves.append(curve)
+    return plot_force_curves(curves, path) if curves else None

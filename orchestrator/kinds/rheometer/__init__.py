@@ -2,7 +2,7 @@
 sheared by Lees-Edwards boundaries, steadily or in small-amplitude oscillation; G'(omega), G''(omega) fitted by
 eq. 17 against the multi-mode Maxwell forms (eqs. 18-19)."""
 
-from orchestrator.kinds.base import Kind
+from orchestrator.kinds.base import Kind, Verification
 
 KIND = Kind(
     name="rheometer",
@@ -12,4 +12,8 @@ KIND = Kind(
     measure="orchestrator.kinds.rheometer.analysis:measure_rheometer",
     analyze="orchestrator.kinds.rheometer.analysis:analyze_rheometer_run",
     adapters={"sph": "orchestrator.kinds.rheometer.sph:SphRheometer"},
+    quantities="orchestrator.kinds.rheometer.analysis:QUANTITIES",
+    verification=Verification(
+        suite="sph", check="orchestrator.kinds.rheometer.checks:check_run",
+        units="orchestrator.kinds.rheometer.checks:UNITS", runs="orchestrator.kinds.rheometer.checks:sweep_runs"),
 )

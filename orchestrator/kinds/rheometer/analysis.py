@@ -15,6 +15,27 @@ from orchestrator.reference.viscoelastic_flows import ptt_steady_shear
 from orchestrator.outputs import save_figure
 
 
+#: The measured quantities (measure_rheometer): name or fnmatch pattern -> (SI unit, meaning).
+QUANTITIES: dict[str, tuple[str, str]] = {
+    "sample_density": ("kg/m^3", "the sample's mass-scaled density"),
+    "time_step": ("s", "the sample's time step"),
+    "storage_modulus": ("Pa", "G' fitted by eq. 17"),
+    "loss_modulus": ("Pa", "G'' fitted by eq. 17"),
+    "maxwell_storage_modulus": ("Pa", "G' of the multi-mode Maxwell form (eq. 18)"),
+    "maxwell_loss_modulus": ("Pa", "G'' of the multi-mode Maxwell form (eq. 19)"),
+    "offset": ("Pa", "constant term of the eq. 17 fit"),
+    "drift": ("Pa", "linear drift of the eq. 17 fit over the fitted cycles"),
+    "fit_residual": ("-", "RMS residual of the eq. 17 fit relative to the stress amplitude"),
+    "fitted_records": ("-", "shear-stress records in the fitted cycles"),
+    "shear_viscosity": ("Pa s", "steady shear: tau_xy / shear rate over the last tenth of the run"),
+    "first_normal_stress_difference": ("Pa", "steady shear: N1 over the last tenth of the run"),
+    "mode*_shear_viscosity*": ("Pa s", "one mode's shear viscosity (measured, or *_expected: its closed form)"),
+    "mode*_first_normal_stress_difference*": ("Pa", "one mode's N1 (measured, or *_expected: its closed form)"),
+    "mode*_tau_yy_over_tau_xx": ("-", "one mode's |tau_yy| / |tau_xx|"),
+    "velocity_profile": ("-", "relative error of the velocity profile against homogeneous shear"),
+}
+
+
 def maxwell_moduli(material, omega) -> tuple[np.ndarray, np.ndarray]:
     """G'(omega), G''(omega) in Pa of the material's modes (eqs. 18-19) plus the solvent's eta_s omega in G''."""
     modes = [Mode(m.relaxation_time, m.viscosity) for m in material.modes]

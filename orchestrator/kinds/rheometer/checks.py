@@ -131,3 +131,17 @@ def evaluate(case, run) -> tuple[list[dict], list[dict]]:
         rows += [row for row in measured if row["quantity"].split("(")[0] in listed]
         plots.append(plot)
     return rows, plots
+
+
+def check_run(case, engine: str, run: dict) -> tuple[list[dict], dict]:
+    """The rheometer's part of `verify sph`: the scene's check rows and its first panel for the suite's picture."""
+    rows, plots = evaluate(case, run)
+    return rows, plots[0]
+
+
+def sweep_runs(case, stem: str) -> list[tuple[str, tuple[str, ...]]]:
+    """(run folder, overrides) of each run of a verification scene: one, or one per [sweep] frequency (shear.omega
+    set to it, rad/s)."""
+    if case.sweep is None:
+        return [(stem, ())]
+    return [(f"{stem}/omega_{w:g}", (f"shear.omega={w!r}",)) for w in case.sweep.frequencies]

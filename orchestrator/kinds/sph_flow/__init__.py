@@ -1,6 +1,6 @@
 """Weakly compressible SPH flows (the fluid model of Canini et al.): channels, dam breaks, walls, inlets and outlets."""
 
-from orchestrator.kinds.base import Kind
+from orchestrator.kinds.base import Kind, Verification
 
 KIND = Kind(
     name="sph_flow",
@@ -10,4 +10,14 @@ KIND = Kind(
     measure="orchestrator.kinds.sph_flow.analysis:measure_sph_flow",
     analyze="orchestrator.kinds.sph_flow.analysis:analyze_sph_run",
     adapters={"sph": "orchestrator.kinds.sph_flow.sph:SphFlow"},
+    quantities="orchestrator.kinds.sph_flow.analysis:QUANTITIES",
+    verification=Verification(
+        suite="sph", check="orchestrator.kinds.sph_flow.checks:check_run",
+        units="orchestrator.kinds.sph_flow.checks_base:UNITS",
+        picture="orchestrator.kinds.sph_flow.pictures:plot_scenes", timeout_s=3600.0,
+        description="the SPH flows (cases/verification/sph_*.toml: Poiseuille and Couette start-up against the "
+        "series of Morris et al. 1997, a hydrostatic tank, the 2D dam break against Koshizuka & Oka 1996 and "
+        "Martin & Moyce 1952, penalty walls against eq. 14, and the rheometer's scenes) on the sph executable; "
+        "verify_sph.png: profiles, pressure, surge front, wall forces, stresses (the 3D annulus takes ~750 s on "
+        "one core)."),
 )

@@ -11,6 +11,16 @@ from orchestrator.outputs import save_figure
 
 #: Series whose last value is reported as <name>_last (by prefix), with their meaning.
 LAST_VALUE_SERIES = ("pressure_probe_", "flow_rate_", "inflow_", "outflow_")
+#: The measured quantities (measure_sph_flow): name or fnmatch pattern -> (SI unit, meaning); 2D: per metre of depth.
+QUANTITIES: dict[str, tuple[str, str]] = {
+    "max_density_deviation": ("-", "largest max |rho/rho0 - 1| over the fluid and the records"),
+    "kinetic_energy_last": ("J", "kinetic energy of the fluid at the last record (2D: J/m)"),
+    "pressure_probe_*_last": ("Pa", "last value of a pressure probe"),
+    "flow_rate_*_last": ("m^3/s", "last flow rate through a plane (2D: m^2/s)"),
+    "inflow_*_last": ("m^3/s", "last inflow of an inlet (2D: m^2/s)"),
+    "outflow_*_last": ("m^3/s", "last outflow of an outlet (2D: m^2/s)"),
+    "fluid_particles_last": ("-", "fluid particles in the last frame"),
+}
 
 
 def measure_sph_flow(case, result) -> dict[str, float]:

@@ -239,3 +239,10 @@ def evaluate(case, run) -> tuple[list[dict], list[dict]]:
         rows += [row for row in measured if base_quantity(row["quantity"]) in listed]
         plots.append(plot)
     return rows, plots
+
+
+def check_run(case, engine: str, run: dict) -> tuple[list[dict], dict]:
+    """The sph_flow kind's part of `verify sph`: the scene's check rows and its first panel (title, xlabel, ylabel,
+    lines) for the suite's picture (pictures.plot_scenes)."""
+    rows, plots = evaluate(case, run)
+    return rows, plots[0]
