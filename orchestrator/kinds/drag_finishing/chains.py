@@ -41,6 +41,14 @@ import math
 
 import numpy as np
 
+from orchestrator.kinds.drag_finishing.chain_statistics import (
+    binned_mean,
+    conditional_means,
+    force_peaks,
+    lagged_correlation,
+    peak_coincidence,
+)
+
 ROLE_BALL, ROLE_BOWL, ROLE_ROD = 0, 1, 2
 
 
@@ -76,6 +84,33 @@ def _angles(d: np.ndarray, vw: np.ndarray | None) -> dict[str, np.ndarray]:
     return out
 
 
+def _strong_graph(snapshot: dict, strong: np.ndarray, length: np.ndarray):
+    """The graph of strong ball-ball and ball-bowl contacts (find_chains' rules) and its shortest paths to the bowl.
+
+    Returns (a, n_balls, dist, pred, edge_of): a, the node of each contact's ball (id1); the bowl is node n_balls;
+    dist (m) and pred, Dijkstra's distances and predecessors from the bowl; edge_of, (node, node) -> contact index.
+    """
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import dijkstra
+
+    role = np.asarray(snapshot["body2_role"]).astype(int)
+    id1, id2 = np.asarray(snapshot["id1"]), np.asarray(snapshot["id2"])
+    balls = np.unique(np.concatenate([id1, id2[role == ROLE_BALL]]))
+    n_balls = len(balls)
+    a = np.searchsorted(balls, id1)
+    b = np.where(role == ROLE_BALL, np.searchsorted(balls, np.where(role == ROLE_BALL, id2, balls[0])), n_balls)
+    edges = np.flatnonzero(strong & (role != ROLE_ROD))
+    # one edge per node pair (the shortest contact; duplicates would be summed by the sparse matrix)
+    order = edges[np.argsort(length[edges], kind="stable")]
+    lo, hi = np.minimum(a[order], b[order]), np.maximum(a[order], b[order])
+    _, first = np.unique(lo * (n_balls + 1) + hi, return_index=True)
+    edges = order[first]
+    edge_of = {(int(min(a[c], b[c])), int(max(a[c], b[c]))): int(c) for c in edges}
+    graph = coo_matrix((length[edges], (a[edges], b[edges])), shape=(n_balls + 1, n_balls + 1)).tocsr()
+    dist, pred = dijkstra(graph, directed=False, indices=n_balls, return_predecessors=True)
+    return a, n_balls, dist, pred, edge_of
+
+
 def find_chains(snapshot: dict, threshold: float | None = None, k_std: float = 1.0,
                 vw: np.ndarray | None = None) -> dict:
     """Chains rod -> bowl in one contact snapshot (see the module docstring for the rules).
@@ -91,30 +126,14 @@ def find_chains(snapshot: dict, threshold: float | None = None, k_std: float = 1
     strongest rod contact of the chain's ball), weakest (N), and contacts
     (a list of index arrays into the snapshot, rod contact first).
     """
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import dijkstra
-
     fn = np.asarray(snapshot["normal_force"], dtype=float)
     role = np.asarray(snapshot["body2_role"]).astype(int)
-    id1, id2 = np.asarray(snapshot["id1"]), np.asarray(snapshot["id2"])
     p1 = np.asarray(snapshot["point1"], float).reshape(-1, 3)
     p2 = np.asarray(snapshot["point2"], float).reshape(-1, 3)
     thr = strong_threshold(fn, k_std) if threshold is None else float(threshold)
     strong = np.isfinite(fn) & (fn > 0) & (fn > thr)
-    balls = np.unique(np.concatenate([id1, id2[role == ROLE_BALL]]))
-    n_balls = len(balls)
-    a = np.searchsorted(balls, id1)
-    b = np.where(role == ROLE_BALL, np.searchsorted(balls, np.where(role == ROLE_BALL, id2, balls[0])), n_balls)
     length = np.maximum(np.linalg.norm(p2 - p1, axis=1), 1e-12)
-    edges = np.flatnonzero(strong & (role != ROLE_ROD))
-    # one edge per node pair (the shortest contact; duplicates would be summed by the sparse matrix)
-    order = edges[np.argsort(length[edges], kind="stable")]
-    lo, hi = np.minimum(a[order], b[order]), np.maximum(a[order], b[order])
-    _, first = np.unique(lo * (n_balls + 1) + hi, return_index=True)
-    edges = order[first]
-    edge_of = {(int(min(a[c], b[c])), int(max(a[c], b[c]))): int(c) for c in edges}
-    graph = coo_matrix((length[edges], (a[edges], b[edges])), shape=(n_balls + 1, n_balls + 1)).tocsr()
-    dist, pred = dijkstra(graph, directed=False, indices=n_balls, return_predecessors=True)
+    a, n_balls, dist, pred, edge_of = _strong_graph(snapshot, strong, length)
 
     rod = np.flatnonzero((role == ROLE_ROD) & np.isfinite(fn) & (fn > 0))
     along = (np.zeros(len(fn)) if vw is None else
@@ -185,93 +204,6 @@ def chain_strength(snapshot: dict) -> float:
     return 0.0
 
 
-# ------------------------------------------------------------------ over snapshots
-
-
-def conditional_means(values: np.ndarray, condition: np.ndarray) -> dict[str, float]:
-    """Mean, std and count of values where condition holds ("with") and where not ("without"), in values' units."""
-    values, condition = np.asarray(values, float), np.asarray(condition, bool)
-    out = {}
-    for name, sel in (("with", condition), ("without", ~condition)):
-        v = values[sel & np.isfinite(values)]
-        out[f"{name}_n"] = int(v.size)
-        out[f"{name}_mean"] = float(v.mean()) if v.size else math.nan
-        out[f"{name}_std"] = float(v.std(ddof=1)) if v.size > 1 else math.nan
-    return out
-
-
-def lagged_correlation(t_events: np.ndarray, counts: np.ndarray, t: np.ndarray, signal: np.ndarray,
-                       lags: np.ndarray) -> np.ndarray:
-    """Pearson correlation of counts (at times t_events, s) with signal(t_event + lag) for each lag (s);
-    the signal (sampled at t, s) is interpolated linearly. nan where fewer than 3 events fall inside
-    the signal's span or either side is constant. Positive lag: the signal follows the counts."""
-    t_events, counts = np.asarray(t_events, float), np.asarray(counts, float)
-    t, signal = np.asarray(t, float), np.asarray(signal, float)
-    r = np.full(len(lags), math.nan)
-    for i, lag in enumerate(lags):
-        when = t_events + lag
-        inside = (when >= t[0]) & (when <= t[-1])
-        if inside.sum() < 3:
-            continue
-        x, y = counts[inside], np.interp(when[inside], t, signal)
-        if x.std() > 0 and y.std() > 0:
-            r[i] = float(np.corrcoef(x, y)[0, 1])
-    return r
-
-
-def force_peaks(t: np.ndarray, drag: np.ndarray, k_peak: float = 1.0,
-                min_gap: float = 0.05) -> tuple[np.ndarray, np.ndarray, float]:
-    """(peak times s, peak values, threshold) of a series: one peak per run of samples above mean + k_peak
-    std (same units as drag), at the run's largest sample; runs less than min_gap (s) apart count as one
-    (noise makes a single excursion cross the threshold several times)."""
-    t, drag = np.asarray(t, float), np.asarray(drag, float)
-    thr = float(np.nanmean(drag) + k_peak * np.nanstd(drag))
-    above = np.concatenate([[False], drag > thr, [False]])
-    starts, ends = np.flatnonzero(~above[:-1] & above[1:]), np.flatnonzero(above[:-1] & ~above[1:])
-    runs: list[list[int]] = []
-    for s, e in zip(starts, ends):
-        if runs and t[s] - t[runs[-1][1] - 1] < min_gap:
-            runs[-1][1] = e
-        else:
-            runs.append([s, e])
-    idx = np.array([s + int(np.argmax(drag[s:e])) for s, e in runs], dtype=int)
-    return t[idx], drag[idx], thr
-
-
-def peak_coincidence(peak_times: np.ndarray, t_snap: np.ndarray, has_chain: np.ndarray,
-                     window: float | None = None) -> dict[str, float]:
-    """Fraction of force peaks whose nearest snapshot (within window s; default half the median snapshot
-    spacing) has a chain, next to the base rate (fraction of all snapshots with a chain). Peaks with no
-    snapshot within the window are not counted."""
-    t_snap, has_chain = np.asarray(t_snap, float), np.asarray(has_chain, bool)
-    peak_times = np.asarray(peak_times, float)
-    if window is None:
-        window = 0.5 * float(np.median(np.diff(np.sort(t_snap)))) if len(t_snap) > 1 else 0.0
-    base = float(has_chain.mean()) if has_chain.size else math.nan
-    if not t_snap.size or not peak_times.size:
-        return {"n_peaks": 0, "fraction": math.nan, "base_rate": base, "window": window}
-    nearest = np.argmin(np.abs(peak_times[:, None] - t_snap[None, :]), axis=1)
-    covered = np.abs(t_snap[nearest] - peak_times) <= window + 1e-12
-    hits = has_chain[nearest[covered]]
-    return {"n_peaks": int(covered.sum()), "fraction": float(hits.mean()) if hits.size else math.nan,
-            "base_rate": base, "window": float(window)}
-
-
-def binned_mean(x: np.ndarray, values: np.ndarray, edges: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(mean, std, count) of values in the bins of x given by edges (len(edges) - 1 each; nan if empty)."""
-    x, values = np.asarray(x, float), np.asarray(values, float)
-    idx = np.digitize(x, edges) - 1
-    nb = len(edges) - 1
-    ok = (idx >= 0) & (idx < nb) & np.isfinite(values)
-    count = np.bincount(idx[ok], minlength=nb).astype(float)
-    s1 = np.bincount(idx[ok], values[ok], minlength=nb)
-    s2 = np.bincount(idx[ok], values[ok] ** 2, minlength=nb)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        mean = s1 / count
-        std = np.sqrt(np.maximum(s2 / count - mean**2, 0.0))
-    return mean, std, count.astype(int)
-
-
 def angle_to_velocity(points: np.ndarray, axis_xy: np.ndarray, vw: np.ndarray) -> np.ndarray:
     """Angle (deg, 0..180) between the horizontal offset of points (n,3) m from the rod axis and v_w:
     0 straight ahead of the rod, 180 straight behind."""
@@ -319,6 +251,35 @@ def analyze_chains(run: dict, transient_time: float = 0.0, k_std: float = 1.0, k
     """
     radius, speed = path_of(run)
     snaps = snapshots_of(run)
+    out, contacts = _per_snapshot(snaps, radius, speed, k_std)
+    out["k_std"], out["k_peak"] = k_std, k_peak
+    t, fn = _process_force(run, transient_time)
+    out["t"], out["fn_series"] = t, fn
+    has = out["n_chains"] > 0
+    use = out["process_time"] >= transient_time
+    inside = use & (out["process_time"] <= (t[-1] if t.size else -math.inf))
+    out["fn"] = np.where(inside, np.interp(out["process_time"], t, fn) if t.size else math.nan, math.nan)
+    out["conditional"] = conditional_means(out["fn"][use], has[use])
+    step = float(np.median(np.diff(t))) if t.size > 1 else 0.005
+    out["lags"] = np.arange(-round(max_lag / step), round(max_lag / step) + 1) * step
+    out["correlation"] = (lagged_correlation(out["process_time"][use], out["n_chains"][use], t, -fn, out["lags"])
+                          if t.size else np.full(len(out["lags"]), math.nan))
+    peak_t, peak_v, thr = force_peaks(t, -fn, k_peak) if t.size else (np.zeros(0), np.zeros(0), math.nan)
+    out["shown"] = _shown_snapshots(out, snaps, use, radius, speed, k_std, show_time)
+    out["peaks"] = {"times": peak_t, "drag": peak_v, "threshold": thr,
+                    **peak_coincidence(peak_t, out["process_time"][use], has[use])}
+    out["correlation_strength"] = (lagged_correlation(out["process_time"][use], out["strength"][use], t, -fn,
+                                                      out["lags"]) if t.size else np.full(len(out["lags"]), math.nan))
+    at_peak = -out["fn"] > thr
+    out["strength_at_peaks"] = conditional_means(out["strength"][use], at_peak[use])
+    out["scan"] = _strength_scan(out, use, peak_t)
+    out["profiles"] = _force_profiles(*contacts)
+    return out
+
+
+def _per_snapshot(snaps: list[dict], radius: float, speed: float, k_std: float) -> tuple[dict, tuple]:
+    """The per-snapshot arrays and the pooled per-chain arrays of analyze_chains, and the ball-ball contacts of
+    all snapshots (angle to v_w deg, height m, normal force N: one array per snapshot each)."""
     keys = ("n_chains", "n_strong", "threshold", "share", "share_fn", "fn_snapshot", "strength", "fn_mean", "fn_std")
     per: dict[str, list] = {k: [] for k in ("time", "process_time", *keys)}
     pooled: dict[str, list] = {k: [] for k in ("n_contacts", "path_length", "angle_to_vw", "elevation", "angle_xy",
@@ -347,26 +308,23 @@ def analyze_chains(run: dict, transient_time: float = 0.0, k_std: float = 1.0, k
         force.append(fn[sel])
     out = {k: np.asarray(v, float) for k, v in per.items()}
     out["chains"] = {k: np.asarray(v, float) for k, v in pooled.items()}
-    out["k_std"], out["k_peak"] = k_std, k_peak
+    return out, (angle, height, force)
 
+
+def _process_force(run: dict, transient_time: float) -> tuple[np.ndarray, np.ndarray]:
+    """(process time s, F_n N) of the force series in the process phase after the transient."""
     series = run.get("series", {})
     t_all = np.asarray(series.get("time", np.zeros(0)), float)
     phase = np.asarray(series.get("phase", np.zeros(0)))
     start = float(run.get("attrs", {}).get("process_start_time", math.nan))
     fn_all = np.asarray(series["workpiece_force"], float)[:, 0] if "workpiece_force" in series else np.zeros(0)
     keep = (phase == 3) & np.isfinite(fn_all) & (t_all - start >= transient_time) if fn_all.size else np.zeros(0, bool)
-    t, fn = t_all[keep] - start, fn_all[keep]
-    out["t"], out["fn_series"] = t, fn
-    has = out["n_chains"] > 0
-    use = out["process_time"] >= transient_time
-    inside = use & (out["process_time"] <= (t[-1] if t.size else -math.inf))
-    out["fn"] = np.where(inside, np.interp(out["process_time"], t, fn) if t.size else math.nan, math.nan)
-    out["conditional"] = conditional_means(out["fn"][use], has[use])
-    step = float(np.median(np.diff(t))) if t.size > 1 else 0.005
-    out["lags"] = np.arange(-round(max_lag / step), round(max_lag / step) + 1) * step
-    out["correlation"] = (lagged_correlation(out["process_time"][use], out["n_chains"][use], t, -fn, out["lags"])
-                          if t.size else np.full(len(out["lags"]), math.nan))
-    peak_t, peak_v, thr = force_peaks(t, -fn, k_peak) if t.size else (np.zeros(0), np.zeros(0), math.nan)
+    return t_all[keep] - start, fn_all[keep]
+
+
+def _shown_snapshots(out: dict, snaps: list[dict], use: np.ndarray, radius: float, speed: float, k_std: float,
+                     show_time: float) -> dict:
+    """analyze_chains' "shown": the chains of the snapshot nearest to show_time and of the one of lowest F_n."""
     shown = {"paper": int(np.argmin(np.abs(out["process_time"] - show_time))) if snaps else None,
              "peak": int(np.nanargmin(np.where(use, out["fn"], np.nan))) if (use & np.isfinite(out["fn"])).any()
              else None}
@@ -374,23 +332,26 @@ def analyze_chains(run: dict, transient_time: float = 0.0, k_std: float = 1.0, k
         if i is not None:
             axis, vw = rod_pose(out["process_time"][i], radius, speed)
             shown[name] = dict(find_chains(snaps[i], k_std=k_std, vw=vw), axis=axis, vw=vw, snapshot=snaps[i])
-    out["shown"] = shown
-    out["peaks"] = {"times": peak_t, "drag": peak_v, "threshold": thr,
-                    **peak_coincidence(peak_t, out["process_time"][use], has[use])}
-    out["correlation_strength"] = (lagged_correlation(out["process_time"][use], out["strength"][use], t, -fn,
-                                                      out["lags"]) if t.size else np.full(len(out["lags"]), math.nan))
-    at_peak = -out["fn"] > thr
-    out["strength_at_peaks"] = conditional_means(out["strength"][use], at_peak[use])
-    out["scan"] = []  # presence under stricter rules: B > mean + k std
+    return shown
+
+
+def _strength_scan(out: dict, use: np.ndarray, peak_t: np.ndarray) -> list[dict]:
+    """Presence of a chain under stricter rules, B > mean + k std for k in 1..5, with F_n and peak coincidence."""
+    scan = []
     for k in (1.0, 2.0, 3.0, 4.0, 5.0):
         present = out["strength"] > out["fn_mean"] + k * out["fn_std"]
-        out["scan"].append({"k": k, "threshold": float(np.mean(out["fn_mean"] + k * out["fn_std"])),
-                            "presence": float(present[use].mean()) if use.any() else math.nan,
-                            **conditional_means(out["fn"][use], present[use]),
-                            "peaks": peak_coincidence(peak_t, out["process_time"][use], present[use])})
+        scan.append({"k": k, "threshold": float(np.mean(out["fn_mean"] + k * out["fn_std"])),
+                     "presence": float(present[use].mean()) if use.any() else math.nan,
+                     **conditional_means(out["fn"][use], present[use]),
+                     "peaks": peak_coincidence(peak_t, out["process_time"][use], present[use])})
+    return scan
+
+
+def _force_profiles(angle: list, height: list, force: list) -> dict:
+    """Mean ball-ball contact force (N) against the angle to v_w (deg) and the height (m), pooled over snapshots."""
     angle_all, height_all, force_all = (np.concatenate(x) if x else np.zeros(0) for x in (angle, height, force))
     top = float(height_all.max()) if height_all.size else HEIGHT_STEP
-    out["profiles"] = {"angle_edges": ANGLE_EDGES, "angle": binned_mean(angle_all, force_all, ANGLE_EDGES),
-                       "height_edges": np.arange(0.0, top + HEIGHT_STEP, HEIGHT_STEP)}
-    out["profiles"]["height"] = binned_mean(height_all, force_all, out["profiles"]["height_edges"])
-    return out
+    profiles = {"angle_edges": ANGLE_EDGES, "angle": binned_mean(angle_all, force_all, ANGLE_EDGES),
+                "height_edges": np.arange(0.0, top + HEIGHT_STEP, HEIGHT_STEP)}
+    profiles["height"] = binned_mean(height_all, force_all, profiles["height_edges"])
+    return profiles
