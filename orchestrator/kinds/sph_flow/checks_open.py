@@ -70,44 +70,16 @@ def _open_rows(case, run):
     if len(window) < 2:
         return [check_row(name, q, None, None, None, tolerance_of(case, q), passed=False, note="fewer than two "
                           "frames in the second half") for q in ("u_profile", "pressure_gradient")], {}
-    series = run.get("series", {})
-    time = np.asarray(series["time"], dtype=float)
     t0, t1 = window[0][0], window[-1][0]
-    inside = (time > t0 + 1e-12) & (time <= t1 + 1e-12)
-    steps = np.diff(time, prepend=time[0])
-    v_in = float(np.sum((np.asarray(series[f"inflow_{inlet.name}"]) * steps)[inside]))
-    v_out = float(np.sum((np.asarray(series[f"outflow_{outlet.name}"]) * steps)[inside]))
+    v_in, v_out = _window_volumes(run.get("series", {}), t0, t1, inlet.name, outlet.name)
     flow = v_in / (t1 - t0)
     q_unit = annulus_laminar_flow(1.0, 1.0, r_outer, r_inner, mu)  # m^3/s per Pa/m
     gradient_exact = flow / q_unit
-    # the fluid in the middle half of the length, over the window
-    s_all, r_all, u_all, p_all = [], [], [], []
-    counts, mean_rho = [], []
-    for _, frame in window:
-        fluid = fluid_mask(frame)
-        x = np.asarray(frame["positions"])[fluid] - origin
-        s = x @ axis
-        radial = np.linalg.norm(x - np.outer(s, axis), axis=1)
-        mid = (s > 0.25 * length) & (s < 0.75 * length)
-        s_all.append(s[mid]), r_all.append(radial[mid])
-        u_all.append((np.asarray(frame["velocities"])[fluid] @ axis)[mid])
-        p_all.append(np.asarray(frame["pressures"])[fluid][mid])
-        counts.append(int(fluid.sum()))
-        mean_rho.append(float(np.mean(np.asarray(frame["densities"])[fluid])))
-    s, r, u, p = (np.concatenate(a) for a in (s_all, r_all, u_all, p_all))
-    slope = np.polyfit(s, p, 1)[0]
-    gradient = -float(slope)
+    s, r, u, p, counts, mean_rho = _middle_fluid(window, origin, axis, length)
+    gradient = -float(np.polyfit(s, p, 1)[0])
     dx = case.numerics.dx
-    edges = np.arange(r_inner, r_outer + 1e-12 * r_outer, 0.5 * dx)
-    which = np.digitize(r, edges) - 1
     u_particle = annulus_velocity(r, gradient_exact, r_outer, r_inner, mu)  # binned like u: no bin-width bias
-    r_bin, u_bin, u_exact = [], [], []
-    for k in range(len(edges) - 1):
-        sel = which == k
-        if np.count_nonzero(sel) >= 5:
-            r_bin.append(float(np.mean(r[sel]))), u_bin.append(float(np.mean(u[sel])))
-            u_exact.append(float(np.mean(u_particle[sel])))
-    r_bin, u_bin, u_exact = np.asarray(r_bin), np.asarray(u_bin), np.asarray(u_exact)
+    r_bin, u_bin, u_exact = _radial_bins(r, u, u_particle, np.arange(r_inner, r_outer + 1e-12 * r_outer, 0.5 * dx))
     r_line = np.linspace(max(r_inner, 1e-9 * r_outer), r_outer, 200)
     peak = float(np.max(annulus_velocity(r_line, gradient_exact, r_outer, r_inner, mu)))
     worst = float(np.max(np.abs(u_bin - u_exact))) / peak
@@ -140,3 +112,45 @@ def _open_rows(case, run):
                       (r_line / r_outer, annulus_velocity(r_line, gradient_exact, r_outer, r_inner, mu) / peak, "-",
                        "C1", "exact")]}
     return rows, plot
+
+
+def _window_volumes(series: dict, t0: float, t1: float, inlet: str, outlet: str) -> tuple[float, float]:
+    """Volumes (m^3) that flowed in through the inlet and out through the outlet in (t0, t1] s."""
+    time = np.asarray(series["time"], dtype=float)
+    inside = (time > t0 + 1e-12) & (time <= t1 + 1e-12)
+    steps = np.diff(time, prepend=time[0])
+    v_in = float(np.sum((np.asarray(series[f"inflow_{inlet}"]) * steps)[inside]))
+    v_out = float(np.sum((np.asarray(series[f"outflow_{outlet}"]) * steps)[inside]))
+    return v_in, v_out
+
+
+def _middle_fluid(window: list, origin: np.ndarray, axis: np.ndarray, length: float):
+    """The fluid in the middle half of the length over the window's frames: axial position s (m), radius r (m),
+    axial speed u (m/s), pressure p (Pa), pooled; and per frame the fluid count and its mean density (kg/m^3)."""
+    s_all, r_all, u_all, p_all = [], [], [], []
+    counts, mean_rho = [], []
+    for _, frame in window:
+        fluid = fluid_mask(frame)
+        x = np.asarray(frame["positions"])[fluid] - origin
+        s = x @ axis
+        radial = np.linalg.norm(x - np.outer(s, axis), axis=1)
+        mid = (s > 0.25 * length) & (s < 0.75 * length)
+        s_all.append(s[mid]), r_all.append(radial[mid])
+        u_all.append((np.asarray(frame["velocities"])[fluid] @ axis)[mid])
+        p_all.append(np.asarray(frame["pressures"])[fluid][mid])
+        counts.append(int(fluid.sum()))
+        mean_rho.append(float(np.mean(np.asarray(frame["densities"])[fluid])))
+    s, r, u, p = (np.concatenate(a) for a in (s_all, r_all, u_all, p_all))
+    return s, r, u, p, counts, mean_rho
+
+
+def _radial_bins(r: np.ndarray, u: np.ndarray, u_particle: np.ndarray, edges: np.ndarray):
+    """(mean r m, mean u, mean exact u) in the radial bins of edges holding at least 5 particles."""
+    which = np.digitize(r, edges) - 1
+    r_bin, u_bin, u_exact = [], [], []
+    for k in range(len(edges) - 1):
+        sel = which == k
+        if np.count_nonzero(sel) >= 5:
+            r_bin.append(float(np.mean(r[sel]))), u_bin.append(float(np.mean(u[sel])))
+            u_exact.append(float(np.mean(u_particle[sel])))
+    return np.asarray(r_bin), np.asarray(u_bin), np.asarray(u_exact)
