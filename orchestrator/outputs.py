@@ -72,7 +72,7 @@ def claim_folder(path, option: str = "--out", command: str = "") -> Path:
     try:
         path.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
-        raise WriteError(f"{option} {_shown(path)}: cannot create the folder: {os_problem(exc)}") from None
+        raise OrchestratorError(f"{option} {_shown(path)}: cannot create the folder: {os_problem(exc)}") from None
     if not is_ours(path):
         info = {"created": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
                 "command": command or " ".join(sys.argv[:2])}
