@@ -132,21 +132,17 @@ def simulate(positions, velocities, radii, sphere_material, materials: Sequence[
     Returns a dict: time (n,), s; positions, velocities, angular_velocities
     (n,N,3); wall_force (n,W,3), N, the contact force on each wall (planes
     first, then meshes; wall_names); kinetic_energy (n,), J; contact_count
-    (n,); contacts: per contact from first touch to separation, arrays of
-    sphere, other_kind (0 sphere, 1 plane, 2 triangle), other, wall,
-    start_time, end_time (s), impact_speed, rebound_speed (normal, m/s),
-    peak_normal_force (N), peak_time (s), max_overlap (m); steps, wall_time_s.
+    (n,); contacts: per contact from first touch to separation, the arrays
+    of dem_forces.EVENT_FIELDS: sphere, other_kind (0 sphere, 1 plane, 2
+    triangle), other (index within its kind), start_time, end_time (s),
+    impact_speed, rebound_speed (normal, m/s), peak_normal_force (N),
+    peak_time (s), max_overlap (m); steps, wall_time_s.
     Raises ValueError for bad input (naming it) and DemBlewUp (with the
     series recorded so far) when an overlap passes 20 % of a radius.
     """
     x, v, w, scene = _validated_scene(positions, velocities, angular_velocities, radii, sphere_material,
                                       materials, planes, meshes)
-    if not (dt > 0 and t_end > 0 and record_every > 0):
-        raise ValueError(f"dt, t_end and record_every must be > 0 (got {dt}, {t_end}, {record_every})")
-    if damping not in ("eq10", "exact"):
-        raise ValueError(f"damping must be 'eq10' or 'exact', got {damping!r}")
-    if coulomb_limit not in ("total", "elastic"):
-        raise ValueError(f"coulomb_limit must be 'total' or 'elastic', got {coulomb_limit!r}")
+    _check_options(dt, t_end, record_every, damping, coulomb_limit)
     law = ContactLaw(_pair_law(materials, pair_table, scene, damping, no_tension), scene.radii, scene.masses,
                      scene.sphere_material, scene.n_walls, no_tension, coulomb_limit)
     gravity = np.asarray(gravity, float)
@@ -156,11 +152,7 @@ def simulate(positions, velocities, radii, sphere_material, materials: Sequence[
 
     t, steps = 0.0, 0
     batch = _detect(x, scene, 0.0)
-    if len(batch.overlap) and np.max(batch.overlap / scene.radii[batch.sphere]) > _MAX_OVERLAP_FRACTION:
-        deepest = int(np.argmax(batch.overlap / scene.radii[batch.sphere]))
-        raise ValueError(f"sphere {batch.sphere[deepest]} starts overlapping a sphere or wall by "
-                         f"{batch.overlap[deepest]:.3g} m (more than {_MAX_OVERLAP_FRACTION:.0%} of its radius): "
-                         "move it apart")
+    _refuse_deep_start(batch, scene)
     force, torque, wall_force = law.forces(batch, v, w, wall_velocity, 0.0, 0.0)
     accel, spin_accel = force / scene.masses[:, None] + gravity, torque / scene.inertia[:, None]
     series = _Recorder()
@@ -189,6 +181,25 @@ def simulate(positions, velocities, radii, sphere_material, materials: Sequence[
                wall_names=[wall.name or f"plane{k}" for k, wall in enumerate(scene.planes)]
                + [mesh.name or f"mesh{k}" for k, mesh in enumerate(scene.meshes)])
     return out
+
+
+def _check_options(dt, t_end, record_every, damping, coulomb_limit) -> None:
+    """ValueError naming the first of simulate's options that is out of range."""
+    if not (dt > 0 and t_end > 0 and record_every > 0):
+        raise ValueError(f"dt, t_end and record_every must be > 0 (got {dt}, {t_end}, {record_every})")
+    if damping not in ("eq10", "exact"):
+        raise ValueError(f"damping must be 'eq10' or 'exact', got {damping!r}")
+    if coulomb_limit not in ("total", "elastic"):
+        raise ValueError(f"coulomb_limit must be 'total' or 'elastic', got {coulomb_limit!r}")
+
+
+def _refuse_deep_start(batch: StepContacts, scene) -> None:
+    """ValueError when a sphere starts overlapping something by more than _MAX_OVERLAP_FRACTION of its radius."""
+    if len(batch.overlap) and np.max(batch.overlap / scene.radii[batch.sphere]) > _MAX_OVERLAP_FRACTION:
+        deepest = int(np.argmax(batch.overlap / scene.radii[batch.sphere]))
+        raise ValueError(f"sphere {batch.sphere[deepest]} starts overlapping a sphere or wall by "
+                         f"{batch.overlap[deepest]:.3g} m (more than {_MAX_OVERLAP_FRACTION:.0%} of its radius): "
+                         "move it apart")
 
 
 def _validated_scene(positions, velocities, angular_velocities, radii, sphere_material, materials, planes, meshes):
