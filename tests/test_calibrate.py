@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from orchestrator.workflows.calibrate import drop_model, fit_restitution, observations_from_csv
+from orchestrator.kinds.impact.calibration import drop_model, fit_restitution, observations_from_csv
 from orchestrator.case import load_case
 from orchestrator.run import run_case
 

@@ -63,6 +63,8 @@ def layer_of(relative: str) -> int:
     if relative in FILES:
         return FILES[relative]
     parts = relative.split("/")
+    if parts[0] == "kinds" and len(parts) > 3 and parts[2] == "commands":
+        return CLI  # the commands a kind contributes (Kind.commands) drive runs and workflows, as cli/ does
     if parts[0] == "kinds" and len(parts) > 2:
         return KINDS
     if len(parts) > 1 and parts[0] in FOLDERS:

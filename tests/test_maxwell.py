@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from orchestrator.reference.maxwell import TABLE_III, CrossLaw, Mode, fit_maxwell, loss_modulus, storage_modulus
-from orchestrator.workflows.calibrate_maxwell import read_moduli, synthetic_moduli
+from orchestrator.kinds.rheometer.calibration import read_moduli, synthetic_moduli
 
 CSV = Path(__file__).parent.parent / "cases" / "rheometry" / "mf20_synthetic_moduli.csv"
 OMEGA = np.logspace(-2, 3, 26)  # rad/s, as the shipped CSV

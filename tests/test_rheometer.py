@@ -98,7 +98,7 @@ def test_a_calibrate_maxwell_fragment_pastes_into_a_rheometer_case(tmp_path):
     """The fragment `calibrate maxwell --out` writes ([material], storage_plateau, [[material.modes]]) is the
     rheometer's [material]: Table III fitted from noise-free moduli comes back as the case's modes."""
     from orchestrator.reference.maxwell import TABLE_III, MaxwellFit
-    from orchestrator.workflows.calibrate_maxwell import write_fragment
+    from orchestrator.kinds.rheometer.calibration import write_fragment
 
     fit = MaxwellFit(TABLE_III, 0.0, None, "both", {"storage": 0.0, "loss": 0.0})
     fragment = write_fragment(fit, tmp_path / "fragment.toml", "synthetic")

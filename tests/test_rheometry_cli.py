@@ -8,7 +8,7 @@ import pytest
 
 from orchestrator.cli import main
 from orchestrator.errors import OrchestratorError
-from orchestrator.workflows.rheometry import frequencies_of, run_point
+from orchestrator.kinds.rheometer.commands.rheometry import frequencies_of, run_point
 
 ROOT = Path(__file__).resolve().parent.parent
 UCM = ROOT / "cases" / "rheometry" / "ucm_one_mode.toml"

@@ -17,10 +17,14 @@ import traceback
 from orchestrator import __version__, signals
 from orchestrator.cli.common import jsonable
 from orchestrator.errors import OrchestratorError
+from orchestrator.kinds import kind_commands
 from orchestrator.signals import Interrupted
 
-# Modules under orchestrator.cli, in the order --help lists them; study registers study, status and report.
-COMMAND_MODULES = ("run", "analyze", "study", "verify", "calibrate", "rheometry", "compare", "bench", "doctor",
+# Modules under orchestrator.cli, in the order --help lists them; study registers study, status and report. The
+# commands the kinds contribute (Kind.commands) follow the commands that loop over the kinds (verify, calibrate:
+# a kind's 'calibrate <parameter>' is a parameter of calibrate).
+KIND_COMMANDS = "<the kinds' own commands>"
+COMMAND_MODULES = ("run", "analyze", "study", "verify", "calibrate", KIND_COMMANDS, "compare", "bench", "doctor",
                    "export")
 
 
@@ -34,8 +38,21 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"orchestrator {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for name in COMMAND_MODULES:
-        importlib.import_module(f"orchestrator.cli.{name}").add_parser(sub)
+        if name == KIND_COMMANDS:
+            add_kind_commands(sub)
+        else:
+            importlib.import_module(f"orchestrator.cli.{name}").add_parser(sub)
     return parser
+
+
+def add_kind_commands(sub) -> None:
+    """A parser per command the kinds contribute (kinds.kind_commands), besides calibrate's parameters."""
+    for name, command in kind_commands().items():
+        if " " in name:  # 'calibrate <parameter>': cli/calibrate.py gathers them
+            continue
+        parser = sub.add_parser(name, help=command.help, description=command.description)
+        command.add_arguments(parser)
+        parser.set_defaults(func=command.run)
 
 
 def main(argv=None) -> int:

@@ -43,6 +43,18 @@ def get_kind(name: str) -> Kind:
     return _LOADED[name]
 
 
+def kind_commands() -> dict:
+    """{command name: kinds.base.Command} of every command the registered kinds contribute (Kind.commands), sorted
+    by name; OrchestratorError when two kinds contribute the same name."""
+    owners: dict[str, str] = {}
+    for kind in kind_names():
+        for name in get_kind(kind).commands:
+            if name in owners:
+                raise OrchestratorError(f"the kinds {owners[name]} and {kind} both contribute the command {name!r}")
+            owners[name] = kind
+    return {name: get_kind(owners[name]).command(name) for name in sorted(owners)}
+
+
 def engines_for_kind(name: str) -> list[str]:
     """Names of the engines that run cases of this kind (the kind's adapters), sorted."""
     return get_kind(name).engines()
@@ -74,5 +86,5 @@ def bind(kind: str, engine: str, scene=None, **profile) -> Bound:
     return Bound(get_engine(engine, **profile), adapter)
 
 
-__all__ = ["Adapter", "Bound", "Kind", "bind", "build_scene", "measure", "engines_for_kind", "get_kind", "kind_names", "kinds_for_engine",
+__all__ = ["Adapter", "Bound", "Kind", "bind", "build_scene", "measure", "engines_for_kind", "get_kind", "kind_commands", "kind_names", "kinds_for_engine",
            "register"]

@@ -23,4 +23,5 @@ KIND = Kind(
         description="the DEM impacts (Chung & Ooi 2011 tests 1-4 and the sphere drop of Uhlmann et al. 2015) on "
         "every installed DEM engine and the reference DEM, each [[expected]] row against its closed form; "
         "verify_dem.png: normal force in N against time in ms, engines overlaid per scene."),
+    commands={"calibrate restitution": "orchestrator.kinds.impact.commands.calibrate_restitution:COMMAND"},
 )

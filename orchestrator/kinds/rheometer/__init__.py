@@ -16,4 +16,6 @@ KIND = Kind(
     verification=Verification(
         suite="sph", check="orchestrator.kinds.rheometer.checks:check_run",
         units="orchestrator.kinds.rheometer.checks:UNITS", runs="orchestrator.kinds.rheometer.checks:sweep_runs"),
+    commands={"rheometry": "orchestrator.kinds.rheometer.commands.rheometry:COMMAND",
+              "calibrate maxwell": "orchestrator.kinds.rheometer.commands.calibrate_maxwell:COMMAND"},
 )

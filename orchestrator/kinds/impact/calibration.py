@@ -21,10 +21,10 @@ from pathlib import Path
 
 import numpy as np
 
+from orchestrator.case.loader import shipped_cases
 from orchestrator.errors import CaseError, OrchestratorError, ReadError
 from orchestrator.kinds.impact.theory import CLOSED_FORMS, NotApplicable, first_impact
 from orchestrator.reference import closed_form
-from orchestrator.case.loader import shipped_cases
 from orchestrator.runh5 import read_run, stored_case
 
 #: A force sample counts as part of an impact above this fraction of the largest force.
