@@ -184,6 +184,14 @@ class DragFinishingCase(MaterialCase):
 
     @model_validator(mode="after")
     def _consistent(self):
+        self._check_names()
+        self._check_geometry()
+        self._check_times()
+        check_drag_finishing(self)
+        return self
+
+    def _check_names(self) -> None:
+        """Every material named is defined, and every pair that can touch has a contact row."""
         names = sorted(self.materials)
         for key, material in (
             ("media.material", self.media.material),
@@ -200,6 +208,9 @@ class DragFinishingCase(MaterialCase):
                     )
         for a, b in self.touching_pairs():
             self.contact(a, b)
+
+    def _check_geometry(self) -> None:
+        """The bed fits the bowl, the rod reaches into the bed but not the floor, and stays off the wall."""
         if self.media.fill_height >= self.bowl.height:
             raise ValueError(
                 f"media.fill_height = {self.media.fill_height} m is above the bowl "
@@ -231,6 +242,10 @@ class DragFinishingCase(MaterialCase):
                 f"{self.workpiece.radius} m) within one ball diameter of the wall (bowl.inner_radius = "
                 f"{self.bowl.inner_radius} m); allowed: path_radius + radius < inner_radius - 2 * largest ball radius"
             )
+
+    def _check_times(self) -> None:
+        """Snapshots, the impact window, the record interval and the transient fall inside the process; settling
+        is not stiffer than the process."""
         for t in self.output.network_times:
             if t > self.process.duration:
                 raise ValueError(
@@ -261,9 +276,6 @@ class DragFinishingCase(MaterialCase):
                 f"analysis.transient_time = {self.analysis.transient_time} s leaves no data after the transient "
                 f"(process.duration = {self.process.duration} s); allowed: transient_time < duration"
             )
-
-        check_drag_finishing(self)
-        return self
 
     def touching_pairs(self) -> list[tuple[str, str]]:
         """Material pairs that can come into contact: media-media, media-bowl, media-workpiece."""
