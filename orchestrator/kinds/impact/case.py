@@ -6,7 +6,7 @@ and of any single- or few-contact test of your own. All quantities SI (m,
 kg, s, N, Pa).
 
 The [[expected]] table lists checks: a measured quantity (see
-orchestrator.kinds.impact.analysis.QUANTITIES), the expected value or the name of a
+orchestrator.kinds.impact.theory.QUANTITIES), the expected value or the name of a
 closed form that computes it from this case (orchestrator.kinds.impact.theory),
 and a relative tolerance.
 """

@@ -7,7 +7,7 @@ one sphere against the plane, or two spheres colliding (normal impacts
 only for the latter). SI units.
 
 The "damped" forms use the case's damping constant alpha (model.damping =
-"exact" or "eq10"; see orchestrator.kinds.impact.scene.damping_alpha_for).
+"exact" or "eq10"; see orchestrator.kinds.impact.physics.damping_alpha_for).
 """
 
 from __future__ import annotations
