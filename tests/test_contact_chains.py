@@ -239,4 +239,4 @@ def test_summary_file_keeps_identity_measured_and_report(synthetic_run, tmp_path
     blocked.write_text("")
     assert main(["analyze", str(synthetic_run), "--no-render", "--summary", str(blocked / "s.json")]) == 2
     err = capsys.readouterr().err
-    assert f"--summary {blocked / 's.json'}: cannot write there" in err and "Traceback" not in err
+    assert f"--summary {blocked} is a file, not a folder" in err and "Traceback" not in err

@@ -237,8 +237,9 @@ def test_stored_output_through_run_h5_analyze_and_export(capsys, tmp_path):
     assert "kinetic_energy_last" in out and (tmp_path / "series.png").is_file()
     assert (tmp_path / "last_frame.png").is_file()
     assert main(["export", str(tmp_path)]) == 0
-    assert sorted(p.name for p in (tmp_path / "vtk").iterdir()) == ["particles.pvd", "particles_0.vtu",
-                                                                    "particles_1.vtu"]
+    exported = sorted(p.name for p in (tmp_path / "vtk").iterdir() if not p.name.startswith("."))
+    assert exported == ["particles.pvd", "particles_0.vtu", "particles_1.vtu"]
+    assert (tmp_path / "vtk" / ".orchestrator-run").is_file()  # the folder is claimed as ours
 
 
 BAD_VALUES = [
