@@ -8,7 +8,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 APT_PACKAGES := yade liggghts iproute2 g++ cmake make pkg-config libeigen3-dev libhdf5-dev nlohmann-json3-dev \
-                python3-venv python3-dev libgl1 libxrender1 xvfb
+                python3-venv python3-dev libgl1 libxrender1 xvfb chromium
 DEMO_CASE := cases/drag_finishing_uhlmann2015.toml
 DEMO_DIR := runs/demo
 

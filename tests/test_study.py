@@ -100,6 +100,12 @@ BAD = {
                      ["nope.toml", "not found"]),
     "unknown-mode": ('[study]\nname="t"\ncase="CASE"\n[sweep]\nmode="random"\n[sweep.parameters]\n"a"=[1]\n',
                      ["sweep.mode", "random"]),
+    # 200 x 200 = 40,000 grid points: refused before one point is built, naming the limit and both axes
+    "too-many-points": ('[study]\nname="t"\ncase="CASE"\n[sweep]\n[sweep.parameters]\n'
+                        f'"numerics.stiffness_scale"={[1e-3 * (1 + k) for k in range(200)]}\n'
+                        f'"case.seed"={list(range(200))}\n',
+                        ["40,000 runs", "at most 10,000",
+                         "numerics.stiffness_scale (200 values) x case.seed (200 values)"]),
 }
 
 
@@ -114,7 +120,31 @@ def test_bad_study_files(tmp_path, name):
     assert proc.stderr.startswith("error:") and "Traceback" not in proc.stderr
     for word in words:
         assert word in proc.stderr, (word, proc.stderr)
+    assert proc.returncode == 2
+    if name == "too-many-points":
+        assert len(proc.stderr.strip().splitlines()) == 1
     assert not list((tmp_path / "o").glob("*/run.h5"))
+
+
+def test_a_huge_grid_is_refused_before_any_point_is_built():
+    """A 1e5 x 1e5 grid (1e10 runs) is counted, not built: one CaseError naming the limit and the axes, at once."""
+    from orchestrator.errors import CaseError
+    from orchestrator.study.spec import MAX_STUDY_POINTS, Sweep
+
+    axis = list(range(100_000))
+    sweep = Sweep(mode="grid", parameters={"numerics.stiffness_scale": axis, "case.seed": axis})
+    assert sweep.size() == 10 ** 10
+    start = time.monotonic()
+    with pytest.raises(CaseError) as caught:
+        sweep.points()
+    assert time.monotonic() - start < 1.0
+    message = str(caught.value)
+    assert f"{MAX_STUDY_POINTS:,}" in message and "10,000,000,000 runs" in message
+    assert "numerics.stiffness_scale (100,000 values) x case.seed (100,000 values)" in message
+    assert len(message.splitlines()) == 1
+    # at the limit a grid is built; zip and list count their runs, not a product
+    assert len(grid({"a": list(range(100)), "b": list(range(100))})) == MAX_STUDY_POINTS
+    assert Sweep(mode="zip", parameters={"a": axis[:5000], "b": axis[:5000]}).size() == 5000
 
 
 @needs_yade
@@ -139,6 +169,9 @@ def test_pareto_front_and_errors():
 
     # (wall, error): (1, .5) (2, .1) (3, .2) (4, .0) -> (3, .2) is beaten by (2, .1)
     assert pareto_front([1, 2, 3, 4], [0.5, 0.1, 0.2, 0.0]) == [True, True, False, True]
+    # equal points beat neither; at equal cost the smaller error wins; at equal error the cheaper one
+    assert pareto_front([1, 1, 2], [0.2, 0.2, 0.2]) == [True, True, False]
+    assert pareto_front([1, 1, 3], [0.3, 0.2, 0.1]) == [False, True, True]
     assert relative_errors([-2.0, -1.8], -2.0) == pytest.approx([0.0, 0.1])
 
 
@@ -164,7 +197,7 @@ def test_report_from_an_index(tmp_path):
     html = write_study_report(tmp_path, quantity="fn_mean", tolerance=0.05).read_text()
     # the finest run is the reference; 0.1 is the cheapest within 5 % (error 0.025); 0.01 is 15 % off
     assert "run aaaaaaaaaaaa" in html
-    assert "numerics.stiffness_scale = 0.1 on yade" in html
+    assert "#2, numerics.stiffness_scale = 0.1 on yade" in html
     assert "0.025" in html and "0.15" in html and "failed" in html
     assert "data:image/png;base64," in html
 

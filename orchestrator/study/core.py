@@ -46,7 +46,7 @@ class PlannedRun:
     threads: int
 
 
-#: What a study directory says about itself (name, description, case, preset, engines), for its report.
+#: What a study directory says about itself (name, kind, description, case, preset, engines), for its report.
 STUDY_INFO = "study.json"
 
 
@@ -69,6 +69,7 @@ class Study:
     timeout_s: float | None = None
     description: str = ""
     _planned: list[PlannedRun] = field(default_factory=list, init=False, repr=False)
+    _kind: str = field(default="", init=False, repr=False)
 
     def __post_init__(self):
         self.case = Path(self.case).resolve()
@@ -100,6 +101,7 @@ class Study:
             except CaseError as exc:
                 raise CaseError(f"study run {i + 1} ({_describe(point)}): {exc}") from None
         _check_engines_run(self.engines, cases, self.case)
+        self._kind = cases[0].kind
         versions = {}
         for engine in self.engines:
             program = get_engine(engine)
@@ -127,7 +129,7 @@ class Study:
         def jobs(folder: Path):
             nonlocal bar
             (folder / STUDY_INFO).write_text(json.dumps(
-                {"name": self.name, "description": self.description, "case": str(self.case),
+                {"name": self.name, "kind": self._kind, "description": self.description, "case": str(self.case),
                  "preset": self.preset, "engines": list(self.engines)}, indent=1))
             for run in planned:
                 done = None if force else finished_row(run)

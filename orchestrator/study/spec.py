@@ -22,6 +22,7 @@
 from __future__ import annotations
 
 import itertools
+import math
 from pathlib import Path
 from typing import Any, Literal
 
@@ -29,6 +30,10 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_valida
 
 from orchestrator.case.loader import format_validation_error, read_toml_file
 from orchestrator.errors import CaseError
+
+#: Most runs one study may plan: every point is loaded, validated and hashed before the first run starts, so a
+#: larger sweep is refused before anything is built (split it into several studies).
+MAX_STUDY_POINTS = 10_000
 
 
 class _Frozen(BaseModel):
@@ -74,8 +79,30 @@ class Sweep(_Frozen):
                 raise ValueError(f"mode = \"zip\" needs lists of equal length; got {lengths}")
         return self
 
+    def size(self) -> int:
+        """The number of runs the sweep describes (computed without building them)."""
+        if self.mode == "list":
+            return len(self.runs)
+        lengths = [len(values) for values in self.parameters.values()]
+        return lengths[0] if self.mode == "zip" else math.prod(lengths)
+
+    def check_size(self) -> None:
+        """Raise CaseError naming MAX_STUDY_POINTS and the sweep's axes when it describes more runs."""
+        size = self.size()
+        if size <= MAX_STUDY_POINTS:
+            return
+        if self.mode == "list":
+            axes = f"{size:,} [[sweep.runs]] tables"
+        else:
+            joiner = " x " if self.mode == "grid" else " zipped with "
+            axes = f"mode {self.mode}: " + joiner.join(f"{key} ({len(values):,} values)"
+                                                       for key, values in self.parameters.items())
+        raise CaseError(f"the sweep has {size:,} runs ({axes}); a study holds at most {MAX_STUDY_POINTS:,} "
+                        "(MAX_STUDY_POINTS): split it into smaller studies")
+
     def points(self) -> list[dict[str, Any]]:
-        """Each run's overrides {dotted key: value}, in a stable order."""
+        """Each run's overrides {dotted key: value}, in a stable order (CaseError beyond MAX_STUDY_POINTS)."""
+        self.check_size()
         if self.mode == "list":
             return [dict(run) for run in self.runs]
         keys = list(self.parameters)
@@ -100,6 +127,10 @@ def load_study_spec(path: str | Path) -> tuple[StudySpec, Path]:
         spec = StudySpec.model_validate(raw)
     except ValidationError as exc:
         raise CaseError(f"{path}: invalid study\n" + format_validation_error(exc, StudySpec)) from None
+    try:
+        spec.sweep.check_size()
+    except CaseError as exc:
+        raise CaseError(f"{path}: {exc}") from None
     case_path = spec.study.case if spec.study.case.is_absolute() else path.parent / spec.study.case
     if case_path.is_dir():
         raise CaseError(f"{path}: study.case = {str(spec.study.case)!r}: {case_path} is a directory; give a case file")
