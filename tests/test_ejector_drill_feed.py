@@ -1,4 +1,4 @@
-"""The ejector drill's feed scene ([scene] area = "feed"): the tilted nozzles' closed-form volume and nearest points,
+"""The ejector drill's feed scene (kind ejector_feed): the tilted nozzles' closed-form volume and nearest points,
 the layout (the two inlets on one lattice, C1 before and C2 behind the nozzles), the boundary particles (inside
 their solids by the cut meshes' winding number, a full kernel support for every wetted site, wall points on the
 surface and nearest), the network's numbers the boundaries carry, the start state, and the flows' arithmetic."""
@@ -13,16 +13,16 @@ import pytest
 from orchestrator.case.loader import load_case
 from orchestrator.errors import OrchestratorError
 from orchestrator.kinds import build_scene
-from orchestrator.kinds.ejector_drill.feed_analysis import feed_flows, slab_flow, steady_means
-from orchestrator.kinds.ejector_drill.feed_build import start_pressure, start_velocities, tait_density
-from orchestrator.kinds.ejector_drill.feed_layout import Nozzle
-from orchestrator.kinds.ejector_drill.feed_network import feed_boundary, gap_pressure_below_feed
-from orchestrator.kinds.ejector_drill.feed_walls import feed_solid_masks, feed_wall_meshes
-from orchestrator.kinds.ejector_drill.walls import scene_lattice
+from orchestrator.drill.walls import scene_lattice
+from orchestrator.kinds.ejector_feed.analysis import feed_flows, slab_flow, steady_means
+from orchestrator.kinds.ejector_feed.build import start_pressure, start_velocities, tait_density
+from orchestrator.kinds.ejector_feed.layout import Nozzle
+from orchestrator.kinds.ejector_feed.network import feed_boundary, gap_pressure_below_feed
+from orchestrator.kinds.ejector_feed.walls import feed_solid_masks, feed_wall_meshes
 from orchestrator.reference.drill_network import LITRE_PER_MIN, solve
 from test_ejector_drill_walls import _closest, _winding
 
-CASE = Path(__file__).resolve().parent.parent / "cases" / "ejector_drill_canini.toml"
+CASE = Path(__file__).resolve().parent.parent / "cases" / "ejector_feed_canini.toml"
 #: The cut meshes' polygons: the tubes' 96-gon lies 10 mm x (1 - cos(pi / 96)) = 5 um inside the circle, the nozzles'
 #: 32-gon 0.5 mm x (1 - cos(pi / 32)) = 2.4 um inside theirs.
 MESH_TOLERANCE = 10e-6
@@ -104,7 +104,7 @@ def test_layout_puts_the_inlets_on_one_lattice_and_the_sensors_in_order():
     assert filled == pytest.approx(layout.fluid_volume(), rel=0.03)
     gap = math.pi * (10e-3 ** 2 - 9.5e-3 ** 2) * (layout.gap.z_hi - layout.gap.z_lo)
     assert layout.gap.volume() == pytest.approx(gap, rel=1e-12)
-    per_nozzle = [np.count_nonzero(z.contains(scene.flow.positions[scene.flow.kind == 0])) for z in layout.nozzles]
+    per_nozzle = [np.count_nonzero(z.contains(scene.positions[scene.kind == 0])) for z in layout.nozzles]
     assert min(per_nozzle) > 0.5 * layout.nozzles[0].volume() / dx ** 3
 
 
@@ -187,7 +187,7 @@ def test_the_boundaries_carry_the_networks_state():
     assert b.tube_outlet_pressure == pytest.approx(state.p_C2 - net.p_ambient) and 0.1e5 < b.tube_outlet_pressure
     # the gap outlet's pressure lies between p_feed less the entrance loss and p_B (friction ~0.9 bar / 10 mm)
     assert state.p_B - net.p_ambient < b.gap_outlet_pressure < state.p_feed - net.p_ambient
-    deck_outlets = {o.name: o.pressure for o in scene.flow.case.outlets}
+    deck_outlets = {o.name: o.pressure for o in scene.case.outlets}
     below = scene.layout.z_nozzles - scene.layout.outlets["gap"].center[2]
     assert below > 0 and deck_outlets["gap_outlet"] == pytest.approx(gap_pressure_below_feed(net, state, below),
                                                                      rel=1e-12)
@@ -195,7 +195,7 @@ def test_the_boundaries_carry_the_networks_state():
 
 def test_start_state_carries_the_inlets_flows_at_the_held_pressures():
     case, scene = _scene()
-    layout, flow, dx = scene.layout, scene.flow, case.numerics.dx
+    layout, flow, dx = scene.layout, scene, case.numerics.dx
     b = feed_boundary(case, scene.layout.z_nozzles - scene.layout.outlets["gap"].center[2])
     fluid = flow.kind == 0
     x, v = flow.positions[fluid], flow.velocities[fluid]
@@ -247,14 +247,14 @@ def test_the_feed_inlets_peak_must_fit_under_max_speed():
 def test_a_feed_scene_needs_the_boundary_particles():
     with pytest.raises(OrchestratorError) as err:
         load_case(CASE, preset="feed_quick", overrides=["physics.walls='penalty'"])
-    assert "scene.area = 'feed'" in str(err.value)
+    assert "physics.walls = 'penalty'" in str(err.value) and "allowed: 'particles'" in str(err.value)
 
 
 def test_a_dx_with_two_lattices_is_refused():
-    """dx = 0.42 mm: round(20 / 0.42) = 48, round(16 / 0.42) = 38 -- even, one lattice; dx = 0.44 mm: 45 and 36."""
-    load_case(CASE, preset="feed_quick", overrides=["numerics.dx=0.42e-3"])
+    """dx = 0.39 mm: round(20 / 0.39) = 51, round(16 / 0.39) = 41 -- odd, one lattice; dx = 0.38 mm: 53 and 42."""
+    load_case(CASE, preset="feed_quick", overrides=["numerics.dx=0.39e-3"])
     with pytest.raises(OrchestratorError) as err:
-        load_case(CASE, preset="feed_quick", overrides=["numerics.dx=0.44e-3"])
+        load_case(CASE, preset="feed_quick", overrides=["numerics.dx=0.38e-3"])
     assert "different lattices" in str(err.value) and "numerics.dx" in str(err.value)
 
 
@@ -310,8 +310,8 @@ def test_the_feed_presets_sizes_and_timing_probe(preset, probed):
     a nozzle) plans 11,734 steps over 280,936 fluid particles (its inlets 4 layers deep: layout.inlet_layers), 3.3e9 particle-steps, and is probed before it starts;
     feed_quick (2,292 steps over 47,628) is not."""
     from orchestrator.kinds import bind
-    from orchestrator.kinds.ejector_drill.probe import end_particles
-    from orchestrator.kinds.ejector_drill.sph import PROBE_ABOVE_PARTICLE_STEPS
+    from orchestrator.drill.probe import end_particles
+    from orchestrator.drill.sph import PROBE_ABOVE_PARTICLE_STEPS
 
     case = load_case(CASE, preset=preset).model
     scene = build_scene(case)
@@ -321,4 +321,4 @@ def test_the_feed_presets_sizes_and_timing_probe(preset, probed):
     expected = {"feed": (11_734, 280_936), "feed_quick": (2_292, 47_628)}[preset]
     assert (case.planned_steps, scene.n_fluid) == expected
     assert (case.planned_steps * scene.n_fluid > PROBE_ABOVE_PARTICLE_STEPS) is probed
-    assert bind("ejector_drill", "sph", scene).wants_probe(scene) is probed
+    assert bind("ejector_feed", "sph", scene).wants_probe(scene) is probed

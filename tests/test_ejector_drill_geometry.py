@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from orchestrator.kinds.ejector_drill.case_geometry import DrillGeometry
+from orchestrator.drill.geometry import DrillGeometry
 from orchestrator.reference.drill_network import DrillNetwork
 
 
@@ -56,7 +56,7 @@ def test_a_deep_groove_is_a_collector_chamber():
     """groove_depth cuts a chamber round the holes' entrances: the head loses the ring r_oi..r_oi + depth from the
     groove's floor to the holes' upper edge (closed form), and at least 2 mm of head stays between the chamber and
     the head's rear face (behind which lies the tube/bore clearance); deeper than the tube's wall is refused."""
-    from orchestrator.kinds.ejector_drill.case_geometry import DrillGeometry as G
+    from orchestrator.drill.geometry import DrillGeometry as G
 
     flat, deep = G(), G(groove_depth=2.0e-3)
     n = flat.network

@@ -14,12 +14,12 @@ from orchestrator.kinds import build_scene, get_kind, kind_names
 from orchestrator.kinds.ejector_drill.analysis import balance, filling_times, flow_series, spaced_frames
 from orchestrator.kinds.ejector_drill.comparison import comparison_rows, network_at_gap_flow
 from orchestrator.kinds.ejector_drill.build import prefill_margin, wall_meshes
-from orchestrator.kinds.ejector_drill.probe import end_particles, probe_scene
+from orchestrator.drill.probe import end_particles, probe_scene
 from orchestrator.reference.drill_network import LITRE_PER_MIN, solve
 
 CASE = Path(__file__).resolve().parent.parent / "cases" / "ejector_drill_canini.toml"
 PRESETS = ("flow_exit", "flow_exit_quick", "flow_exit_filled", "flow_exit_filled_quick", "drill_head",
-           "drill_head_quick", "feed", "feed_quick")
+           "drill_head_quick")
 
 
 def test_registered_with_the_sph_engine():
@@ -74,16 +74,16 @@ def test_lattice_fills_the_regions_to_their_closed_form_volume(preset):
     assert prefill_margin(case, ring) == 0.0
     expected = math.pi * (ring.r_out ** 2 - ring.r_in ** 2) * case.scene.prefill / dx ** 3
     assert scene.n_fluid == pytest.approx(expected, rel=0.35)
-    fluid = scene.flow.kind == 0
-    assert np.allclose(np.linalg.norm(scene.flow.velocities[fluid], axis=1), case.scene.inlet_velocity)
-    assert not scene.flow.meshes and "wall_penalty" not in scene.flow.physics
+    fluid = scene.kind == 0
+    assert np.allclose(np.linalg.norm(scene.velocities[fluid], axis=1), case.scene.inlet_velocity)
+    assert not scene.meshes and "wall_penalty" not in scene.physics
     # the penalty walls stay an option: the meshes, cut above the buffers, and the prefill s off the walls
     penalty = build_scene(load_case(CASE, preset=preset, overrides=["physics.walls='penalty'"]).model)
-    assert penalty.walls is None and "wall_penalty" in penalty.flow.physics
+    assert penalty.walls is None and "wall_penalty" in penalty.physics
     width = ring.r_out - ring.r_in  # s = dx / 2, or what leaves one spacing across a narrower channel
-    assert prefill_margin(penalty.case, ring) == pytest.approx(min(0.5 * dx, max(0.0, 0.5 * (width - dx))), abs=1e-15)
+    assert prefill_margin(penalty.drill, ring) == pytest.approx(min(0.5 * dx, max(0.0, 0.5 * (width - dx))), abs=1e-15)
     assert penalty.n_fluid <= scene.n_fluid
-    for mesh in penalty.flow.meshes.values():
+    for mesh in penalty.meshes.values():
         assert mesh.vertices[:, 2].max() <= layout.z_hi + 1e-8  # manifold3d rounds to float32
 
 
@@ -93,13 +93,13 @@ def test_a_filled_start_holds_every_region_at_rest_and_ramps_the_inlet():
     entry ramps."""
     import json
 
-    from orchestrator.kinds.ejector_drill.build import filled_sites
+    from orchestrator.drill.scene import filled_sites
     from orchestrator.kinds.sph_flow.sph import TEMPLATE, deck_context
     from orchestrator.templating import render
 
     case = load_case(CASE, preset="flow_exit_filled_quick").model
     scene = build_scene(case)
-    dx, layout, flow = case.numerics.dx, scene.layout, scene.flow
+    dx, layout, flow = case.numerics.dx, scene.layout, scene
     fluid = flow.kind == 0
     assert np.count_nonzero(fluid) == len(filled_sites(layout, dx))
     assert not np.any(flow.velocities[fluid])
@@ -125,7 +125,7 @@ def test_backflow_makes_both_outlets_pressure_openings(backflow):
     from orchestrator.templating import render
 
     case = load_case(CASE, preset="flow_exit_filled_quick", overrides=[f"scene.backflow={str(backflow).lower()}"])
-    outlets = json.loads(render(TEMPLATE, deck_context(build_scene(case.model).flow, threads=1)))["outlets"]
+    outlets = json.loads(render(TEMPLATE, deck_context(build_scene(case.model), threads=1)))["outlets"]
     assert sorted(o["name"] for o in outlets) == ["leak", "mouth"]
     assert all(o.get("backflow", False) is backflow and o["pressure"] == 0.0 for o in outlets)
 
@@ -142,7 +142,7 @@ def test_columns_give_the_outlets_the_passages_beyond_them():
     from orchestrator.templating import render
 
     case = load_case(CASE, preset="flow_exit_filled_quick", overrides=["scene.columns=true"])
-    outlets = {o["name"]: o for o in json.loads(render(TEMPLATE, deck_context(build_scene(case.model).flow,
+    outlets = {o["name"]: o for o in json.loads(render(TEMPLATE, deck_context(build_scene(case.model),
                                                                                 threads=1)))["outlets"]}
     net, head = case.model.network(), case.model.geometry().head_length
     q = 60.0 * net.annular_gap().area  # m^3/s: the inlet's 60 m/s in the gap
@@ -161,12 +161,12 @@ def test_columns_give_the_outlets_the_passages_beyond_them():
     k = f_m * (head - 0.005) / 0.012 + (1 - ratio) ** 2 + f_t * 0.4 / 0.016 * ratio**2
     assert mouth["column_loss"] == pytest.approx(k, rel=1e-9)
     plain = load_case(CASE, preset="flow_exit_filled_quick").model
-    deck = json.loads(render(TEMPLATE, deck_context(build_scene(plain).flow, threads=1)))
+    deck = json.loads(render(TEMPLATE, deck_context(build_scene(plain), threads=1)))
     assert not any("column_length" in o for o in deck["outlets"])  # off by default: the outlets as before
     # column_inertia keeps a fraction of each length (inertia and chamber), and the whole passage's loss
     light = load_case(CASE, preset="flow_exit_filled_quick", overrides=["scene.columns=true",
                                                                          "scene.column_inertia=0.05"])
-    scaled = {o["name"]: o for o in json.loads(render(TEMPLATE, deck_context(build_scene(light.model).flow,
+    scaled = {o["name"]: o for o in json.loads(render(TEMPLATE, deck_context(build_scene(light.model),
                                                                              threads=1)))["outlets"]}
     for name, full in (("leak", leak), ("mouth", mouth)):
         assert scaled[name]["column_length"] == pytest.approx(0.05 * full["column_length"], rel=1e-12)
@@ -201,7 +201,7 @@ def test_stored_volume_counts_cavitating_fluid_at_the_floors_density():
     (["scene.ramp_time=0.0"], "rho0 c0 v_in = 900 bar"),
     (["scene.prefill=1e-3"], "scene.prefill is for start = 'empty'"),
     (["scene.ramp_time=1e-3"], "scene.ramp_time = 0.001 s is longer"),
-    (["scene.area='feed'"], "the feed scene starts filled and moving"),
+    (["scene.area='feed'"], "the feed scene is the kind ejector_feed: set case.kind"),
 ])
 def test_a_filled_start_needs_a_ramp(overrides, words):
     with pytest.raises(OrchestratorError) as err:
@@ -354,7 +354,8 @@ def test_the_quick_flow_exit_run_keeps_the_fluid_out_of_the_walls(tmp_path):
     import h5py
 
     from orchestrator.kinds.ejector_drill.layout import drill_layout
-    from orchestrator.kinds.ejector_drill.walls import solid_masks, wall_points
+    from orchestrator.drill.walls import wall_points
+    from orchestrator.kinds.ejector_drill.walls import solid_masks
     from orchestrator.run import run_case
 
     loaded = load_case(CASE, preset="flow_exit_quick", overrides=["numerics.threads=2", "output.picture_times=[]"])
@@ -381,7 +382,7 @@ def test_the_paper_resolution_starts_with_a_timing_probe(preset, probed):
     before it starts, its quick preset (about 4e8) is not; neither plans more steps than the step-count rule's."""
     from orchestrator.kinds import bind
     from orchestrator.kinds.base import PROBE_ABOVE_STEPS
-    from orchestrator.kinds.ejector_drill.sph import PROBE_ABOVE_PARTICLE_STEPS
+    from orchestrator.drill.sph import PROBE_ABOVE_PARTICLE_STEPS
 
     case = load_case(CASE, preset=preset).model
     scene = build_scene(case)
@@ -411,7 +412,7 @@ def test_zones_find_the_still_fluid_and_the_pressure_peak():
     holes at rest, 1 % of the particles at 500 bar in the head clearance at the face: zones() finds both where they
     were put."""
     from orchestrator.kinds.ejector_drill.analysis import zones
-    from orchestrator.kinds.ejector_drill.build import filled_sites
+    from orchestrator.drill.scene import filled_sites
 
     case = load_case(CASE, preset="flow_exit_quick").model
     layout = build_scene(case).layout
@@ -447,7 +448,7 @@ def test_spaced_frames_leave_out_a_stop_frame_close_to_the_grid():
 
 def test_eddy_viscosity_reaches_the_scene():
     """[physics] eddy_viscosity = cs switches Smagorinsky's term on in the scene's physics (engine eqs. SM1-SM2)."""
-    from orchestrator.kinds.ejector_drill.build import drill_physics
+    from orchestrator.drill.scene import drill_physics
 
     case = load_case(CASE, preset="flow_exit_quick", overrides=["physics.eddy_viscosity=0.12"]).model
     physics = drill_physics(case)

@@ -12,7 +12,8 @@ import pytest
 from orchestrator.case.loader import load_case
 from orchestrator.errors import OrchestratorError
 from orchestrator.kinds import build_scene
-from orchestrator.kinds.ejector_drill.analysis import less_back_pressure, sensor_pressures
+from orchestrator.drill.series import sensor_pressures
+from orchestrator.kinds.ejector_drill.analysis import less_back_pressure
 from orchestrator.kinds.sph_flow.sph import TEMPLATE, deck_context
 from orchestrator.reference.drill_network import LITRE_PER_MIN, solve
 from orchestrator.templating import render
@@ -21,7 +22,7 @@ CASE = Path(__file__).resolve().parent.parent / "cases" / "ejector_drill_canini.
 
 
 def _deck(case) -> dict:
-    return json.loads(render(TEMPLATE, deck_context(build_scene(case).flow, threads=1)))
+    return json.loads(render(TEMPLATE, deck_context(build_scene(case), threads=1)))
 
 
 def test_the_steady_preset_runs_at_the_networks_operating_point():
@@ -63,8 +64,7 @@ def test_the_analysis_takes_the_back_pressure_off_every_pressure():
 
 @pytest.mark.parametrize("overrides, words", [
     (["scene.back_pressure=-1e5"], "scene.back_pressure"),
-    (["scene.area='feed'", "scene.back_pressure=1e6", "fluid.max_speed=70", "scene.start='empty'",
-      "scene.ramp_time=0"], "scene.back_pressure is for the flow-exit and drill-head"),
+    (["scene.area='feed'"], "scene.area = 'feed': the feed scene is the kind ejector_feed"),
     (["scene.column_inertia=1.5"], "scene.column_inertia"),
     (["scene.columns=false"], "scene.column_inertia = 0.05 needs scene.columns = true"),
 ])

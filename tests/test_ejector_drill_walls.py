@@ -12,10 +12,11 @@ import numpy as np
 import pytest
 
 from orchestrator.case.loader import load_case
+from orchestrator.drill.regions import Ring
+from orchestrator.drill.walls import initial_densities, scene_lattice
 from orchestrator.kinds.ejector_drill.build import inlet_buffer_points, prefill_points, wall_meshes
-from orchestrator.kinds.ejector_drill.layout import Ring, drill_layout
-from orchestrator.kinds.ejector_drill.walls import (boundary_particles, initial_densities, scene_lattice,
-                                                    solid_masks)
+from orchestrator.kinds.ejector_drill.layout import drill_layout
+from orchestrator.kinds.ejector_drill.walls import drill_boundary_particles, solid_masks
 from orchestrator.reference.sph import kernel_value
 
 CASE = Path(__file__).resolve().parent.parent / "cases" / "ejector_drill_canini.toml"
@@ -30,7 +31,7 @@ def _scene(*overrides):
                                                                 "scene.inlet_distance=5e-3",
                                                                 "scene.prefill=1e-3", *overrides]).model
     layout = drill_layout(case)
-    return case, layout, boundary_particles(case, layout), wall_meshes(case, layout)
+    return case, layout, drill_boundary_particles(case, layout), wall_meshes(case, layout)
 
 
 def _winding(mesh, points):

@@ -29,7 +29,9 @@ FOLDERS = {
     "case": CASES,
     "scene": CASES,
     "dem": SHARED,
-    "drill": SHARED,
+    # the drill kinds' shared package builds their scenes on sph_flow's case, scene and deck code, a kind's: it sits
+    # at the kinds' layer until those are a shared package of their own
+    "drill": KINDS,
     "workflows": WORKFLOWS,
     "study": WORKFLOWS,
     "cli": CLI,
@@ -48,6 +50,7 @@ FILES = {
 #: shared code belongs in a package of its own beside orchestrator/dem; clear a line when its imports are gone.
 KIND_IMPORTS_ALLOWED = {
     ("ejector_drill", "sph_flow"): "its scenes are sph_flow cases and scenes, written by sph_flow's deck code",
+    ("ejector_feed", "sph_flow"): "its scene is an sph_flow case and scene, written by sph_flow's deck code",
     ("rheometer", "sph_flow"): "its sample is an sph_flow case and scene, run by sph_flow's adapter",
 }
 #: The package's root __init__ is its public facade (load_case, run_case): it imports lazily so that

@@ -66,7 +66,7 @@ def test_the_drill_probe_deck_dir_is_absolute(tmp_path, monkeypatch):
 def test_a_filled_start_probes_its_end_state_only(tmp_path):
     from orchestrator.case import load_case
     from orchestrator.kinds import build_scene
-    from orchestrator.kinds.ejector_drill.probe import write_probe
+    from orchestrator.drill.probe import write_probe
 
     case = load_case(Path(__file__).parents[1] / "cases" / "ejector_drill_canini.toml",
                      preset="flow_exit_filled_quick").model
@@ -89,7 +89,7 @@ def test_the_estimate_is_the_planned_steps_at_the_mean_of_the_start_and_end_stat
     """A filling run's step cost grows from its start state's to its end state's (linearly with the inflow): the
     estimate is the planned steps at their mean, the bound the dearer one throughout. Without a start deck the end's
     cost is scaled by the particle counts."""
-    from orchestrator.kinds.ejector_drill.probe import estimate
+    from orchestrator.drill.probe import estimate
 
     import json
 
@@ -108,7 +108,7 @@ def test_the_probe_command_line_names_bad_input(tmp_path, capsys):
     """No case, an unknown case file or preset, --deck-dir without --planned: one error line and exit code 2."""
     import pytest
 
-    from orchestrator.kinds.ejector_drill.probe import main
+    from orchestrator.drill.probe import main
 
     case = str(Path(__file__).parents[1] / "cases" / "ejector_drill_canini.toml")
     assert main([str(tmp_path / "nosuch.toml")]) == 2

@@ -24,6 +24,7 @@ def register(name: str, module: str) -> None:
 
 register("drag_finishing", "orchestrator.kinds.drag_finishing")
 register("ejector_drill", "orchestrator.kinds.ejector_drill")
+register("ejector_feed", "orchestrator.kinds.ejector_feed")
 register("impact", "orchestrator.kinds.impact")
 register("rheometer", "orchestrator.kinds.rheometer")
 register("sph_flow", "orchestrator.kinds.sph_flow")

@@ -1,16 +1,20 @@
-"""The ejector deep-hole drill of Canini et al.: its parametric geometry (case_geometry.py), the case
-(case.py), the paper's two SPH scenes (layout.py, build.py) and the feed with the ejector nozzles (feed_*.py), run
-by sph_flow's adapter (sph.py), and what is measured against the 1D hydraulic network (analysis.py, report.py);
-dispatch.py picks by [scene] area. docs/ejector_drill.md."""
+"""The ejector deep-hole drill's coolant flow in the paper's two SPH scenes (Canini, Gerken, Biermann & Eberhard):
+the flow-exit area (the annular gap, the adduction holes, the clearances to the bore) and the drill-head area (the
+head clearance, the cutting zone, the chip mouth). The case (case.py), where things are (layout.py), the walls
+(walls.py), the scene with its outlets and columns (build.py, columns.py), what is measured (analysis.py) and
+`orchestrator analyze` beside the 1D hydraulic network (comparison.py, report.py, pictures.py). The drill's
+geometry, the SPH scene's shared parts and the sph adapter are orchestrator/drill; the feed with its ejector nozzles
+is the kind ejector_feed. docs/ejector_drill.md."""
 
 from orchestrator.kinds.base import Kind
 
 KIND = Kind(
     name="ejector_drill",
-    description="the ejector deep-hole drill's coolant flow (Canini et al.) on the sph executable, beside the 1D network",
+    description="the ejector deep-hole drill's flow-exit and drill-head scenes (Canini et al.) on the sph "
+                "executable, beside the 1D network",
     case_model="orchestrator.kinds.ejector_drill.case:EjectorDrillCase",
-    build_scene="orchestrator.kinds.ejector_drill.dispatch:build_scene",
-    measure="orchestrator.kinds.ejector_drill.dispatch:measure",
-    analyze="orchestrator.kinds.ejector_drill.dispatch:analyze",
-    adapters={"sph": "orchestrator.kinds.ejector_drill.sph:EjectorDrillSph"},
+    build_scene="orchestrator.kinds.ejector_drill.build:build_drill_scene",
+    measure="orchestrator.kinds.ejector_drill.analysis:measure_drill",
+    analyze="orchestrator.kinds.ejector_drill.report:analyze_drill_run",
+    adapters={"sph": "orchestrator.drill.sph:DrillSph"},
 )

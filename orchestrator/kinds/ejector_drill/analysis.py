@@ -9,24 +9,7 @@ import math
 
 import numpy as np
 
-#: The last fraction of the run over which steady values are averaged.
-STEADY_FRACTION = 0.2
-
-
-def run_series(run_dir, run: dict, case, paper_dt: str = "") -> tuple[dict, np.ndarray]:
-    """Print a drill run's header line (status, particles, steps, mean dt with the paper's beside it, c0, CFL, wall
-    time) and return its series (name -> values) and their times (s, empty when fewer than two records: then it
-    says so)."""
-    attrs = run["attrs"]
-    series = {k: v for k, v in run.get("series", {}).items() if k != "attrs"}
-    time = np.asarray(series.pop("time", []), dtype=float)
-    print(f"run {run_dir}: status {attrs['status']}, {attrs.get('n_particles')} particles at the start, "
-          f"{attrs.get('n_steps')} steps, mean dt {attrs.get('dt', float('nan')):.4g} s{paper_dt}, c0 {case.c0:g} m/s, "
-          f"CFL {case.numerics.adaptive['cfl']:g}, wall time {attrs.get('wall_time_s', 0):.1f} s{_parts(attrs)}")
-    if time.size < 2:
-        print("the run recorded fewer than two series records: nothing to analyse")
-        return series, np.zeros(0)
-    return series, time
+from orchestrator.drill.series import STEADY_FRACTION, sensor_pressures
 
 
 def less_back_pressure(series: dict, frames: dict, back: float) -> tuple[dict, dict]:
@@ -93,14 +76,6 @@ def flow_series(series: dict, time: np.ndarray) -> dict[str, np.ndarray]:
     if "V_AG" not in out and "V_in" in out:  # the drill-head scene: the inlet is the gap's flow
         out["V_AG"] = out["V_in"]
     return out
-
-
-def _parts(attrs: dict) -> str:
-    """' (the last of N parts; the engine's X s over all)' for a resumed run, '' otherwise."""
-    parts = int(attrs.get("engine_parts", 1))
-    if parts < 2:
-        return ""
-    return f" (the last of {parts} parts: resumed; the engine's {float(attrs.get('engine_wall_time_s', 0)):.1f} s over all)"
 
 
 def spaced_frames(t_frames: np.ndarray, interval: float) -> np.ndarray:
@@ -198,19 +173,6 @@ def ejector_onset(time: np.ndarray, flows: dict, after: float) -> float:
         return math.nan
     hit = np.nonzero((time > after) & (flows["V_loss"] <= 0.0))[0]
     return float(time[hit[0]]) if hit.size else math.nan
-
-
-def sensor_pressures(series: dict, time: np.ndarray) -> dict[str, float]:
-    """Mean gauge pressure (Pa) of each probe over the steady window (NaN where no fluid was near the probe)."""
-    t_end = time[-1]
-    window = time >= t_end - STEADY_FRACTION * (t_end - time[0])
-    out = {}
-    for name in sorted(series):
-        if name.startswith("pressure_probe_"):
-            values = np.asarray(series[name], dtype=float)[window]
-            out[name.removeprefix("pressure_probe_")] = float(np.nanmean(values)) if np.isfinite(values).any() \
-                else math.nan
-    return out
 
 
 def measure_drill(case, result) -> dict[str, float]:

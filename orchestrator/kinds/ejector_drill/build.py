@@ -1,55 +1,28 @@
-"""The SPH scene of an ejector-drill case: the walls (fixed boundary particles with wall points inside the drill's
-solids, walls.py; or, with physics.walls = "penalty", the wall meshes with the adduction holes cut into the head by
-manifold3d's booleans, every part cut above the scene's buffers), fluid particles on the scene's Cartesian lattice
-inside the inlet's channel (the prefill), the inlet, the outlets, the flow planes and the sensor probes, as an
-sph_flow SphScene so that sph_flow's adapter writes the deck (kinds/sph_flow/sph.py). SI units.
-
-(This module is the kind's scene builder; it lives in layer 7 beside the layout because the geometry's meshes and
-the sph_flow adapter's scene type are both needed.)
+"""The SPH scene of an ejector-drill case (the flow-exit or the drill-head area): the walls (fixed boundary particles
+with wall points inside the drill's solids, walls.py; or, with physics.walls = "penalty", the wall meshes with the
+adduction holes cut into the head by manifold3d's booleans, every part cut above the scene's buffers), fluid
+particles on the scene's Cartesian lattice inside the inlet's channel (the prefill) or in every region (a filled
+start), the inlet, the outlets (plain, or columns standing for the passages beyond them: columns.py), the flow
+planes and the sensor probes, as a drill/scene.DrillSphScene. SI units.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import math
 
 import numpy as np
 
-from orchestrator.case.common import CaseMeta
-from orchestrator.kinds.ejector_drill.columns import outlet_columns
+from orchestrator.drill.regions import inlet_layers
+from orchestrator.drill.scene import DrillSphScene, assemble_flow_case, filled_sites
+from orchestrator.drill.walls import initial_densities, scene_lattice
 from orchestrator.kinds.ejector_drill.case import EjectorDrillCase
-from orchestrator.kinds.ejector_drill.layout import Layout, drill_layout, inlet_layers
+from orchestrator.kinds.ejector_drill.columns import outlet_columns
+from orchestrator.kinds.ejector_drill.layout import Layout, drill_layout
+from orchestrator.kinds.ejector_drill.walls import WALL_PARTS, drill_boundary_particles
 from orchestrator.kinds.sph_flow.case import SphFlowCase
-from orchestrator.reference.drill_network import LITRE_PER_MIN
 from orchestrator.kinds.sph_flow.case_open import Inlet, Outlet
-from orchestrator.kinds.sph_flow.case_parts import Domain, Patch, Physics, Probe, SphOutput, WallPenalty
-from orchestrator.kinds.ejector_drill.walls import (WALL_PARTS, WallParticles, boundary_particles, initial_densities,
-                                                    scene_lattice)
-from orchestrator.kinds.sph_flow.scene import BOUNDARY, FLUID, SphScene, WallMesh
-
-
-@dataclass(frozen=True)
-class DrillSphScene:
-    """What the sph executable runs for an ejector-drill case: `flow` (an sph_flow SphScene) and its layout."""
-
-    case: EjectorDrillCase
-    flow: SphScene
-    layout: Layout
-    walls: WallParticles | None = None  # the boundary particles (None with penalty walls)
-
-    @property
-    def n_particles(self) -> int:
-        """Particles in the input (the boundary particles and the prefill; the inlet adds more at run time)."""
-        return self.flow.n_particles
-
-    @property
-    def n_fluid(self) -> int:
-        """Fluid particles in the input (the prefill)."""
-        return self.flow.n_fluid
-
-    @property
-    def timestep(self) -> float:
-        """The CFL step at rest, s."""
-        return self.flow.timestep
+from orchestrator.kinds.sph_flow.case_parts import Probe
+from orchestrator.kinds.sph_flow.scene import BOUNDARY, FLUID, WallMesh
 
 
 def wall_meshes(case: EjectorDrillCase, layout: Layout) -> dict:
@@ -94,22 +67,6 @@ def prefill_points(case: EjectorDrillCase, layout: Layout) -> np.ndarray:
     return points[inside]
 
 
-def filled_sites(layout: Layout, dx: float, buffers: bool = True) -> np.ndarray:
-    """The scene lattice's sites (n, 3) m in the fluid regions, region after region in flow order (the layout lists
-    them so), then (buffers) those in the outlets' buffers: the wetted regions beyond the fluid regions, except the
-    inlet channel's part upstream of the inlet plane (the engine's inlet buffer)."""
-    points = scene_lattice(layout, dx, layout.r_max, layout.z_lo, layout.z_hi)
-    chosen, taken = [], np.zeros(len(points), dtype=bool)
-    regions = list(layout.regions)
-    if buffers:
-        regions += [r for r in layout.wetted if r.name != layout.channel.name]
-    for region in regions:
-        inside = region.contains(points) & ~taken
-        taken |= inside
-        chosen.append(points[inside])
-    return np.concatenate(chosen)
-
-
 def inlet_buffer_points(case: EjectorDrillCase, layout: Layout, layers: int) -> np.ndarray:
     """The sites (n, 3) m the engine fills with the inlet's particles at the start: `layers` lattice layers upstream
     of the inlet plane across the channel (its columns are the scene lattice's, walls.lattice_offset)."""
@@ -121,62 +78,31 @@ def inlet_buffer_points(case: EjectorDrillCase, layout: Layout, layers: int) -> 
     return points[(r >= layout.inlet_inner_radius + margin) & (r <= ring.r_out - margin)]
 
 
-def drill_physics(case: EjectorDrillCase) -> Physics:
-    """The sph_flow Physics of the case's [physics] (terms, artificial viscosity, the penalty scaled with dx)."""
-    dx = case.numerics.dx
-    pen = case.physics.wall_penalty
-    penalty = case.physics.walls == "penalty"
-    terms = ["wall_penalty"] if penalty else []
-    if case.physics.morris_viscosity:
-        terms.insert(0, "morris_viscosity")
-    if case.physics.artificial_viscosity is not None:
-        terms.insert(0, "artificial_viscosity")
-    return Physics(terms=tuple(terms), artificial_viscosity=case.physics.artificial_viscosity,
-                   eddy_viscosity=case.physics.eddy_viscosity,
-                   eddy_viscosity_walls=case.physics.eddy_viscosity_walls,
-                   wall_penalty=WallPenalty(range=pen.range_over_dx * dx, s=pen.s_over_dx * dx,
-                                            psi=pen.pressure * dx * dx) if penalty else None)
+def drill_outlets(case: EjectorDrillCase, layout: Layout) -> tuple:
+    """The layout's outlets at their held pressures plus the scene's back pressure, pressure openings with
+    scene.backflow, and with scene.columns the passages beyond them as columns (columns.py)."""
+    columns = {}
+    if case.scene.columns:
+        net = case.network()
+        columns = outlet_columns(net, case.geometry().head_length, layout.outlets,
+                                 case.scene.inlet_velocity * net.annular_gap().area, case.scene.column_inertia)
+    pressures = {"mouth": case.scene.mouth_pressure, "leak": case.scene.leak_pressure}
+    return tuple(Outlet(name=p.name, center=p.center, normal=p.normal, radius=p.radius,
+                        pressure=pressures[role] + case.scene.back_pressure, backflow=case.scene.backflow,
+                        **columns.get(role, {}))
+                 for role, p in layout.outlets.items())
 
 
 def _flow_case(case: EjectorDrillCase, layout: Layout) -> SphFlowCase:
-    """The sph_flow case the deck is written from: its parts validated one by one (the whole is assembled with
-    model_construct: its walls are the drill's meshes, which an sph_flow case file cannot name)."""
+    """The sph_flow case the deck is written from (drill/scene.assemble_flow_case): the annular inlet across the
+    channel, the outlets, the sensors that lie in the scene."""
     margin = prefill_margin(case, layout.channel)  # no inlet column inside the walls' push (as the prefill)
     inlet = Inlet(name=layout.inlet.name, center=layout.inlet.center, normal=layout.inlet.normal,
                   radius=layout.inlet.radius - margin, velocity=case.scene.inlet_velocity, profile="annular",
                   inner_radius=layout.inlet_inner_radius + margin, pressure="extrapolated",
                   ramp_time=case.scene.ramp_time, layers=inlet_layers(case.numerics.dx, case.numerics.h))
-    pressures = {"mouth": case.scene.mouth_pressure, "leak": case.scene.leak_pressure}
     probes = tuple(Probe(name=k, point=v) for k, v in layout.sensors.items() if layout.in_scene(v))
-    return assemble_flow_case(case, layout, (inlet,), pressures, probes)
-
-
-def assemble_flow_case(case, layout, inlets: tuple, pressures: dict, probes: tuple) -> SphFlowCase:
-    """A drill scene's sph_flow case from its inlets, the outlets' held pressures (role -> Pa, the layout's outlets)
-    and its probes: the layout's flow planes, the output intervals, the box around the layout (r_max, z_lo..z_hi),
-    drill_physics. Assembled with model_construct: its walls are the drill's, which an sph_flow case cannot name."""
-    columns = {}
-    if case.scene.columns:
-        net = case.network()
-        flow = (case.scene.inlet_velocity * net.annular_gap().area if case.scene.inlet_velocity
-                else case.scene.network_flow * LITRE_PER_MIN)  # m^3/s: the scene's inflow
-        columns = outlet_columns(net, case.geometry().head_length, layout.outlets, flow, case.scene.column_inertia)
-    back = case.scene.back_pressure
-    outlets = tuple(Outlet(name=p.name, center=p.center, normal=p.normal, radius=p.radius,
-                           pressure=pressures[role] + back, backflow=case.scene.backflow, **columns.get(role, {}))
-                    for role, p in layout.outlets.items())
-    planes = tuple(Patch(name=p.name, center=p.center, normal=p.normal, radius=p.radius)
-                   for p in layout.planes.values())
-    output = SphOutput(frame_interval=case.output.frame_interval, series_interval=case.output.series_interval,
-                       probes=probes, flow_planes=planes)
-    r = layout.r_max
-    domain = Domain(dimension=3, lo=(-r, -r, layout.z_lo), hi=(r, r, layout.z_hi))
-    meta = CaseMeta.model_construct(kind="sph_flow", name=case.case.name, description=case.case.description,
-                                    engine="sph", seed=0)
-    return SphFlowCase.model_construct(case=meta, domain=domain, fluid=case.scene_fluid(), materials=(),
-                                       physics=drill_physics(case), blocks=(), walls=(), inlets=inlets,
-                                       outlets=outlets, numerics=case.numerics, simulation=case.simulation,
-                                       output=output, expected=())
+    return assemble_flow_case(case, layout, (inlet,), drill_outlets(case, layout), probes)
 
 
 def build_drill_scene(case: EjectorDrillCase) -> DrillSphScene:
@@ -201,7 +127,7 @@ def build_drill_scene(case: EjectorDrillCase) -> DrillSphScene:
                                  np.ascontiguousarray(m.faces, dtype=np.int64))
                   for name, m in wall_meshes(case, layout).items()}
     else:
-        walls = boundary_particles(case, layout, wall_meshes(case, layout) if case.parts else None)
+        walls = drill_boundary_particles(case, layout, wall_meshes(case, layout) if case.parts else None)
         occupied = np.vstack([points, inlet_buffer_points(case, layout, flow_case.inlets[0].layers)])
         densities = np.concatenate([initial_densities(walls, case, layout, occupied), densities])
         points = np.vstack([walls.positions, points])
@@ -209,10 +135,12 @@ def build_drill_scene(case: EjectorDrillCase) -> DrillSphScene:
         kind = np.concatenate([np.full(walls.n, BOUNDARY, dtype=np.int8), kind])
         wall_point = np.vstack([walls.wall_points, wall_point])
         n = len(points)
-    flow = SphScene(case=flow_case, positions=points, velocities=velocities,
-                    masses=np.full(n, rho0 * dx ** 3), densities=densities, kind=kind,
-                    block=np.zeros(n, dtype=np.int32), meshes=meshes, h=case.numerics.h, c0=case.c0,
-                    timestep=case.timestep_at_rest, physics=flow_case.physics.terms,
-                    material=np.zeros(n, dtype=np.int32), materials=(),
-                    wall_point=None if walls is None else wall_point)
-    return DrillSphScene(case=case, flow=flow, layout=layout, walls=walls)
+    ring = layout.channel
+    inflow = case.scene.inlet_velocity * math.pi * (ring.r_out ** 2 - layout.inlet_inner_radius ** 2)
+    return DrillSphScene(case=flow_case, positions=points, velocities=velocities,
+                         masses=np.full(n, rho0 * dx ** 3), densities=densities, kind=kind,
+                         block=np.zeros(n, dtype=np.int32), meshes=meshes, h=case.numerics.h, c0=case.c0,
+                         timestep=case.timestep_at_rest, physics=flow_case.physics.terms,
+                         material=np.zeros(n, dtype=np.int32), materials=(),
+                         wall_point=None if walls is None else wall_point,
+                         drill=case, layout=layout, walls=walls, inflow=inflow)

@@ -17,69 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-
-def union_contains(regions, points: np.ndarray) -> np.ndarray:
-    """Mask of the points (n, 3) m inside any of the regions (each with a contains(points) mask)."""
-    mask = np.zeros(len(points), dtype=bool)
-    for region in regions:
-        mask |= region.contains(points)
-    return mask
-
-
-@dataclass(frozen=True)
-class Ring:
-    """Fluid between radii r_in and r_out for z_lo <= z <= z_hi, m."""
-
-    name: str
-    r_in: float
-    r_out: float
-    z_lo: float
-    z_hi: float
-
-    def volume(self) -> float:
-        """pi (r_out^2 - r_in^2) (z_hi - z_lo), m^3."""
-        return math.pi * (self.r_out ** 2 - self.r_in ** 2) * (self.z_hi - self.z_lo)
-
-    def contains(self, points: np.ndarray) -> np.ndarray:
-        """Mask of the points (n, 3) m inside."""
-        r = np.hypot(points[:, 0], points[:, 1])
-        return (r >= self.r_in) & (r < self.r_out) & (points[:, 2] >= self.z_lo) & (points[:, 2] < self.z_hi)
-
-
-@dataclass(frozen=True)
-class Hole:
-    """A radial hole of diameter d at angle `angle` (rad) and height z, from r_in to r_out, m."""
-
-    name: str
-    angle: float
-    z: float
-    d: float
-    r_in: float
-    r_out: float
-
-    def volume(self) -> float:
-        """pi d^2 / 4 (r_out - r_in), m^3 (the straight cylinder between the two radii)."""
-        return 0.25 * math.pi * self.d ** 2 * (self.r_out - self.r_in)
-
-    def contains(self, points: np.ndarray) -> np.ndarray:
-        """Mask of the points within the cylinder along the hole's axis from r_in less the sagitta (d/2)^2 / (2 r_in)
-        to r_out: the hole is drilled through the wall of radius r_in, so its rim there lies up to the sagitta
-        below r_in along the axis (the overlap with the region inside r_in is that region's already)."""
-        e = np.array([math.cos(self.angle), math.sin(self.angle), 0.0])
-        s = points @ e
-        off = points - np.outer(s, e) - np.array([0.0, 0.0, self.z])
-        start = self.r_in - 0.125 * self.d ** 2 / self.r_in
-        return (s >= start) & (s < self.r_out) & (np.linalg.norm(off, axis=1) < 0.5 * self.d)
-
-
-@dataclass(frozen=True)
-class Plane:
-    """A disc patch: centre (m), normal (the direction counted positive), radius (m)."""
-
-    name: str
-    center: tuple[float, float, float]
-    normal: tuple[float, float, float]
-    radius: float
+from orchestrator.drill.regions import Hole, Plane, Ring, inlet_layers, union_contains
 
 
 @dataclass(frozen=True)
@@ -118,74 +56,92 @@ class Layout:
         return union_contains(self.regions, points)
 
 
-def inlet_layers(dx: float, h: float, skin: float = 0.1) -> int:
-    """Buffer layers of a drill scene's inlet: 3, or more where the particles the inlet adds (`layers` dx behind
-    its plane) would lie within the Verlet list's range 2h (1 + skin) of it (h = 1.5 dx: 4). Beyond it with dx/4
-    to spare, the engine lets them wait for the next list build (engines/sph open_boundaries.h) instead of
-    rebuilding the list for each one (dx, h in m; skin: the engine's neighbour_skin, a fraction of 2h)."""
-    return max(3, math.ceil(2.0 * h * (1.0 + skin) / dx + 0.25))
-
-
 def drill_layout(case) -> Layout:
-    """The layout of an EjectorDrillCase's scene."""
-    g = case.geometry()
-    n = g.network
-    sc, dx, h = case.scene, case.numerics.dx, case.numerics.h
-    r_m, r_ii, r_io = n.d_chip_mouth / 2, n.d_inner_tube_id / 2, n.d_inner_tube_od / 2
-    r_oi, r_oo, r_h, r_b = n.d_outer_tube_id / 2, n.d_outer_tube_od / 2, n.d_head_body / 2, n.d_bore / 2
-    L, z_g, z_hole, c = g.head_length, g.groove_start, g.hole_z, g.front_clearance
-    buffer = 3 * dx + 2 * h  # an outlet's buffer (3 layers) and the kernel support behind it
-    in_buffer = inlet_layers(dx, h) * dx + 2 * h  # the inlet's
+    """The layout of an EjectorDrillCase's scene: the area's regions, inlet, outlets, planes and sensors
+    (_flow_exit or _drill_head) with the chip mouth, the front gap and the planes both areas have."""
+    g, dx, h = case.geometry(), case.numerics.dx, case.numerics.h
+    n, sc = g.network, case.scene
+    r_m, r_b = n.d_chip_mouth / 2, n.d_bore / 2
     mouth = Ring("chip_mouth", 0.0, r_m, 0.0, sc.mouth_depth)
-    front = Ring("front_gap", 0.0, r_b, -c, 0.0)
-    mid_gap, mid_clear = 0.5 * (r_io + r_oi), 0.5 * (r_h + r_b)
-    outlets = {"mouth": Plane("mouth", (0.0, 0.0, sc.mouth_depth), (0.0, 0.0, 1.0), r_m)}
-    planes = {"IB": Plane("IB", (0.0, 0.0, 0.5 * sc.mouth_depth), (0.0, 0.0, 1.0), r_m)}
-    sensors = {"C1": (0.0, 0.0, L + n.tube_length - 0.02), "C2": (0.0, 0.0, L + n.tube_length + n.mixing_length)}
-    if sc.area == "flow_exit":
-        z_in = z_hole + sc.inlet_distance
-        z_leak = z_in + sc.leak_margin
-        channel = Ring("annular_gap", r_io, r_oi, z_g, z_in)
-        r_g = g.groove_outer_radius
-        holes = tuple(Hole(f"hole{k}", 2 * math.pi * k / n.n_holes, z_hole, n.d_hole, r_g, r_h)
-                      for k in range(n.n_holes))
-        collector = (Ring("collector", r_oi, r_g, z_g, g.collector_top),) if r_g > r_oi else ()
-        regions = (channel, *collector, *holes, Ring("head_clearance", r_h, r_b, 0.0, L), front, mouth,
-                   Ring("tube_clearance", r_oo, r_b, L, z_leak))
-        inlet = Plane("gap_inlet", (0.0, 0.0, z_in), (0.0, 0.0, -1.0), r_oi)
-        inner = r_io
-        outlets["leak"] = Plane("leak", (0.0, 0.0, z_leak), (0.0, 0.0, 1.0), r_b)
-        z_ag = z_in - 0.5 * (z_in - L)
-        # the AG disc reaches into the outer tube's wall, which holds no fluid, so that it counts the gap's particles
-        # that sit slightly past the wall's surface (up to 0.5 dx with boundary particles, more with the penalty)
-        # exactly as the rear disc does; the rear disc reaches 2h into the workpiece (the depth of its boundary
-        # particles) for the same reason: in the filled quick run 16 of the 1,608 particles that left the control
-        # volume upward over its last 0.1 ms did so at r 15.0-15.1 mm, past a disc of the bore's radius
-        planes["AG"] = Plane("AG", (0.0, 0.0, z_ag), (0.0, 0.0, -1.0), 0.5 * (r_oi + r_oo))
-        planes["rear"] = Plane("rear", (0.0, 0.0, z_ag), (0.0, 0.0, 1.0), r_b + 2 * h)
-        for hole in holes:
-            e = (math.cos(hole.angle), math.sin(hole.angle), 0.0)
-            s = 0.5 * (r_oi + r_h)
-            planes[hole.name] = Plane(hole.name, (s * e[0], s * e[1], z_hole), e, 0.5 * n.d_hole)
-        sensors["A"] = (mid_clear, 0.0, z_hole)
-        sensors["B"] = (mid_gap * math.cos(math.pi / n.n_holes), mid_gap * math.sin(math.pi / n.n_holes), z_ag)
-        z_front = 0.5 * (sc.mouth_depth + z_hole - 0.5 * n.d_hole)
-        extended = {"annular_gap": z_in + in_buffer, "chip_mouth": sc.mouth_depth + buffer,
-                    "tube_clearance": z_leak + buffer}
-    else:
-        z_in = z_hole - sc.inlet_distance
-        channel = Ring("head_clearance", r_h, r_b, 0.0, z_in)
-        regions = (channel, front, mouth)
-        inlet = Plane("clearance_inlet", (0.0, 0.0, z_in), (0.0, 0.0, -1.0), r_b)
-        inner = r_h
-        sensors["A"] = (mid_clear, 0.0, min(z_hole, z_in - 2 * dx))
-        sensors["B"] = (mid_gap, 0.0, L + 0.5 * sc.inlet_distance)
-        z_front = 0.5 * (sc.mouth_depth + z_in)
-        extended = {"head_clearance": z_in + in_buffer, "chip_mouth": sc.mouth_depth + buffer}
-    planes["front"] = Plane("front", (0.0, 0.0, z_front), (0.0, 0.0, -1.0), r_b + 2 * h)  # into the wall, as 'rear'
-    wetted = tuple(dataclasses.replace(r, z_hi=extended[r.name]) if r.name in extended else r for r in regions)
+    front = Ring("front_gap", 0.0, r_b, -g.front_clearance, 0.0)
+    part = AREAS[sc.area](case, g, mouth, front)
+    # the deck lists the outlets, planes and probes in these orders
+    part["outlets"] = {"mouth": Plane("mouth", (0.0, 0.0, sc.mouth_depth), (0.0, 0.0, 1.0), r_m), **part["outlets"]}
+    part["planes"] = {"IB": Plane("IB", (0.0, 0.0, 0.5 * sc.mouth_depth), (0.0, 0.0, 1.0), r_m), **part["planes"],
+                      "front": Plane("front", (0.0, 0.0, part.pop("z_front")), (0.0, 0.0, -1.0), r_b + 2 * h)}
+    part["sensors"] = {"C1": (0.0, 0.0, g.head_length + n.tube_length - 0.02),
+                       "C2": (0.0, 0.0, g.head_length + n.tube_length + n.mixing_length), **part["sensors"]}
+    part["extended"]["chip_mouth"] = sc.mouth_depth + (3 * dx + 2 * h)  # an outlet's buffer (3 layers) and 2h
+    extended = part.pop("extended")
+    wetted = tuple(dataclasses.replace(r, z_hi=extended[r.name]) if r.name in extended else r
+                   for r in part["regions"])
     # the walls reach 2h beyond the wetted regions (walls.py); the meshes are cut two layers above that
     z_hi = max(r.z_hi for r in wetted if isinstance(r, Ring)) + 2 * h + 2 * dx
-    return Layout(area=sc.area, regions=regions, wetted=wetted, channel=channel, inlet=inlet, inlet_inner_radius=inner,
-                  outlets=outlets, planes=planes, sensors=sensors, z_lo=-c - g.workpiece_wall, z_hi=z_hi,
-                  r_max=r_b + g.workpiece_wall)
+    return Layout(area=sc.area, wetted=wetted, z_lo=-g.front_clearance - g.workpiece_wall, z_hi=z_hi,
+                  r_max=r_b + g.workpiece_wall, **part)
+
+
+def _mid_gap(n) -> float:
+    """The annular gap's mid radius, m."""
+    return 0.5 * (n.d_inner_tube_od / 2 + n.d_outer_tube_id / 2)
+
+
+def _mid_clearance(n) -> float:
+    """The head clearance's mid radius, m."""
+    return 0.5 * (n.d_head_body / 2 + n.d_bore / 2)
+
+
+def _flow_exit(case, g, mouth: Ring, front: Ring) -> dict:
+    """The flow-exit area's own parts of the Layout (paper Fig. 2; the module docstring): the gap from its inlet,
+    the collector, the holes with their planes, the head and tube/bore clearances with the leak outlet, AG and
+    rear planes, sensors A and B."""
+    n, sc, dx, h = g.network, case.scene, case.numerics.dx, case.numerics.h
+    r_io, r_oi, r_oo = n.d_inner_tube_od / 2, n.d_outer_tube_id / 2, n.d_outer_tube_od / 2
+    r_h, r_b, L, z_hole = n.d_head_body / 2, n.d_bore / 2, g.head_length, g.hole_z
+    z_in = z_hole + sc.inlet_distance
+    z_leak = z_in + sc.leak_margin
+    channel = Ring("annular_gap", r_io, r_oi, g.groove_start, z_in)
+    r_g = g.groove_outer_radius
+    holes = tuple(Hole(f"hole{k}", 2 * math.pi * k / n.n_holes, z_hole, n.d_hole, r_g, r_h) for k in range(n.n_holes))
+    collector = (Ring("collector", r_oi, r_g, g.groove_start, g.collector_top),) if r_g > r_oi else ()
+    regions = (channel, *collector, *holes, Ring("head_clearance", r_h, r_b, 0.0, L), front, mouth,
+               Ring("tube_clearance", r_oo, r_b, L, z_leak))
+    z_ag = z_in - 0.5 * (z_in - L)
+    # the AG disc reaches into the outer tube's wall, which holds no fluid, so that it counts the gap's particles
+    # that sit slightly past the wall's surface (up to 0.5 dx with boundary particles, more with the penalty)
+    # exactly as the rear disc does; the rear disc reaches 2h into the workpiece (the depth of its boundary
+    # particles) for the same reason: in the filled quick run 16 of the 1,608 particles that left the control
+    # volume upward over its last 0.1 ms did so at r 15.0-15.1 mm, past a disc of the bore's radius
+    planes = {"AG": Plane("AG", (0.0, 0.0, z_ag), (0.0, 0.0, -1.0), 0.5 * (r_oi + r_oo)),
+              "rear": Plane("rear", (0.0, 0.0, z_ag), (0.0, 0.0, 1.0), r_b + 2 * h)}
+    for hole in holes:
+        e = (math.cos(hole.angle), math.sin(hole.angle), 0.0)
+        s = 0.5 * (r_oi + r_h)
+        planes[hole.name] = Plane(hole.name, (s * e[0], s * e[1], z_hole), e, 0.5 * n.d_hole)
+    between = math.pi / n.n_holes
+    sensors = {"A": (_mid_clearance(n), 0.0, z_hole),
+               "B": (_mid_gap(n) * math.cos(between), _mid_gap(n) * math.sin(between), z_ag)}
+    buffer = 3 * dx + 2 * h  # an outlet's buffer (3 layers) and the kernel support behind it
+    return dict(regions=regions, channel=channel, inlet=Plane("gap_inlet", (0.0, 0.0, z_in), (0.0, 0.0, -1.0), r_oi),
+                inlet_inner_radius=r_io, outlets={"leak": Plane("leak", (0.0, 0.0, z_leak), (0.0, 0.0, 1.0), r_b)},
+                planes=planes, sensors=sensors, z_front=0.5 * (sc.mouth_depth + z_hole - 0.5 * n.d_hole),
+                extended={"annular_gap": z_in + (inlet_layers(dx, h) * dx + 2 * h), "tube_clearance": z_leak + buffer})
+
+
+def _drill_head(case, g, mouth: Ring, front: Ring) -> dict:
+    """The drill-head area's own parts of the Layout (Figs. 3-4): the head clearance from its inlet forward,
+    sensors A and B."""
+    n, sc, dx, h = g.network, case.scene, case.numerics.dx, case.numerics.h
+    r_h, r_b = n.d_head_body / 2, n.d_bore / 2
+    z_in = g.hole_z - sc.inlet_distance
+    channel = Ring("head_clearance", r_h, r_b, 0.0, z_in)
+    sensors = {"A": (_mid_clearance(n), 0.0, min(g.hole_z, z_in - 2 * dx)),
+               "B": (_mid_gap(n), 0.0, g.head_length + 0.5 * sc.inlet_distance)}
+    return dict(regions=(channel, front, mouth), channel=channel,
+                inlet=Plane("clearance_inlet", (0.0, 0.0, z_in), (0.0, 0.0, -1.0), r_b), inlet_inner_radius=r_h,
+                outlets={}, planes={}, sensors=sensors, z_front=0.5 * (sc.mouth_depth + z_in),
+                extended={"head_clearance": z_in + (inlet_layers(dx, h) * dx + 2 * h)})
+
+
+#: The scene of each [scene] area: its own parts of the Layout.
+AREAS = {"flow_exit": _flow_exit, "drill_head": _drill_head}

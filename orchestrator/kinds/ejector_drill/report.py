@@ -1,6 +1,6 @@
 """`orchestrator analyze` of an ejector-drill run: the flows and the balance of eq. 2 (with the volume still filling
 the control volume), the sensor pressures, the filling times and the ejector onset, the SPH beside the 1D network
-and the paper (table and bars.png), the flow and pressure series (series.png) and, with render, the sectional
+and the paper (table and comparison.png), the flow and pressure series (series.png) and, with render, the sectional
 pictures at the case's picture times (pictures.py)."""
 
 from __future__ import annotations
@@ -10,15 +10,14 @@ from pathlib import Path
 
 import numpy as np
 
-from orchestrator.kinds.ejector_drill.analysis import (STEADY_FRACTION, STILL_SHARE, balance, filling_times, flow_series,
-                                                       less_back_pressure, pressure_beside_jets, run_series,
-                                                       sensor_pressures, spaced_frames,
+from orchestrator.drill.series import STEADY_FRACTION, run_series, sensor_pressures, steady_window
+from orchestrator.kinds.ejector_drill.analysis import (STILL_SHARE, balance, filling_times, flow_series,
+                                                       less_back_pressure, pressure_beside_jets, spaced_frames,
                                                        stored_volume_rate, window_balance, zones)
 from orchestrator.kinds.ejector_drill.comparison import (comparison_rows, element_flows, elements_at_flow,
                                                          network_at_gap_flow, stored_volume)
 from orchestrator.kinds.ejector_drill.layout import drill_layout
-from orchestrator.kinds.ejector_drill.pictures import draw_sections
-from orchestrator.kinds.ejector_drill.plots import plot_comparison, plot_drill_series
+from orchestrator.kinds.ejector_drill.pictures import draw_run_pictures
 from orchestrator.reference.drill_network import LITRE_PER_MIN, solve
 
 
@@ -119,7 +118,7 @@ def beside_jets(layout, frames: dict) -> tuple[np.ndarray, np.ndarray]:
 def print_columns(series: dict, time: np.ndarray, layout) -> None:
     """Print each column outlet's chamber pressure (bar gauge), speed (m/s) and flow (l/min) over the steady window
     (engine eq. OB5; nothing for plain outlets)."""
-    window = time >= time[-1] - STEADY_FRACTION * (time[-1] - time[0])
+    window = steady_window(time)
     parts = []
     for role in layout.outlets:
         p, u = series.get(f"column_pressure_{role}"), series.get(f"column_speed_{role}")
@@ -130,19 +129,12 @@ def print_columns(series: dict, time: np.ndarray, layout) -> None:
         print(f"columns (eq. OB5) over the last {STEADY_FRACTION:.0%}: chamber pressure and speed: " + "; ".join(parts))
 
 
-def analyze_drill_run(run_dir, run: dict, case, render: bool = True) -> dict:
-    """Print the run's flows, balance, pressures, filling times and the comparison with the network and the paper;
-    write series.png, comparison.png and (render) section_<t>.png. Returns {name: path}."""
-    run_dir = Path(run_dir)
-    layout = drill_layout(case)
-    paper_dt = PAPER_MEAN_DT[layout.area]
-    series, time = run_series(run_dir, run, case, f" (paper: {paper_dt:.4g} s)")
-    if time.size < 2:
-        return {}
-    series, frames = less_back_pressure(series, run.get("frames", {}), case.scene.back_pressure)
-    flows = flow_series(series, time)
+def print_balance(case, layout, time: np.ndarray, flows: dict, frames: dict) -> tuple[dict, np.ndarray | None]:
+    """Print eq. 2 over the steady window with the control volume's storage (from the frames) and the filling
+    times (a start 'empty'); returns the balance (analysis.balance) and the storage rate at the series' times
+    (m^3/s; None with fewer than two frames on the frame grid)."""
     t_frames, volumes = stored_volume(layout, frames, case.fluid.density * case.numerics.dx ** 3,
-                                     case.scene_fluid().floor_density)
+                                      case.scene_fluid().floor_density)
     grid = spaced_frames(t_frames, case.output.frame_interval)
     stored = (np.interp(time, t_frames[grid], stored_volume_rate(t_frames[grid], volumes[grid]))
               if grid.sum() >= 2 else None)
@@ -156,12 +148,15 @@ def analyze_drill_run(run_dir, run: dict, case, render: bool = True) -> dict:
         times = filling_times(time, flows)
         print("\nfilling times (s): " + ", ".join(f"{k} {v:.3g}" if math.isfinite(v) else f"{k} not reached"
                                                  for k, v in times.items()))
-    if frames:
-        print_zones(layout, frames, case.scene.inlet_velocity)
-    pressures = sensor_pressures(series, time)
+    return bal, stored
+
+
+def print_comparison(case, layout, series: dict, time: np.ndarray, bal: dict) -> tuple[dict, list]:
+    """Print the SPH beside the network at the SPH's V_AG, at the standard flow and the paper (comparison_rows);
+    returns the SPH's flows and pressures (SI) and the rows."""
     net = case.network()
     sph = {k: v for k, v in bal.items() if k.startswith("V_")}
-    sph.update({f"p_{k}": v for k, v in pressures.items()})
+    sph.update({f"p_{k}": v for k, v in sensor_pressures(series, time).items()})
     at_gap = network_at_gap_flow(net, sph["V_AG"]) if sph.get("V_AG", 0) > 0 else None
     standard = solve(net, case.scene.network_flow * LITRE_PER_MIN)
     b_distance = layout.sensors["B"][2] - case.geometry().head_length if layout.area == "flow_exit" else None
@@ -171,6 +166,13 @@ def analyze_drill_run(run_dir, run: dict, case, render: bool = True) -> dict:
           f"  paper          (net@V_AG: the network at the feed {feed:.4g} l/min whose V_AG is the SPH's)")
     for name, unit, a, b, c, paper in rows:
         print(f"{name:<20}{unit:>6}{_fmt(a)}{_fmt(b)}{_fmt(c)}  {paper}")
+    return sph, rows
+
+
+def print_beside_jets(case, layout, sph: dict, frames: dict, time: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Print the network's elements at the SPH's p_A (sensor A), the pressure beside the jets over the steady
+    window with the elements at it, and the elements carrying the SPH's V_AG; returns beside_jets' series."""
+    net = case.network()
     print_element_flows(net, sph, case.scene, layout, sph.get("p_A", math.nan), "(sensor A)")
     t_side, p_sides = beside_jets(layout, frames)
     steady = t_side >= time[-1] - STEADY_FRACTION * (time[-1] - time[0])
@@ -181,6 +183,25 @@ def analyze_drill_run(run_dir, run: dict, case, render: bool = True) -> dict:
               f"reads the jet meeting the bore; the network's p_A is this static pressure")
         print_element_flows(net, sph, case.scene, layout, p_side, "beside the jets")
     print_elements_at_flow(net, sph, case.scene, layout)
+    return t_side, p_sides
+
+
+def analyze_drill_run(run_dir, run: dict, case, render: bool = True) -> dict:
+    """Print the run's flows, balance, pressures, filling times and the comparison with the network and the paper;
+    write series.png, comparison.png and (render) section_<t>.png. Returns {name: path}."""
+    run_dir = Path(run_dir)
+    layout = drill_layout(case)
+    paper_dt = PAPER_MEAN_DT[layout.area]
+    series, time = run_series(run_dir, run, case, f" (paper: {paper_dt:.4g} s)")
+    if time.size < 2:
+        return {}
+    series, frames = less_back_pressure(series, run.get("frames", {}), case.scene.back_pressure)
+    flows = flow_series(series, time)
+    bal, stored = print_balance(case, layout, time, flows, frames)
+    if frames:
+        print_zones(layout, frames, case.scene.inlet_velocity)
+    sph, rows = print_comparison(case, layout, series, time, bal)
+    beside = print_beside_jets(case, layout, sph, frames, time)
     print_columns(series, time, layout)
     v_in = case.scene.inlet_velocity
     if case.scene.back_pressure:
@@ -188,11 +209,7 @@ def analyze_drill_run(run_dir, run: dict, case, render: bool = True) -> dict:
               "both outlets and the fluid's rest pressure: the same flow, above the vapour floor)")
     print(f"anchor: 1/2 rho v_in^2 = {0.5 * case.fluid.density * v_in ** 2 / 1e5:.3g} bar at v_in = {v_in:g} m/s; "
           "sensors outside the scene (C1, C2 at the feed) are '-'")
-    outputs = {"series": plot_drill_series(time, flows, series, stored, run_dir / "series.png",
-                                           beside=(t_side, p_sides)),
-               "comparison": plot_comparison(rows, run_dir / "comparison.png")}
-    if render:
-        outputs.update(draw_sections(frames, case, layout, run_dir))
+    outputs = draw_run_pictures(run_dir, case, layout, time, flows, series, stored, beside, rows, frames, render)
     for name, path in outputs.items():
         print(f"{name:<14} {path}")
     return outputs

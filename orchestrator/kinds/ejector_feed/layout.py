@@ -1,7 +1,7 @@
-"""Where things are in the feed scene ([scene] area = "feed"): the ejector nozzles that divert V_EN from the annular
+"""Where things are in the feed scene (kind ejector_feed): the ejector nozzles that divert V_EN from the annular
 gap into the inner tube, with the inner tube before (C1) and behind (C2) them (paper Fig. 5). SI units (m, m^3);
 drill axis z, z = 0 the head's front face, the feed at z_n = head_rear_length + tube_length (0.425 m), where the
-geometry puts the nozzles (case_geometry.DrillGeometry._nozzle_layout).
+geometry puts the nozzles (drill/geometry.DrillGeometry._nozzle_layout).
 
 Along z (the gap flows -z toward the head, the inner tube +z toward the chip outlet):
 
@@ -28,7 +28,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from orchestrator.kinds.ejector_drill.layout import Plane, Ring, inlet_layers, union_contains
+from orchestrator.drill.regions import Plane, Ring, inlet_layers, union_contains
 
 
 @dataclass(frozen=True)
@@ -93,7 +93,7 @@ class Nozzle:
         """Each point's nearest point (n, 3) m of the nozzle, for the points in the wall (r_in <= r <= r_out);
         +inf rows for the others. The nearest point of the cylinder with its axis clamped to span(d/4) (end caps
         outside the wall): where it falls outside the wall, the segment to it leaves the wall through a face of the
-        gap or the bore, whose own nearest point is nearer, so the minimum over the scene's regions (walls.py) is
+        gap or the bore, whose own nearest point is nearer, so the minimum over the scene's regions (drill/walls.py) is
         the exact nearest wetted point. Points outside the wall are nearer to the gap's or the bore's face than to
         any point of a nozzle (which lies between them), so they need no candidate here."""
         r = np.hypot(points[:, 0], points[:, 1])
@@ -116,8 +116,9 @@ class Nozzle:
 
 @dataclass(frozen=True)
 class FeedLayout:
-    """The feed scene's regions, open boundaries, planes and sensors (see the module docstring). Shaped like
-    layout.Layout where walls.py and probe.py read it (inlet: the feed inlet, whose columns set the lattice)."""
+    """The feed scene's regions, open boundaries, planes and sensors (see the module docstring). Shaped like the
+    drill kind's Layout where drill/walls.py and drill/probe.py read it (inlet: the feed inlet, whose columns set
+    the lattice)."""
 
     area: str
     regions: tuple  # gap, nozzles, tube: the fluid (flow order)
@@ -164,7 +165,7 @@ class FeedLayout:
 
 
 def feed_layout(case) -> FeedLayout:
-    """The feed scene's layout for an EjectorDrillCase with scene.area = 'feed'."""
+    """The feed scene's layout of an EjectorFeedCase."""
     g = case.geometry()
     n = g.network
     sc, dx, h = case.scene, case.numerics.dx, case.numerics.h
@@ -173,7 +174,7 @@ def feed_layout(case) -> FeedLayout:
     buffer = inlet_layers(dx, h) * dx + 2 * h  # an open boundary's buffer (the inlets' layers) and the kernel support
     z_in = z_n + sc.inlet_distance
     z_c1 = z_n - sc.c1_distance
-    # the tube inlet on the lattice of the feed inlet (its layers lie a whole number of spacings apart: walls.py),
+    # the tube inlet on the lattice of the feed inlet (its layers lie a whole number of spacings apart: drill/walls.py),
     # 2h + 2dx below C1 so that C1's kernel support holds fluid only
     z_tin = z_in - dx * math.ceil((z_in - (z_c1 - 2 * h - 2 * dx)) / dx)
     z_gout = z_tin - buffer - dx  # the gap outlet's disc covers the bore too: below the tube inlet's buffer
@@ -198,7 +199,7 @@ def feed_layout(case) -> FeedLayout:
     mid_gap, between = 0.5 * (r_io + r_oi), math.pi / n.n_ejector_nozzles
     sensors = {"B": (mid_gap * math.cos(between), mid_gap * math.sin(between), z_c1), "C1": (0.0, 0.0, z_c1),
                "C2": (0.0, 0.0, z_c2)}
-    reach = 2 * h + 2 * dx  # the walls reach 2h beyond the wetted regions (walls.py); two layers more
+    reach = 2 * h + 2 * dx  # the walls reach 2h beyond the wetted regions (drill/walls.py); two layers more
     z_lo, z_hi = z_gout - buffer - reach, top + reach
     solids = {"outer_tube": Ring("outer_tube", r_oi, r_oo, z_lo, z_in + buffer + reach),
               "inner_tube": Ring("inner_tube", r_ii, r_io, z_lo, z_hi)}

@@ -1,6 +1,6 @@
-"""Timing probe of an ejector-drill run: a few steps of the run's start (the scene as it is written) and of its end
-(the scene's fluid regions filled, in flow order, with as many particles as the run can hold at its end: the prefill
-plus the inflow's volume over the whole duration), each on the run's deck; one 'TIMING s_per_step=...
+"""Timing probe of a drill run (either drill kind): a few steps of the run's start (the scene as it is written) and
+of its end (the scene's fluid regions filled, in flow order, with as many particles as the run can hold at its end:
+the start's fluid plus the inflow's volume over the whole duration), each on the run's deck; one 'TIMING s_per_step=...
 planned_steps=... estimate_s=...' line (runner protocol) gives the run's wall time as the planned steps x the mean
 of the two states' s/step: a step's cost grows with the wetted walls and the fluid, linearly while the scene fills.
 A scene that starts filled (nothing to grow) probes its end state only. Measured on the paper-resolution flow-exit
@@ -8,18 +8,17 @@ run: start 31.7 ms, end 218 ms per step, so 34.7 min against the run's 37.1 min 
 scaled by the particle count, (start + end) / (2 end), had announced 55 min: the boundary particles dominate the
 count but not the cost). A filled start's end state lies at rest and underestimates a moving run about 2-fold.
 
-    python -m orchestrator.kinds.ejector_drill.probe CASE [--preset NAME] [--steps 200] [--dir DIR]
+    python -m orchestrator.drill.probe CASE [--preset NAME] [--steps 200] [--dir DIR]
 
-prints the estimate for a case (the sph executable from $ORCHESTRATOR_SPH); EjectorDrillSph.probe_command runs
-`python -m orchestrator.kinds.ejector_drill.probe --deck-dir DIR ...` on the probe decks it wrote (DIR the end
-state's, DIR/start the start's)."""
+prints the estimate for a case (the sph executable from $ORCHESTRATOR_SPH); DrillSph.probe_command (sph.py) runs
+`python -m orchestrator.drill.probe --deck-dir DIR ...` on the probe decks it wrote (DIR the end state's, DIR/start
+the start's)."""
 
 from __future__ import annotations
 
 import argparse
 import dataclasses
 import json
-import math
 import subprocess
 import sys
 from pathlib import Path
@@ -27,36 +26,31 @@ from pathlib import Path
 import numpy as np
 
 from orchestrator.case.loader import load_case
+from orchestrator.drill.scene import filled_sites
 from orchestrator.engines.sph import Sph
 from orchestrator.errors import OrchestratorError
 from orchestrator.kinds import build_scene
-from orchestrator.kinds.ejector_drill.build import filled_sites
 from orchestrator.kinds.sph_flow.scene import FLUID
 from orchestrator.kinds.sph_flow.sph import DECK, TEMPLATE, deck_context, write_meshes, write_particles
 from orchestrator.templating import render
 
 
 def end_particles(scene) -> int:
-    """Upper bound of the run's fluid particles at its end: prefill + inflow volume over the duration / dx^3 (the
-    boundary particles come on top)."""
-    case, layout = scene.case, scene.layout
-    if layout.area == "feed":  # it starts filled (feed_build.py): what flows in, flows out
-        return scene.n_fluid
-    ring = layout.channel
-    inflow = case.scene.inlet_velocity * math.pi * (ring.r_out ** 2 - layout.inlet_inner_radius ** 2) \
-        if layout.area == "flow_exit" else case.scene.inlet_velocity * math.pi * (ring.r_out ** 2 - ring.r_in ** 2)
-    return scene.n_fluid + int(inflow * case.simulation.duration / case.numerics.dx ** 3)
+    """Upper bound of the run's fluid particles at its end: its fluid at the start + its inflow's volume over the
+    duration / dx^3 (the boundary particles come on top)."""
+    case = scene.drill
+    return scene.n_fluid + int(scene.inflow * case.simulation.duration / case.numerics.dx ** 3)
 
 
 def probe_scene(scene, limit: int | None = None):
     """The scene's SphScene with its fluid regions filled on the lattice at rest, region after region in flow order,
     up to `limit` fluid particles (default end_particles), beside the scene's boundary particles (at rho0: the
     filled state's)."""
-    case, layout = scene.case, scene.layout
+    case, layout = scene.drill, scene.layout
     dx, rho0 = case.numerics.dx, case.fluid.density
     limit = end_particles(scene) if limit is None else limit
     points = filled_sites(layout, dx, buffers=False)[:limit]
-    flow = scene.flow
+    flow = scene
     walls = flow.kind != FLUID
     n, nb = len(points), int(np.count_nonzero(walls))
     wall_point = None if flow.wall_point is None else np.vstack([flow.wall_point[walls], np.full((n, 3), np.nan)])
@@ -91,9 +85,9 @@ def write_probe(scene, workdir: Path, threads: int, steps: int) -> dict:
     workdir = Path(workdir)
     flow = probe_scene(scene)
     _write_deck(flow, workdir, threads, steps)
-    if flow.n_fluid > scene.flow.n_fluid:
-        _write_deck(scene.flow, workdir / START, threads, steps)
-    return {"planned_steps": scene.case.planned_steps, "start": scene.n_particles, "end": flow.n_particles}
+    if flow.n_fluid > scene.n_fluid:
+        _write_deck(scene, workdir / START, threads, steps)
+    return {"planned_steps": scene.drill.planned_steps, "start": scene.n_particles, "end": flow.n_particles}
 
 
 def _seconds_per_step(workdir: Path, executable: str) -> float:
@@ -127,12 +121,12 @@ def estimate(workdir: Path, executable: str, planned_steps: int, start: int, end
 def main(argv=None) -> int:
     """Command line (see the module docstring)."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("case", nargs="?", help="an ejector_drill case file (TOML)")
+    parser.add_argument("case", nargs="?", help="a case file (TOML) of a drill kind (ejector_drill, ejector_feed)")
     parser.add_argument("--preset", help="one of the case file's presets")
     parser.add_argument("--steps", type=int, default=200, help="engine steps the probe runs (default 200)")
     parser.add_argument("--dir", type=Path, default=Path("runs/ejector_drill_probe"),
                         help="where the probe writes its deck and output (default runs/ejector_drill_probe)")
-    parser.add_argument("--deck-dir", type=Path, help="run a probe deck written by EjectorDrillSph.probe_command")
+    parser.add_argument("--deck-dir", type=Path, help="run a probe deck written by DrillSph.probe_command")
     parser.add_argument("--planned", type=int, nargs=3, metavar=("STEPS", "START", "END"),
                         help="with --deck-dir: the run's planned steps and its particles at the start and the end")
     parser.add_argument("--sph", default=None, help="the sph executable (default $ORCHESTRATOR_SPH, else "

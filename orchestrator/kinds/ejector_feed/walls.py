@@ -1,13 +1,13 @@
-"""The feed scene's walls: fixed boundary particles (walls.boundary_particles, the same lattice, reach and closed-form
-wall points) inside its two solids, the outer tube (the gap's outer wall, carried on into the feed chamber:
-feed_layout.py) and the inner tube with the nozzles drilled through it. The wall points of the nozzles' walls are
-feed_layout.Nozzle.nearest (a tilted cylinder); SI units (m)."""
+"""The feed scene's walls: fixed boundary particles (drill/walls.boundary_particles, the same lattice, reach and
+closed-form wall points as the drill kind's) inside its two solids, the outer tube (the gap's outer wall, carried on
+into the feed chamber: layout.py) and the inner tube with the nozzles drilled through it. The wall points of the
+nozzles' walls are layout.Nozzle.nearest (a tilted cylinder); SI units (m)."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from orchestrator.kinds.ejector_drill.walls import WallParticles, boundary_particles
+from orchestrator.drill.walls import WallParticles, boundary_particles
 
 #: The feed scene's solids (FeedLayout.solids).
 FEED_PARTS = ("outer_tube", "inner_tube")
@@ -30,7 +30,7 @@ def feed_boundary_particles(case, layout) -> WallParticles:
     """The feed scene's boundary particles: lattice sites in the solids, outside the wetted regions, within 2h of
     them, each with its wall point (the nearest point of the wetted regions)."""
     eps = 1e-6 * case.numerics.dx
-    return boundary_particles(case, layout, solids=(FEED_PARTS, lambda sites: feed_solid_masks(sites, layout, eps)))
+    return boundary_particles(case, layout, FEED_PARTS, lambda sites: feed_solid_masks(sites, layout, eps))
 
 
 def feed_wall_meshes(layout, sections: int = 96) -> dict:

@@ -1,5 +1,5 @@
 """`orchestrator analyze` of a feed-scene run: the flows through the nozzle ring and the tube with their balances,
-the sensor pressures B, C1, C2 beside the 1D network at the state the scene's boundaries carry (feed_network.py),
+the sensor pressures B, C1, C2 beside the 1D network at the state the scene's boundaries carry (network.py),
 the series (series.png), the comparison (comparison.png) and, with render, sections at the picture times. Flows in
 l/min, pressures in bar (gauge) in the table."""
 
@@ -10,17 +10,12 @@ from pathlib import Path
 
 import numpy as np
 
-from orchestrator.kinds.ejector_drill.feed_analysis import feed_flows, gap_storage, steady_means, tube_slab_flows
-from orchestrator.kinds.ejector_drill.analysis import run_series, sensor_pressures
-from orchestrator.kinds.ejector_drill.feed_layout import feed_layout
-from orchestrator.kinds.ejector_drill.feed_walls import feed_wall_meshes
-from orchestrator.kinds.ejector_drill.feed_network import feed_boundary, gap_pressure_below_feed
-from orchestrator.kinds.ejector_drill.pictures import draw_sections
-from orchestrator.kinds.ejector_drill.plots import plot_comparison, plot_drill_series
+from orchestrator.drill.series import run_series, sensor_pressures
+from orchestrator.kinds.ejector_feed.analysis import feed_flows, gap_storage, steady_means, tube_slab_flows
+from orchestrator.kinds.ejector_feed.layout import feed_layout
+from orchestrator.kinds.ejector_feed.network import feed_boundary, gap_pressure_below_feed
+from orchestrator.kinds.ejector_feed.pictures import draw_run_pictures
 from orchestrator.reference.drill_network import LITRE_PER_MIN
-
-COLUMNS = ("SPH", "network")
-
 
 def _fmt(value) -> str:
     return f"{value:10.4g}" if isinstance(value, float) and math.isfinite(value) else f"{'-':>10}"
@@ -76,8 +71,8 @@ def analyze_feed_run(run_dir, run: dict, case, render: bool = True) -> dict:
                      - means.get("V_mixed_slab", math.nan)) / total
     print(f"\nover the last 20 % of the run ({time[-1] * 0.8e3 + time[0] * 0.2e3:.3g}-{time[-1] * 1e3:.3g} ms): "
           f"eq. 1 V_total - V_AG - V_EN = {means['residual_eq1_share'] * 100:.3g} % of V_total; the tube's "
-          f"V_IB + V_EN - V_mixed = {means['residual_tube_share'] * 100:.3g} % of V_total by the discs (quantised by whole "
-          f"layers: feed_analysis.py), {slab_residual * 100:.3g} % by the frames' slabs")
+          f"V_IB + V_EN - V_mixed = {means['residual_tube_share'] * 100:.3g} % of V_total by the discs (quantised by "
+          f"whole layers: kinds/ejector_feed/analysis.py), {slab_residual * 100:.3g} % by the frames' slabs")
     stored = gap_storage(listed, case, feed_layout(case))
     if math.isfinite(stored):
         print(f"eq. 1's control volume (the gap above C1 with the nozzles) stores {stored / total * 100:.3g} % of "
@@ -88,16 +83,7 @@ def analyze_feed_run(run_dir, run: dict, case, render: bool = True) -> dict:
           "the state the inlets and outlets carry)")
     for name, unit, a, b, note in rows:
         print(f"{name:<16}{unit:>6}{_fmt(a)}{_fmt(b)}  {note}")
-    bars = [(n, u, a, b, note) for n, u, a, b, note in rows if u in ("l/min", "bar") and math.isfinite(a)]
-    outputs = {"series": plot_drill_series(time, flows, series, None, run_dir / "series.png",
-                                           names=("V_total", "V_AG", "V_EN", "V_IB", "V_mixed"),
-                                           titles=("volume flows (eq. 1: V_total = V_AG + V_EN; the tube: V_IB + "
-                                                   "V_EN = V_mixed)", "sensor pressures (Fig. 5: B in the gap, C1 "
-                                                   "before and C2 behind the nozzles)")),
-               "comparison": plot_comparison(bars, run_dir / "comparison.png", labels=COLUMNS)}
-    if render:
-        layout = feed_layout(case)
-        outputs.update(draw_sections(run.get("frames", {}), case, layout, run_dir, feed_wall_meshes(layout)))
+    outputs = draw_run_pictures(run_dir, case, time, flows, series, rows, run.get("frames", {}), render)
     for name, path in outputs.items():
         print(f"{name:<14} {path}")
     return outputs

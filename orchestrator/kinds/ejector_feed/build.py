@@ -1,7 +1,7 @@
-"""The feed scene's SPH input ([scene] area = "feed"; feed_layout.py says where things are): the boundary particles
-(feed_walls.py), the fluid regions filled on the scene's lattice (probe.probe_scene, the filling the timing probe
-uses), the two velocity inlets (the gap's V_total, the tube's V_IB) and the two outlets holding the network's
-pressures (feed_network.py), the flow discs and the sensors B, C1, C2, as an sph_flow SphScene. SI units.
+"""The feed scene's SPH input (layout.py says where things are): the boundary particles (walls.py), the fluid regions
+filled on the scene's lattice (drill/probe.probe_scene, the filling the timing probe uses), the two velocity inlets
+(the gap's V_total, the tube's V_IB) and the two outlets holding the network's pressures (network.py), the flow
+discs and the sensors B, C1, C2, as a drill/scene.DrillSphScene. SI units.
 
 The start: every region filled. The inlets enter at full speed from the first step (the engine has no ramp yet),
 so the fluid starts moving as they push it, with no split: the gap with V_total all the way down (-z), the tube
@@ -19,17 +19,17 @@ import math
 
 import numpy as np
 
-from orchestrator.kinds.ejector_drill.build import DrillSphScene, assemble_flow_case
-from orchestrator.kinds.ejector_drill.feed_layout import FeedLayout, feed_layout
-from orchestrator.kinds.ejector_drill.layout import inlet_layers
-from orchestrator.kinds.ejector_drill.feed_network import FeedBoundary, feed_boundary
-from orchestrator.kinds.ejector_drill.feed_walls import feed_boundary_particles
-from orchestrator.kinds.ejector_drill.probe import probe_scene
-from orchestrator.kinds.ejector_drill.walls import scene_lattice
+from orchestrator.drill.probe import probe_scene
+from orchestrator.drill.regions import inlet_layers
+from orchestrator.drill.scene import DrillSphScene, assemble_flow_case
+from orchestrator.drill.walls import scene_lattice
+from orchestrator.kinds.ejector_feed.layout import FeedLayout, feed_layout
+from orchestrator.kinds.ejector_feed.network import FeedBoundary, feed_boundary
+from orchestrator.kinds.ejector_feed.walls import feed_boundary_particles
 from orchestrator.kinds.sph_flow.case import SphFlowCase
-from orchestrator.kinds.sph_flow.case_open import Inlet
+from orchestrator.kinds.sph_flow.case_open import Inlet, Outlet
 from orchestrator.kinds.sph_flow.case_parts import Probe
-from orchestrator.kinds.sph_flow.scene import BOUNDARY, FLUID, SphScene
+from orchestrator.kinds.sph_flow.scene import BOUNDARY, FLUID
 from orchestrator.reference import sph_flows
 
 
@@ -45,8 +45,10 @@ def feed_flow_case(case, layout: FeedLayout, boundary: FeedBoundary) -> SphFlowC
                     radius=tube.r_out, velocity=boundary.tube_speed, profile="parabolic", pressure="extrapolated",
                     layers=layers))
     pressures = {"gap": boundary.gap_outlet_pressure, "tube": boundary.tube_outlet_pressure}
+    outlets = tuple(Outlet(name=p.name, center=p.center, normal=p.normal, radius=p.radius, pressure=pressures[role],
+                           backflow=case.scene.backflow) for role, p in layout.outlets.items())
     probes = tuple(Probe(name=k, point=v) for k, v in layout.sensors.items())
-    return assemble_flow_case(case, layout, inlets, pressures, probes)
+    return assemble_flow_case(case, layout, inlets, outlets, probes)
 
 
 def start_pressure(layout: FeedLayout, boundary: FeedBoundary, points: np.ndarray) -> np.ndarray:
@@ -103,22 +105,21 @@ def start_velocities(case, layout: FeedLayout, boundary: FeedBoundary, points: n
 
 
 def build_feed_scene(case) -> DrillSphScene:
-    """The feed scene of an EjectorDrillCase with scene.area = 'feed' (see the module docstring)."""
+    """The feed scene of an EjectorFeedCase (see the module docstring)."""
     layout = feed_layout(case)
     boundary = feed_boundary(case, layout.z_nozzles - layout.outlets["gap"].center[2])
     flow_case = feed_flow_case(case, layout, boundary)
     walls = feed_boundary_particles(case, layout)
     rho0, dx, n = case.fluid.density, case.numerics.dx, walls.n
-    only_walls = SphScene(case=flow_case, positions=walls.positions, velocities=np.zeros((n, 3)),
-                          masses=np.full(n, rho0 * dx ** 3), densities=np.full(n, rho0),
-                          kind=np.full(n, BOUNDARY, dtype=np.int8), block=np.zeros(n, dtype=np.int32), meshes={},
-                          h=case.numerics.h, c0=case.c0, timestep=case.timestep_at_rest,
-                          physics=flow_case.physics.terms, material=np.zeros(n, dtype=np.int32), materials=(),
-                          wall_point=walls.wall_points)
-    filled = probe_scene(DrillSphScene(case=case, flow=only_walls, layout=layout, walls=walls), limit=2 ** 62)
+    only_walls = DrillSphScene(case=flow_case, positions=walls.positions, velocities=np.zeros((n, 3)),
+                               masses=np.full(n, rho0 * dx ** 3), densities=np.full(n, rho0),
+                               kind=np.full(n, BOUNDARY, dtype=np.int8), block=np.zeros(n, dtype=np.int32),
+                               meshes={}, h=case.numerics.h, c0=case.c0, timestep=case.timestep_at_rest,
+                               physics=flow_case.physics.terms, material=np.zeros(n, dtype=np.int32), materials=(),
+                               wall_point=walls.wall_points, drill=case, layout=layout, walls=walls)
+    filled = probe_scene(only_walls, limit=2 ** 62)
     fluid = filled.kind == FLUID
     at = np.where(fluid[:, None], filled.positions, filled.wall_point)
     velocities = np.where(fluid[:, None], start_velocities(case, layout, boundary, filled.positions), 0.0)
-    flow = dataclasses.replace(filled, velocities=velocities,
+    return dataclasses.replace(filled, velocities=velocities,
                                densities=tait_density(case, start_pressure(layout, boundary, at)))
-    return DrillSphScene(case=case, flow=flow, layout=layout, walls=walls)

@@ -10,8 +10,9 @@ needs are DrillGeometry's own fields, each with its reasoning. Solids of revolut
 `sections` sides, so each volume is the polygon's Pappus volume times N sin(2 pi / N) / (2 pi) (tests compare with
 the closed forms). A part can be replaced by a user's mesh file (STL, OBJ, PLY), scaled to metres.
 
-The passages are solids of their own, not cut from the walls: cutting needs a boolean backend (manifold3d), which
-the environment does not have. A scene that needs the holes open uses the passage solids to remove wall particles.
+The passages are solids of their own: a scene cuts them from the walls' meshes (manifold3d's booleans) or leaves
+their lattice sites out of the boundary particles in closed form. Neighbouring passages round the axis must not
+overlap (passage_spacing).
 """
 
 from __future__ import annotations
@@ -64,12 +65,30 @@ class DrillGeometry:
                              f"{self.groove_length * 1e3:g} mm")
         if not 0.0 <= self.groove_depth <= (n.d_outer_tube_od - n.d_outer_tube_id) / 2:
             raise ValueError(f"groove_depth = {self.groove_depth * 1e3:g} mm must lie between 0 and the outer tube's "
-                             f"wall, {(n.d_outer_tube_od - n.d_outer_tube_id) / 2 * 1e3:g} mm (the chamber stays inside "
-                             "the head, below the tube's end)")
+                             f"wall, {(n.d_outer_tube_od - n.d_outer_tube_id) / 2 * 1e3:g} mm (the chamber stays "
+                             "inside the head, below the tube's end)")
         if n.head_rear_length <= self.groove_length:
             raise ValueError("head_rear_length must exceed groove_length (the head's solid front)")
         if self.sections < 8:
             raise ValueError(f"sections = {self.sections} is too coarse; allowed: >= 8")
+        self._check_passage_spacing()
+
+    def _check_passage_spacing(self) -> None:
+        """ValueError naming the count when neighbouring adduction holes (from the groove's outer wall out) or
+        ejector nozzles (from the inner tube's bore out) overlap where they leave the wall nearest the axis."""
+        n = self.network
+        for count, d, key, r, tilt, what in (
+                ("n_holes", n.d_hole, "d_hole", self.groove_outer_radius, 0.0,
+                 "adduction holes overlap where they leave the groove's outer wall"),
+                ("n_ejector_nozzles", n.d_ejector_nozzle, "d_ejector_nozzle", n.d_inner_tube_id / 2,
+                 math.radians(self.nozzle_angle_deg),
+                 "ejector nozzles overlap where they leave the inner tube's bore")):
+            number = getattr(n, count)
+            if number < 2 or d <= widest_passage(number, r, tilt) * (1 + 1e-12):
+                continue
+            raise ValueError(f"{count} = {number}: {key} = {d * 1e3:g} mm {what} (r = {r * 1e3:g} mm); allowed: "
+                             f"{count} <= {most_passages(d, r, tilt)} for this {key}, or {key} <= "
+                             f"{widest_passage(number, r, tilt) * 1e3:.4g} mm for {number}")
 
     # ------------------------------------------------------------------------------------------- profiles
     @property
@@ -183,3 +202,31 @@ class DrillGeometry:
         out["d_inner_tube_od"] = float(n.d_inner_tube_od)
         out.update({f.name: float(getattr(self, f.name)) for f in fields(self) if f.name != "network"})
         return out
+
+
+def _axes_angle(count: int, tilt: float) -> float:
+    """Angle (rad) between the axes of two neighbouring passages of `count` round the axis, each tilted `tilt` (rad)
+    out of the cross-section: both axes meet on the drill axis, cos = cos^2(tilt) cos(2 pi / count) + sin^2(tilt)."""
+    cos = math.cos(tilt) ** 2 * math.cos(2 * math.pi / count) + math.sin(tilt) ** 2
+    return math.acos(min(1.0, max(-1.0, cos)))
+
+
+def widest_passage(count: int, r: float, tilt: float = 0.0) -> float:
+    """Largest diameter (m) of `count` cylindrical passages round the axis, starting at radius r (m) and tilted `tilt`
+    (rad) out of the cross-section, for which neighbours do not overlap: their axes meet at the angle phi
+    (_axes_angle) a distance r / cos(tilt) before the wall, so the cylinders stay apart while d / 2 <= r / cos(tilt)
+    tan(phi / 2)."""
+    return 2.0 * r / math.cos(tilt) * math.tan(0.5 * _axes_angle(count, tilt))
+
+
+def most_passages(d: float, r: float, tilt: float = 0.0) -> int:
+    """Largest count of passages of diameter d (m) round the axis from radius r (m), tilted `tilt` (rad), that do not
+    overlap (widest_passage inverted; at least 1)."""
+    phi = 2.0 * math.atan(0.5 * d * math.cos(tilt) / r)
+    cos = (math.cos(phi) - math.sin(tilt) ** 2) / math.cos(tilt) ** 2
+    if cos <= -1.0:
+        return 1
+    count = max(1, math.floor(2 * math.pi / math.acos(min(1.0, cos)) + 1e-9)) if cos < 1.0 else 1
+    while count > 1 and widest_passage(count, r, tilt) < d:
+        count -= 1
+    return count

@@ -1,4 +1,4 @@
-"""What a feed-scene run measures (feed_layout.py): V_total (the feed inlet's inflow), V_EN (the discs across the
+"""What a feed-scene run measures (layout.py): V_total (the feed inlet's inflow), V_EN (the discs across the
 nozzles), V_AG (the discs at C1: AG_all over the gap and the tube, -z, plus IB over the tube, +z), V_IB (IB, and
 the tube inlet's inflow), the mixed flow behind the nozzles; eq. 1 (V_total = V_AG + V_EN) and the tube's balance
 (V_IB + V_EN = V_mixed) as residuals; the sensor pressures B, C1, C2. SI units (m^3/s, Pa gauge, s).
@@ -14,8 +14,8 @@ import math
 
 import numpy as np
 
-from orchestrator.kinds.ejector_drill.analysis import STEADY_FRACTION, sensor_pressures
-from orchestrator.kinds.ejector_drill.feed_layout import feed_layout
+from orchestrator.drill.series import STEADY_FRACTION, sensor_pressures, steady_window
+from orchestrator.kinds.ejector_feed.layout import feed_layout
 
 
 def feed_flows(series: dict) -> dict[str, np.ndarray]:
@@ -42,7 +42,7 @@ def steady_means(time: np.ndarray, flows: dict) -> dict[str, float]:
     """Each flow's mean over the last STEADY_FRACTION of the run (m^3/s), the nozzles' share V_EN / V_total (-),
     eq. 1's residual V_total - V_AG - V_EN and the tube's V_IB + V_EN - V_mixed (m^3/s) with their shares of
     V_total (-)."""
-    window = time >= time[-1] - STEADY_FRACTION * (time[-1] - time[0])
+    window = steady_window(time)
     out = {k: float(np.nanmean(v[window])) for k, v in flows.items()}
     total = out.get("V_total", math.nan)
     out["EN_share"] = out.get("V_EN", math.nan) / total if total else math.nan
