@@ -33,8 +33,6 @@ MAPPED = {"orchestrator.templates": "templates", "orchestrator.verification_case
 PLACEHOLDERS = {"orchestrator.a.b", "orchestrator.x.y"}
 #: (file, reference) -> why it is still broken. Clear a line when its reference is fixed.
 KNOWN_BROKEN: dict[tuple[str, str], str] = {
-    ("docs/ejector_drill.md", "orchestrator/kinds/ejector_drill/case_geometry.py"):
-        "the drill's geometry moved to orchestrator/drill/geometry.py",
     ("docs/rheometry.md", "orchestrator/workflows/calibrate_maxwell.py"):
         "the Maxwell fit moved into the rheometer kind (kinds/rheometer/calibration.py)",
     ("docs/verify_dem.md", "orchestrator/kinds/liggghts_physics.py"):
