@@ -1,12 +1,12 @@
 """`orchestrator bench sph`'s material-model rows: one Lees-Edwards shear cell of a Newtonian fluid and of PTT
-fluids of 1 and 5 modes, the same particles and step (bench_scenes.shear_cell_case)."""
+fluids of 1 and 5 modes, the same particles and step (kinds/sph_flow/bench_scenes.py)."""
 
 import pytest
 
 from orchestrator.case import load_case
 from orchestrator.case.loader import to_toml
 from orchestrator.kinds import build_scene
-from orchestrator.workflows.bench_scenes import SHEAR_CELL_MODELS, shear_cell_case
+from orchestrator.kinds.sph_flow.bench_scenes import SHEAR_CELL_MODELS, shear_cell_case
 from orchestrator.workflows.bench_sph import BenchRow, format_report, run_bench, summary
 
 

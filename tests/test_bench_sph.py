@@ -9,7 +9,6 @@ import pytest
 from orchestrator.workflows.bench_sph import (
     BenchRow,
     _runs,
-    dam_break_2d_case,
     format_report,
     mean_neighbours,
     pysph_available,
@@ -17,6 +16,7 @@ from orchestrator.workflows.bench_sph import (
     summary,
 )
 from orchestrator.cli import main
+from orchestrator.kinds.sph_flow.bench_scenes import dam_break_2d_case
 
 needs_sph = pytest.mark.sph
 

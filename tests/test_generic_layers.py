@@ -15,10 +15,7 @@ from orchestrator.kinds import kind_names
 PACKAGE = Path(__file__).resolve().parent.parent / "orchestrator"
 GENERIC = ["run.py", "runh5.py", "workflows", "study", "cli", "case", "scene"]
 #: Modules that still name a kind, with the reason; clear a line when its module is generic.
-KNOWN = {
-    "workflows/bench_sph.py": "bench sph's 2D dam break is an sph_flow case dict",
-    "workflows/bench_scenes.py": "bench sph's 3D scenes and shear cells are sph_flow case dicts",
-}
+KNOWN: dict[str, str] = {}
 
 
 def generic_modules() -> list[Path]:

