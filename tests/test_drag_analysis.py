@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from orchestrator.kinds.drag_finishing.analysis import contact_force_peaks, standard_error
+from orchestrator.kinds.drag_finishing.forces import contact_force_peaks, standard_error
 
 
 def ar1(rng, n: int, rho: float) -> np.ndarray:

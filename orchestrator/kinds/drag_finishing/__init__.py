@@ -8,7 +8,7 @@ KIND = Kind(
     case_model="orchestrator.kinds.drag_finishing.case:DragFinishingCase",
     build_scene="orchestrator.kinds.drag_finishing.scene:build_drag_finishing",
     measure="orchestrator.kinds.drag_finishing.analysis:measure_drag_finishing",
-    analyze="orchestrator.kinds.drag_finishing.report:analyze_drag_finishing_run",
+    analyze="orchestrator.kinds.drag_finishing.analysis:analyze_drag_finishing_run",
     adapters={"yade": "orchestrator.kinds.drag_finishing.yade:YadeDragFinishing",
               "liggghts": "orchestrator.kinds.drag_finishing.liggghts:LiggghtsDragFinishing"},
     refusals={"reference": "orchestrator.kinds.drag_finishing.reference:refusal"},

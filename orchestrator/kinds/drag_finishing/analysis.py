@@ -1,5 +1,7 @@
 """Drag finishing: mean +- standard deviation of the force on the rod after
-the start-up transient, next to the paper's simulated and measured values.
+the start-up transient, next to the paper's simulated and measured values;
+`orchestrator analyze` of a run (the table, the forces, the network, the contact
+chains and the rod's contact intensity).
 
 Transient criterion: the first ``analysis.transient_time`` seconds of the
 process phase are discarded (the case file gives the value and its reason).
@@ -8,10 +10,16 @@ process phase are discarded (the case file gives the value and its reason).
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 
-PROCESS_PHASE = 3
+from orchestrator.errors import ReadError
+from orchestrator.kinds.drag_finishing.forces import (contact_force_peaks, force_statistics, process_series,
+                                                      standard_error)
+from orchestrator.kinds.drag_finishing.plots import plot_drag_finishing_forces, render_network
+from orchestrator.kinds.drag_finishing.plots_chains import report_chains
+from orchestrator.kinds.drag_finishing.plots_impacts import report_impacts
 
 #: The measured quantities (measure_drag_finishing): name -> (SI unit, meaning).
 QUANTITIES: dict[str, tuple[str, str]] = {
@@ -25,49 +33,6 @@ QUANTITIES: dict[str, tuple[str, str]] = {
     "n_samples": ("-", "force samples after the transient"),
     "process_time_simulated": ("s", "process time the run reached"),
 }
-
-
-def force_statistics(process_time: np.ndarray, force: np.ndarray, transient_time: float) -> dict[str, float]:
-    """Mean and std (N) of the three workpiece-frame components for process_time >= transient_time (s)."""
-    keep = (process_time >= transient_time) & np.all(np.isfinite(force), axis=1)
-    stats = {"n_samples": int(keep.sum())}
-    for i, name in enumerate(("fn", "ft", "fv")):
-        values = force[keep, i]
-        stats[f"{name}_mean"] = float(values.mean()) if values.size else math.nan
-        stats[f"{name}_std"] = float(values.std(ddof=1)) if values.size > 1 else math.nan
-    return stats
-
-
-def standard_error(values: np.ndarray, blocks: int = 10) -> float:
-    """Standard error of the mean of a correlated series by block averaging, in its units.
-
-    The series is cut into `blocks` equal blocks; the error is the standard
-    deviation of the block means over sqrt(blocks). Valid while a block is
-    longer than the correlation time (about 0.05 s for the force on the rod
-    in the quick preset: 10 blocks need 0.5 s of data; shorter windows
-    understate the error). nan with fewer than 2 samples per block.
-    """
-    n = len(values) // blocks
-    if n < 2:
-        return math.nan
-    means = np.asarray(values[: n * blocks], dtype=float).reshape(blocks, n).mean(axis=1)
-    return float(means.std(ddof=1) / math.sqrt(blocks))
-
-
-def contact_force_peaks(contacts) -> dict[str, float]:
-    """Largest and 99th-percentile normal contact force (N) in the last interaction-network snapshot."""
-    if not contacts:
-        return {}
-    forces = np.asarray(contacts[-1][1]["normal_force"], dtype=float)
-    if forces.size == 0:
-        return {}
-    return {"contact_fn_max": float(forces.max()), "contact_fn_p99": float(np.percentile(forces, 99))}
-
-
-def process_series(time: np.ndarray, phase: np.ndarray, force: np.ndarray, process_start: float):
-    """(process time s, workpiece force N) of the process phase only."""
-    sel = phase == PROCESS_PHASE
-    return time[sel] - process_start, force[sel]
 
 
 def measure_drag_finishing(case, result) -> dict[str, float]:
@@ -125,6 +90,29 @@ def comparison_table(case, measured: dict) -> str:
             f"{fmt(row['ft_mean']):>8} {fmt(row['ft_std']):>8}  {rel:>11}"
         )
     return "\n".join(lines)
+
+
+def analyze_drag_finishing_run(run_dir: Path, run: dict, case, render: bool = True) -> dict:
+    """Print the comparison table and write forces.png, network.png and the chain and intensity pictures;
+    returns {name: path}."""
+    attrs = run["attrs"]
+    measured = run.get("measured", {}).get("attrs", {})
+    print(f"run {run_dir}: status {attrs['status']}, {attrs['engine']} {attrs['engine_version']}, "
+          f"{attrs['n_particles']} particles, {attrs['n_steps']} steps, {attrs['wall_time_s']:.1f} s")
+    if "bed_height" in measured:
+        print(f"settled bed height {1e3 * measured['bed_height']:.1f} mm (case: {1e3 * case.media.fill_height:.1f} mm)")
+    print(comparison_table(case, measured))
+    outputs = {}
+    if "workpiece_force" not in run.get("series", {}):
+        raise ReadError(f"{run_dir} holds no force series; the run ended before recording (status {attrs['status']})")
+    outputs["forces"] = plot_drag_finishing_forces(run, case, run_dir / "forces.png")
+    if render and run.get("contacts", {}).keys() - {"attrs"}:
+        outputs["network"] = render_network(run, run_dir / "network.png")
+    outputs.update(report_chains(run_dir, run, case, render))
+    outputs.update(report_impacts(run_dir, run, case, render))
+    for name, path in outputs.items():
+        print(f"{name:<8} {path}")
+    return outputs
 
 
 def reference_table(case, runs: list[tuple[str, dict]]):

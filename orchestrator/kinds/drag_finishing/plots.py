@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from orchestrator.errors import ReadError
-from orchestrator.kinds.drag_finishing.analysis import force_statistics, process_series
+from orchestrator.kinds.drag_finishing.forces import force_statistics, process_series
 from orchestrator.plots import font_file, polydata, quiet_headless_vtk
 from orchestrator.runh5 import normal_force_of
 from orchestrator.outputs import save_figure

@@ -8,7 +8,7 @@ KIND = Kind(
     case_model="orchestrator.kinds.impact.case:ImpactCase",
     build_scene="orchestrator.kinds.impact.scene:build_impact",
     measure="orchestrator.kinds.impact.analysis:measure_impact",
-    analyze="orchestrator.kinds.impact.report:analyze_impact_run",
+    analyze="orchestrator.kinds.impact.analysis:analyze_impact_run",
     adapters={"yade": "orchestrator.kinds.impact.yade:YadeImpact",
               "liggghts": "orchestrator.kinds.impact.liggghts:LiggghtsImpact",
               "reference": "orchestrator.kinds.impact.reference:ReferenceImpact"},
