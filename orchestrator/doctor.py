@@ -6,7 +6,8 @@ from orchestrator.engines import engine_names, get_engine
 
 
 def check_engines() -> list[dict]:
-    """One row per known engine: engine, found, version, path, hint (what to do when missing)."""
+    """One row per known engine: engine, found, version, features (what the engine says of its build, e.g. the LAMMPS
+    packages the adapters use; '' when it says nothing), path, hint (what to do when missing)."""
     rows = []
     for name in engine_names():
         program = get_engine(name)
@@ -16,6 +17,7 @@ def check_engines() -> list[dict]:
                 "engine": name,
                 "found": found,
                 "version": program.version() if found else "",
+                "features": program.features() if found and hasattr(program, "features") else "",
                 "path": program.where() if found else "",
                 "hint": "" if found else program.install_hint(),
             }

@@ -1,7 +1,7 @@
 """Shared test fixtures (a small synthetic run.h5, no engine needed) and the engine markers.
 
-A test marked ``@pytest.mark.yade``, ``liggghts`` or ``sph`` needs that engine and is skipped, with the engine's
-install hint as the reason, where it is missing (ENGINE_MARKERS; the one place that decides it).
+A test marked ``@pytest.mark.yade``, ``liggghts``, ``sph`` or ``lammps`` needs that engine and is skipped, with the
+engine's install hint as the reason, where it is missing (ENGINE_MARKERS; the one place that decides it).
 """
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ import pytest
 
 DATA = Path(__file__).parent / "data"
 #: Test markers that name an engine the test needs.
-ENGINE_MARKERS = ("yade", "liggghts", "sph")
+ENGINE_MARKERS = ("yade", "liggghts", "sph", "lammps")
 
 
 def pytest_collection_modifyitems(config, items):

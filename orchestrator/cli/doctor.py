@@ -21,7 +21,8 @@ def cmd_doctor(args) -> int:
         return 0
     for row in rows:
         if row["found"]:
-            print(f"{row['engine']:<10} ok       {row['version']:<12} {row['path']}")
+            print(f"{row['engine']:<10} ok       {row['version']:<12} {row['path']}"
+                  + (f" ({row['features']})" if row["features"] else ""))
         else:
             print(f"{row['engine']:<10} MISSING  {row['hint']}")
     return 0 if all(r["found"] for r in rows) else 1

@@ -13,6 +13,7 @@ _REGISTRY = {
     "reference": ("orchestrator.engines.reference", "Reference"),
     "liggghts": ("orchestrator.engines.liggghts", "Liggghts"),
     "sph": ("orchestrator.engines.sph", "Sph"),
+    "lammps": ("orchestrator.engines.lammps", "Lammps"),
 }
 
 
@@ -35,5 +36,5 @@ def get_engine(name: str, **profile):
     except TypeError:
         if "mpi_ranks" in profile and profile["mpi_ranks"] is not None:
             raise OrchestratorError(f"--mpi {profile['mpi_ranks']}: the {name} engine does not run under MPI; "
-                                    "liggghts does") from None
+                                    "liggghts and lammps do") from None
         raise
