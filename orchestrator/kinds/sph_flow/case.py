@@ -23,7 +23,7 @@ from orchestrator.case.common import CaseMeta, Frozen
 from orchestrator.kinds.sph_flow.case_limits import check_sph
 from orchestrator.kinds.sph_flow.case_materials import (Material, check_materials, largest_c0_and_viscosity,
                                                        run_materials)
-from orchestrator.kinds.sph_flow.case_open import Inlet, Outlet
+from orchestrator.kinds.sph_flow.case_open import Inlet, Outlet, check_outlet_pressures
 from orchestrator.kinds.sph_flow.case_shear import LeesEdwards, check_lees_edwards
 from orchestrator.kinds.sph_flow.case_parts import (  # noqa: F401  (the parts are part of this module's API)
     BOX_SIDES,
@@ -80,6 +80,7 @@ class SphFlowCase(Frozen):
         self._check_blocks()
         self._check_walls()
         self._check_patches()
+        check_outlet_pressures(self)
         self._check_times()
         check_lees_edwards(self)
 

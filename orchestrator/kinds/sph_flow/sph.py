@@ -10,6 +10,7 @@ import numpy as np
 
 from orchestrator.engines.base import Result, Series
 from orchestrator.kinds.base import Adapter
+from orchestrator.kinds.sph_flow.case_open import rest_pressure
 from orchestrator.kinds.sph_flow.resume import FRAME_ARRAYS, merge_parts, part_files, write_resume_input
 from orchestrator.runh5 import _plain
 from orchestrator.runner import LOG_NAME, tail
@@ -89,7 +90,7 @@ def deck_context(scene, threads: int = 1) -> dict:
         "periodic": periodic,
         "lees_edwards": None if le is None else json.dumps(le.deck()),
         "inlets": [_patch_json(p, velocity=p.velocity, layers=p.layers, **p.deck_options()) for p in case.inlets],
-        "outlets": [_patch_json(p, layers=p.layers, **p.deck_options()) for p in case.outlets],
+        "outlets": [_patch_json(p, layers=p.layers, **p.deck_options(rest_pressure(case))) for p in case.outlets],
         "dt": None if numerics.dt is None else num(numerics.dt),
         "time_step": {k: num(v) for k, v in numerics.adaptive.items()},
         "max_steps": numerics.max_steps,
