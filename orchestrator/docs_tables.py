@@ -189,7 +189,7 @@ def key_table(model: type[BaseModel]) -> str:
 
 def kind_table(kind: str) -> str:
     """The key table of a registered kind's case model."""
-    return key_table(get_kind(kind).model())
+    return key_table(get_kind(kind).case_model.load())
 
 
 def marked_kinds(text: str) -> list[str]:

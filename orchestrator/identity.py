@@ -15,14 +15,14 @@ import tempfile
 from pathlib import Path
 
 
-def input_digest(backend, scene) -> str:
-    """sha256 (hex) over the engine input files backend.write_input writes for scene, by relative path.
+def input_digest(bound_adapter, scene) -> str:
+    """sha256 (hex) over the engine input files bound_adapter.write_input writes for scene, by relative path.
 
-    backend: a kinds.Bound (an adapter bound to its engine)."""
+    bound_adapter: a kinds.BoundAdapter (an adapter bound to its engine's profile)."""
     digest = hashlib.sha256()
     with tempfile.TemporaryDirectory(prefix="orchestrator-identity-") as tmp:
         root = Path(tmp)
-        backend.write_input(scene, root)
+        bound_adapter.write_input(scene, root)
         for path in sorted(p for p in root.rglob("*") if p.is_file()):
             name = path.relative_to(root).as_posix().encode()
             digest.update(len(name).to_bytes(4, "little") + name)
@@ -31,13 +31,13 @@ def input_digest(backend, scene) -> str:
     return digest.hexdigest()
 
 
-def run_identity(loaded, engine: str, engine_version: str, backend, scene) -> str:
+def run_identity(loaded, engine: str, engine_version: str, bound_adapter, scene) -> str:
     """The run id (sha256 hex) of a LoadedCase on an engine (see the module docstring)."""
     identity = {
         "case": loaded.resolved,
         "engine": engine,
         "engine_version": engine_version,
-        "mpi_ranks": int(getattr(backend.engine, "mpi_ranks", 1)),
-        "inputs": input_digest(backend, scene),
+        "mpi_ranks": int(getattr(bound_adapter.profile, "mpi_ranks", 1)),
+        "inputs": input_digest(bound_adapter, scene),
     }
     return hashlib.sha256(json.dumps(identity, sort_keys=True, default=str).encode()).hexdigest()

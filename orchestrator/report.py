@@ -29,7 +29,7 @@ def analyze_run(run_dir, render: bool = True) -> dict:
     if missing:
         raise ReadError(f"{run_dir}: run.h5 lacks the attribute {missing[0]!r}; it was not written by "
                         "'orchestrator run' (or is damaged)")
-    return get_kind(case.case.kind).analysis(run_dir, run, case, render)
+    return get_kind(case.case.kind).analyze(run_dir, run, case, render)
 
 
 #: Root attributes of run.h5 a summary keeps (what ran, how long, what it settled to).

@@ -1,4 +1,4 @@
-"""One run: case -> scene -> backend input -> engine -> Result -> run.h5."""
+"""One run: case -> scene -> the engine's input (the kind's adapter) -> engine -> Result -> run.h5."""
 
 from __future__ import annotations
 
@@ -14,14 +14,13 @@ from pathlib import Path
 from pydantic import ValidationError
 
 from orchestrator import __version__, signals
-from orchestrator.case import load_case
 from orchestrator.engines import get_engine
 from orchestrator.engines.base import Result
 from orchestrator.case.loader import format_validation_error
 from orchestrator.errors import CaseError, EngineFailed, EngineTimeout, EngineUnstable, OrchestratorError, ReadError
 from orchestrator.humanize import describe_returncode, os_problem, stamped_dir
-from orchestrator.kinds import Bound, get_kind
-from orchestrator.rundir import MARKER, RunDirectory, run_info
+from orchestrator.kinds import BoundAdapter, get_kind
+from orchestrator.rundir import RunDirectory
 from orchestrator.outputs import CASE_FILE, WriteError, write_text
 from orchestrator.processes import probe_bound
 from orchestrator.runh5 import RUN_FILE, write_run
@@ -60,7 +59,7 @@ class RunSummary:
 
 
 #: The orchestrator's own phases of a run, timed by PhaseClock and stored in run.h5 as overhead_<phase>_s (s):
-#: backend lookup and engine version, scene build, run directory and engine input, parsing the engine's output,
+#: the engine's profile and version, scene build, run directory and engine input, parsing the engine's output,
 #: the case's analysis, writing run.h5. Their sum is orchestrator_overhead_s; the engine's (and a timing probe's)
 #: time is not in it.
 OVERHEAD_PHASES = ("setup", "scene", "input", "parse", "analysis", "write")
@@ -96,38 +95,13 @@ def default_run_dir(case_name: str, engine: str, root: Path = Path("runs")) -> P
     return stamped_dir(f"{case_name}-{engine}", root)
 
 
-def resumable_run(run_dir, until: float | None = None) -> tuple:
-    """(LoadedCase, engine, MPI ranks) of the stopped run in run_dir, from its case.toml and its marker; with until
-    (s, sph runs), the case's simulation.duration set to it, which must lie beyond the run's.
-
-    Raises OrchestratorError when run_dir is not a run directory of ours, its case no longer validates, or until
-    cannot extend it.
-    """
-    run_dir = Path(run_dir)
-    info = run_info(run_dir)
-    if not info.get("engine") or not (run_dir / "case.toml").is_file():
-        raise OrchestratorError(f"--resume {run_dir}: not a run directory of orchestrator that can be resumed "
-                                f"(needs {MARKER} naming the engine and case.toml)")
-    loaded = load_case(run_dir / "case.toml")
-    if until is not None:
-        duration = (loaded.resolved.get("simulation") or {}).get("duration")
-        if info["engine"] != "sph" or duration is None:
-            raise OrchestratorError(f"--until: only sph runs (simulation.duration) run on; {run_dir} is a "
-                                    f"{loaded.kind} run on {info['engine']}")
-        if not (math.isfinite(until) and until > duration):
-            raise OrchestratorError(f"--until {until:g}: allowed: a time in s after the run's simulation.duration "
-                                    f"({duration:g} s)")
-        loaded = load_case(run_dir / "case.toml", overrides=[f"simulation.duration={until!r}"])
-    return dataclasses.replace(loaded, preset=info.get("preset") or None), info["engine"], info.get("mpi_ranks")
-
-
 def checked_scene(case):
     """The scene of a validated case model, built by its kind; a value the builder derives out of its range
     (a pydantic ValidationError) or a geometry it cannot build (ValueError) is a CaseError naming the key."""
     try:
-        return get_kind(case.case.kind).scene(case)
+        return get_kind(case.case.kind).build_scene(case)
     except ValidationError as exc:
-        lines = format_validation_error(exc, get_kind(case.case.kind).model())
+        lines = format_validation_error(exc, get_kind(case.case.kind).case_model.load())
         raise CaseError(f"cannot build the scene of {case.case.name}: a value derived from the case is out of its "
                         f"range:\n{lines}") from None
     except ValueError as exc:
@@ -137,7 +111,8 @@ def checked_scene(case):
 def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float | None = None,
              progress: bool = True, force: bool = False, on_timing=None, extra_attrs=None,
              mpi_ranks: int | None = None, resume: bool = False) -> RunSummary:
-    """Run a LoadedCase on an engine; writes run_dir/run.h5 whatever happens and returns a RunSummary.
+    """Run a LoadedCase on an engine (its registry name; default the case's case.engine); writes run_dir/run.h5
+    whatever happens and returns a RunSummary.
 
     out_dir must be new, empty or a run directory of ours (rundir.RunDirectory: locked while the run lasts;
     force empties it first). extra_attrs are added to run.h5's root attributes (a study's run_id); mpi_ranks runs
@@ -155,81 +130,45 @@ def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float |
     case = loaded.model
     engine = engine or case.case.engine
     kind = get_kind(case.case.kind)
-    if engine not in kind.adapters and engine not in kind.refusals:
-        kind.adapter(engine)  # raises: names the engines that run the kind (before looking for the engine)
-    profile = {"threads": case.numerics.threads}
-    if mpi_ranks is not None:
-        profile["mpi_ranks"] = mpi_ranks
-    program = get_engine(engine, **profile)
-    program.check_available()
+    profile = engine_profile(kind, engine, case.numerics.threads, mpi_ranks)
     started_at = time.monotonic()
     with probe_bound(timeout_s):
-        version = program.version()
+        version = profile.version()
     clock.lap("setup")
-    with signals.time_limit(timeout_s, EngineTimeout(
-            f"building the scene of {case.case.name} took longer than --timeout {timeout_s:g} s; nothing was "
-            "written (a finer particle spacing or larger geometry costs more: check the case's sizes)"
-            if timeout_s else "")):
-        scene = checked_scene(case)
+    scene = _scene_within(case, timeout_s)
     if timeout_s is not None:  # what preprocessing took counts against the limit
         timeout_s = max(timeout_s - (time.monotonic() - started_at), 1.0)
-    backend = Bound(program, kind.adapter(engine, scene))
-    backend.check_scene(scene)  # e.g. a scene too big for the reference DEM: refused before anything is written
+    bound_adapter = BoundAdapter(profile, kind.adapter(engine, scene))
+    bound_adapter.check_scene(scene)  # e.g. a scene too big for the reference DEM: refused before anything is written
     clock.lap("scene")
     signals.check()
-    if resume and not backend.adapter.resumable:
-        backend.resume_input(scene, Path("."))  # raises: says which runs resume
+    if resume and not bound_adapter.adapter.resumable:
+        bound_adapter.resume_input(scene, Path("."))  # raises: says which runs resume
     info = {"engine": engine, "preset": loaded.preset or "", "mpi_ranks": mpi_ranks}
     with RunDirectory(out_dir if out_dir is not None else default_run_dir(case.case.name, engine),
                       force, resume, info) as run_dir:
         if not resume:
             write_text(run_dir / CASE_FILE, loaded.toml_text, "--out", own_run_file=True)
         started = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
-        command, execution, interrupted = _run_engine(backend, scene, run_dir, clock, timeout_s, progress,
+        command, execution, interrupted = _run_engine(bound_adapter, scene, run_dir, clock, timeout_s, progress,
                                                       f"{engine} {case.case.name}", on_timing, resume)
         if resume and (run_dir / CASE_FILE).read_text() != loaded.toml_text:  # --until: the run's new duration
             write_text(run_dir / CASE_FILE, loaded.toml_text, "--resume", own_run_file=True)
         with signals.shielded():  # a signal now is remembered: run.h5 is written first
-            result = _read_result(backend, scene, run_dir, execution, interrupted, timeout_s)
+            result = _read_result(bound_adapter, scene, run_dir, execution, interrupted, timeout_s)
             clock.lap("parse")
-            result.measured = kind.measured(case, result)
+            result.measured = kind.measure(case, result)
             clock.lap("analysis")
-            root = {
-                "engine": engine,
-                "engine_version": version,
-                "case_name": case.case.name,
-                "case_kind": case.case.kind,
-                "case_hash": loaded.hash,
-                "case_source": str(loaded.source),
-                "preset": loaded.preset or "",
-                "wall_time_s": execution.wall_time_s,
-                **({"engine_peak_memory_mb": execution.peak_memory_bytes / 2**20}
-                   if execution.peak_memory_bytes is not None else {}),
-                **clock.attrs(),  # overhead_write_s and the total are rewritten once run.h5 is written
-                "n_particles": scene.n_particles,
-                "started": started,
-                "finished": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
-                "orchestrator_version": __version__,
-                "command": " ".join(command),
-                "template_hash": files_hash(backend.adapter.templates),
-                **(extra_attrs or {}),
-            }
+            root = {"engine": engine, "engine_version": version, **_run_attrs(loaded, scene, execution, clock),
+                    "started": started, "command": " ".join(command),
+                    "finished": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
+                    "template_hash": files_hash(bound_adapter.adapter.templates), **(extra_attrs or {})}
             # A stopped engine wrote no final status: take the steps from its last progress line.
             result.attrs.setdefault("n_steps", execution.last_progress.done if execution.last_progress else 0)
             result.attrs.setdefault("dt", scene.timestep)
             _write_run_or_say_where(run_dir, result, root, loaded, execution)
             overhead = _store_write_time(run_dir / RUN_FILE, clock)
-    summary = RunSummary(
-        status=result.status, engine=engine, engine_version=version, case_name=case.case.name,
-        wall_time_s=round(execution.wall_time_s, 3), n_particles=scene.n_particles,
-        n_steps=int(result.attrs["n_steps"]), run_dir=str(run_dir), message=result.message,
-        measured=result.measured, estimate_s=execution.timing.estimate_s if execution.timing else None,
-        dt=float(result.attrs["dt"]),
-        overhead_s=round(overhead["orchestrator_overhead_s"], 6),
-        overhead_phases_s={name: round(overhead[f"overhead_{name}_s"], 6) for name in OVERHEAD_PHASES},
-        peak_memory_mb=(round(execution.peak_memory_bytes / 2**20, 1)
-                        if execution.peak_memory_bytes is not None else None),
-    )
+    summary = _summary(result, engine, version, case.case.name, scene, run_dir, execution, overhead)
     if interrupted is None and signals.pending() is not None:
         interrupted = signals.Interrupted(signals.pending())  # arrived while run.h5 was written
     if interrupted is not None:
@@ -240,7 +179,66 @@ def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float |
     return summary
 
 
-def _run_engine(backend, scene, run_dir: Path, clock: PhaseClock, timeout_s, progress: bool, label: str,
+def engine_profile(kind, engine: str, threads: int, mpi_ranks: int | None = None):
+    """The profile of engine (its registry name) for a run of kind (a kinds.base.Kind) on `threads` threads (and
+    mpi_ranks MPI ranks), checked to be installed.
+
+    Raises OrchestratorError naming the engines that run the kind when engine is not one of them (before looking
+    for the engine), EngineNotFound when it is not installed."""
+    if engine not in kind.adapters and engine not in kind.refusals:
+        kind.adapter(engine)  # raises
+    options = {"threads": threads}
+    if mpi_ranks is not None:
+        options["mpi_ranks"] = mpi_ranks
+    profile = get_engine(engine, **options)
+    profile.check_available()
+    return profile
+
+
+def _scene_within(case, timeout_s: float | None):
+    """checked_scene(case), an EngineTimeout when building it takes longer than timeout_s (s; None: no limit)."""
+    with signals.time_limit(timeout_s, EngineTimeout(
+            f"building the scene of {case.case.name} took longer than --timeout {timeout_s:g} s; nothing was "
+            "written (a finer particle spacing or larger geometry costs more: check the case's sizes)"
+            if timeout_s else "")):
+        return checked_scene(case)
+
+
+def _run_attrs(loaded, scene, execution, clock: PhaseClock) -> dict:
+    """run.h5's root attributes of the case, the scene and the engine's execution (times s, memory MiB)."""
+    case = loaded.model
+    return {
+        "case_name": case.case.name,
+        "case_kind": case.case.kind,
+        "case_hash": loaded.hash,
+        "case_source": str(loaded.source),
+        "preset": loaded.preset or "",
+        "wall_time_s": execution.wall_time_s,
+        **({"engine_peak_memory_mb": execution.peak_memory_bytes / 2**20}
+           if execution.peak_memory_bytes is not None else {}),
+        **clock.attrs(),  # overhead_write_s and the total are rewritten once run.h5 is written
+        "n_particles": scene.n_particles,
+        "orchestrator_version": __version__,
+    }
+
+
+def _summary(result, engine: str, version: str, case_name: str, scene, run_dir: Path, execution,
+             overhead: dict) -> RunSummary:
+    """The RunSummary of a run whose run.h5 is written (overhead: PhaseClock.attrs(), s)."""
+    return RunSummary(
+        status=result.status, engine=engine, engine_version=version, case_name=case_name,
+        wall_time_s=round(execution.wall_time_s, 3), n_particles=scene.n_particles,
+        n_steps=int(result.attrs["n_steps"]), run_dir=str(run_dir), message=result.message,
+        measured=result.measured, estimate_s=execution.timing.estimate_s if execution.timing else None,
+        dt=float(result.attrs["dt"]),
+        overhead_s=round(overhead["orchestrator_overhead_s"], 6),
+        overhead_phases_s={name: round(overhead[f"overhead_{name}_s"], 6) for name in OVERHEAD_PHASES},
+        peak_memory_mb=(round(execution.peak_memory_bytes / 2**20, 1)
+                        if execution.peak_memory_bytes is not None else None),
+    )
+
+
+def _run_engine(bound_adapter, scene, run_dir: Path, clock: PhaseClock, timeout_s, progress: bool, label: str,
                 on_timing, resume: bool = False):
     """Write the engine's input (resume: the input that continues from the last checkpoint), run the timing probe
     (long new runs) and the engine.
@@ -250,16 +248,17 @@ def _run_engine(backend, scene, run_dir: Path, clock: PhaseClock, timeout_s, pro
     command: list[str] = []
     try:
         if resume:
-            command, env = _resume_input(backend, scene, run_dir)
+            command, env = _resume_input(bound_adapter, scene, run_dir)
             _keep_log(run_dir / LOG_NAME)
         else:
             try:
-                backend.write_input(scene, run_dir)
+                bound_adapter.write_input(scene, run_dir)
             except OSError as exc:  # a full disk, a folder made read-only meanwhile
                 raise OrchestratorError(f"cannot write the engine's input into {run_dir}: {os_problem(exc)}") from None
-            command, env = backend.command(scene, run_dir)
+            command, env = bound_adapter.command(scene, run_dir)
         clock.lap("input")
-        probed = _run_probe(backend, scene, run_dir, on_timing) if not resume and backend.wants_probe(scene) else None
+        probed = (_run_probe(bound_adapter, scene, run_dir, on_timing)
+                  if not resume and bound_adapter.wants_probe(scene) else None)
         clock.skip()  # the timing probe is the engine's time
         # The probe's estimate stands: the run's first steps are what it was made to look past.
         execution = execute(command, env, run_dir, timeout_s, progress, label=label,
@@ -276,11 +275,11 @@ def _run_engine(backend, scene, run_dir: Path, clock: PhaseClock, timeout_s, pro
         return command, execution, exc
 
 
-def _resume_input(backend, scene, run_dir: Path):
-    """backend.resume_input; an output it cannot read (a truncated out.h5) is a ReadError (exit 6), a file it
+def _resume_input(bound_adapter, scene, run_dir: Path):
+    """bound_adapter.resume_input; an output it cannot read (a truncated out.h5) is a ReadError (exit 6), a file it
     cannot write a WriteError (exit 8)."""
     try:
-        return backend.resume_input(scene, run_dir)
+        return bound_adapter.resume_input(scene, run_dir)
     except OSError as exc:
         if exc.errno in (errno.ENOSPC, errno.EDQUOT, errno.EROFS, errno.EACCES, errno.EPERM):
             raise WriteError(f"--resume {run_dir}: cannot write the input that continues the run: "
@@ -298,7 +297,7 @@ def _keep_log(log: Path) -> None:
         log.rename(log.with_name(f"{log.stem}.{k}{log.suffix}"))
 
 
-def _run_probe(backend, scene, run_dir: Path, on_timing):
+def _run_probe(bound_adapter, scene, run_dir: Path, on_timing):
     """A few steps of the same script on a dense lattice in run_dir/probe: estimates the whole run's time. Returns
     its Timing (given to on_timing too), or None with a warning on stderr that names the probe's log and its last
     line (the run goes on; its estimate then comes from its own first steps)."""
@@ -307,7 +306,7 @@ def _run_probe(backend, scene, run_dir: Path, on_timing):
     for name in run_dir.iterdir():
         if name.is_file() and name.suffix in (".py", ".npz", ".stl"):
             (probe_dir / name.name).write_bytes(name.read_bytes())
-    probe_cmd, probe_env = backend.probe_command(scene, probe_dir)
+    probe_cmd, probe_env = bound_adapter.probe_command(scene, probe_dir)
     try:
         probe = execute(probe_cmd, probe_env, probe_dir, timeout_s=600, progress=False, label="timing probe",
                         on_timing=on_timing)
@@ -322,10 +321,10 @@ def _run_probe(backend, scene, run_dir: Path, on_timing):
     return None
 
 
-def _read_result(backend, scene, run_dir: Path, execution, interrupted, timeout_s):
+def _read_result(bound_adapter, scene, run_dir: Path, execution, interrupted, timeout_s):
     """The engine's output as a Result with the run's status: ok, failed, timeout, unstable or terminated."""
     try:
-        result = backend.read_output(scene, run_dir)
+        result = bound_adapter.read_output(scene, run_dir)
     except ReadError as exc:
         if interrupted is None:
             raise

@@ -1,4 +1,5 @@
-"""A run directory of ours: recognised by a marker, held by one run at a time, emptied by --force.
+"""A run directory of ours: recognised by a marker, held by one run at a time, emptied by --force, resumed from what
+its marker and case.toml say (resumable_run).
 
 A run directory holds the engine's input and output, the resolved case and run.h5. Three rules keep runs from
 hurting each other or the user's files:
@@ -13,14 +14,17 @@ hurting each other or the user's files:
 
 from __future__ import annotations
 
+import dataclasses
 import datetime as _dt
 import fcntl
 import json
+import math
 import os
 import shutil
 import sys
 from pathlib import Path
 
+from orchestrator.case import load_case
 from orchestrator.errors import OrchestratorError
 from orchestrator.humanize import check_out_dir, os_problem
 from orchestrator.outputs import LOCK, MARKER, is_ours, write_text
@@ -136,3 +140,28 @@ def _read_holder(fd: int) -> str:
 
 def _now() -> str:
     return _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
+
+
+def resumable_run(run_dir, until: float | None = None) -> tuple:
+    """(LoadedCase, engine, MPI ranks) of the stopped run in run_dir, from its case.toml and its marker; with until
+    (s, sph runs), the case's simulation.duration set to it, which must lie beyond the run's.
+
+    Raises OrchestratorError when run_dir is not a run directory of ours, its case no longer validates, or until
+    cannot extend it.
+    """
+    run_dir = Path(run_dir)
+    info = run_info(run_dir)
+    if not info.get("engine") or not (run_dir / "case.toml").is_file():
+        raise OrchestratorError(f"--resume {run_dir}: not a run directory of orchestrator that can be resumed "
+                                f"(needs {MARKER} naming the engine and case.toml)")
+    loaded = load_case(run_dir / "case.toml")
+    if until is not None:
+        duration = (loaded.resolved.get("simulation") or {}).get("duration")
+        if info["engine"] != "sph" or duration is None:
+            raise OrchestratorError(f"--until: only sph runs (simulation.duration) run on; {run_dir} is a "
+                                    f"{loaded.kind} run on {info['engine']}")
+        if not (math.isfinite(until) and until > duration):
+            raise OrchestratorError(f"--until {until:g}: allowed: a time in s after the run's simulation.duration "
+                                    f"({duration:g} s)")
+        loaded = load_case(run_dir / "case.toml", overrides=[f"simulation.duration={until!r}"])
+    return dataclasses.replace(loaded, preset=info.get("preset") or None), info["engine"], info.get("mpi_ranks")

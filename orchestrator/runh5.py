@@ -160,7 +160,7 @@ def stored_case(run: dict, path) -> object:
     try:
         data = tomllib.loads(text)
         kind = data["case"]["kind"]
-        return get_kind(kind).model().model_validate(data)
+        return get_kind(kind).case_model.load().model_validate(data)
     except (tomllib.TOMLDecodeError, KeyError, TypeError, RecursionError, OrchestratorError):
         raise ReadError(f"{path}: the case stored in run.h5 (/case) is not a case this version knows") from None
     except ValidationError as exc:

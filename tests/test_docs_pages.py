@@ -54,7 +54,7 @@ def test_every_table_marker_names_a_registered_kind():
 
 
 def test_the_table_lists_every_key_with_its_unit_and_default():
-    rows = {row.key: row for row in docs_tables.key_rows(get_kind("impact").model())}
+    rows = {row.key: row for row in docs_tables.key_rows(get_kind("impact").case_model.load())}
     assert rows["simulation.duration"].unit == "s" and rows["simulation.duration"].default == "required"
     assert rows["spheres[].velocity"].unit == "m/s" and rows["spheres[].velocity"].default == "`[0.0, 0.0, 0.0]`"
     assert rows["materials.<name>.young_modulus"].meaning == "Young's modulus E"

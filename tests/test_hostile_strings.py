@@ -134,10 +134,10 @@ def _decks(case_path: Path, engine: str, tmp_path: Path) -> tuple[str, str, dict
         if engine == "sph":
             decks.append(render(SPH_TEMPLATE, deck_context(scene)))
             continue
-        backend = bind(case.case.kind, engine, executable="/x")
+        bound_adapter = bind(case.case.kind, engine, executable="/x")
         out = tmp_path / f"{engine}{len(decks)}"
         out.mkdir()
-        backend.write_input(scene, out)
+        bound_adapter.write_input(scene, out)
         kind = case.case.kind
         deck = {("liggghts", "impact"): "impact.in", ("liggghts", "drag_finishing"): "drag_finishing.in",
                 ("yade", "impact"): "impact.py", ("yade", "drag_finishing"): "drag_finishing.py"}[engine, kind]
@@ -174,11 +174,12 @@ def _render_all(case_path: Path, tmp_path: Path, overrides=(), tag="") -> dict[s
     if case.case.kind == "sph_flow":
         return {"deck.json": render(SPH_TEMPLATE, deck_context(scene))}
     decks = {}
-    for backend in (bind(case.case.kind, "yade", executable="/x"), bind(case.case.kind, "liggghts", executable="/x")):
-        out = tmp_path / f"{backend.adapter.engine}{tag}"
+    for bound_adapter in (bind(case.case.kind, "yade", executable="/x"),
+                          bind(case.case.kind, "liggghts", executable="/x")):
+        out = tmp_path / f"{bound_adapter.adapter.engine}{tag}"
         out.mkdir()
-        backend.write_input(scene, out)
-        decks.update({f"{backend.adapter.engine}/{p.name}": p.read_bytes() for p in out.iterdir()
+        bound_adapter.write_input(scene, out)
+        decks.update({f"{bound_adapter.adapter.engine}/{p.name}": p.read_bytes() for p in out.iterdir()
                       if p.suffix in (".py", ".in", ".stl", ".data")})
     return decks
 

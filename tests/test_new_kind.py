@@ -77,18 +77,18 @@ FILES = {
         class ToyReference(Adapter):
             engine = "reference"
 
-            def write_input(self, engine, scene, workdir):
+            def write_input(self, profile, scene, workdir):
                 fall = scene.case.fall
                 (workdir / "fall.json").write_text(json.dumps({"dt": scene.timestep, "steps": fall.steps,
                                                               "g": fall.gravity}))
 
-            def command(self, engine, scene, workdir):
-                return [engine.python, "-c", CHILD], {}
+            def command(self, profile, scene, workdir):
+                return [profile.python, "-c", CHILD], {}
 
-            def planned_steps(self, engine, scene):
+            def planned_steps(self, profile, scene):
                 return 10**9  # a long run, but this adapter has no timing probe: the run starts without one
 
-            def read_output(self, engine, scene, workdir):
+            def read_output(self, profile, scene, workdir):
                 rows = np.loadtxt(workdir / "fall.txt", ndmin=2)
                 result = Result(attrs={"n_steps": len(rows)}, time=rows[:, 0])
                 result.series["height"] = Series(rows[:, 1], "m", "height below the start")

@@ -91,7 +91,7 @@ def test_force_removes_the_old_run_before_the_engine_starts(tmp_path, capsys, mo
 
     from orchestrator.kinds.impact.reference import ReferenceImpact
 
-    monkeypatch.setattr(ReferenceImpact, "command", lambda self, engine, scene, workdir: (["false"], {}))
+    monkeypatch.setattr(ReferenceImpact, "command", lambda self, profile, scene, workdir: (["false"], {}))
     code = _run_reference(out, "--force")
     assert code == 4
     with h5py.File(out / "run.h5") as h5:

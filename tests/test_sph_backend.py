@@ -37,7 +37,7 @@ REFERENCE_2D = DATA / "sph_reference_2d.toml"
 needs_sph = pytest.mark.sph
 
 
-def _backend():
+def _bound_adapter():
     """The sph adapter bound to an executable that does not exist (files only)."""
     return bind("sph_flow", "sph", executable="/nonexistent/sph")
 
@@ -46,7 +46,7 @@ def _backend():
                                               (CHANNEL, "sph_channel_3d.json")])
 def test_rendered_deck_matches_golden(case_path, golden, tmp_path):
     scene = build_scene(load_case(case_path).model)
-    _backend().write_input(scene, tmp_path)
+    _bound_adapter().write_input(scene, tmp_path)
     rendered = (tmp_path / "deck.json").read_text()
     assert_matches_golden(rendered, HERE / "golden" / golden)
     deck = json.loads(rendered)  # valid JSON
@@ -57,17 +57,17 @@ def test_rendered_deck_matches_golden(case_path, golden, tmp_path):
                                            ("spin", {"OMP_WAIT_POLICY": "ACTIVE", "GOMP_SPINCOUNT": "10000"})])
 def test_thread_wait_sets_the_openmp_environment(wait, expected, tmp_path):
     case = load_case(CHANNEL, overrides=[f"numerics.thread_wait={wait}", "numerics.threads=2"]).model
-    backend = bind("sph_flow", "sph", executable="/nonexistent/sph", threads=2)
+    bound_adapter = bind("sph_flow", "sph", executable="/nonexistent/sph", threads=2)
     scene = build_scene(case)
-    backend.write_input(scene, tmp_path)
-    _, env = backend.command(scene, tmp_path)
+    bound_adapter.write_input(scene, tmp_path)
+    _, env = bound_adapter.command(scene, tmp_path)
     assert env == {"OMP_NUM_THREADS": "2", **expected}
 
 
 def test_deck_says_what_the_case_says(tmp_path):
     case = load_case(CHANNEL).model
     scene = build_scene(case)
-    _backend().write_input(scene, tmp_path)
+    _bound_adapter().write_input(scene, tmp_path)
     deck = json.loads((tmp_path / "deck.json").read_text())
     assert deck["physics"] == ["morris_viscosity", "wall_penalty"]  # only what the case switches on
     assert "body_force" not in deck and "alpha" not in deck and "dt" not in deck
@@ -84,7 +84,7 @@ def test_deck_says_what_the_case_says(tmp_path):
 def test_artificial_viscosity_walls_reach_the_deck(walls, expected, tmp_path):
     """walls = false writes "artificial_viscosity": {"walls": false}; the default writes nothing (decks unchanged)."""
     scene = build_scene(load_case(REFERENCE_2D, overrides=walls).model)
-    _backend().write_input(scene, tmp_path)
+    _bound_adapter().write_input(scene, tmp_path)
     deck = json.loads((tmp_path / "deck.json").read_text())
     assert deck["alpha"] == 0.1 and deck.get("artificial_viscosity") == expected
 
@@ -94,7 +94,7 @@ def test_viscosity_correction_reaches_the_deck(overrides, expected, tmp_path):
     """physics.viscosity_correction = true writes "viscosity_correction": true (engine eq. VC1); the default writes
     nothing (decks unchanged); without the Morris term the case is refused, naming the key."""
     scene = build_scene(load_case(REFERENCE_2D, overrides=overrides).model)
-    _backend().write_input(scene, tmp_path)
+    _bound_adapter().write_input(scene, tmp_path)
     assert json.loads((tmp_path / "deck.json").read_text()).get("viscosity_correction") == expected
     with pytest.raises(CaseError, match="physics.viscosity_correction = true needs 'morris_viscosity'"):
         load_case(REFERENCE_2D, overrides=["physics.viscosity_correction=true",
@@ -109,7 +109,7 @@ def test_eddy_viscosity_reaches_the_deck(overrides, expected, tmp_path):
     """physics.eddy_viscosity = cs writes Smagorinsky's "eddy_viscosity" (engine eqs. SM1-SM2); the default writes
     nothing; a cs outside (0, 1] or a case without the Morris term is refused, naming the key."""
     scene = build_scene(load_case(REFERENCE_2D, overrides=overrides).model)
-    _backend().write_input(scene, tmp_path)
+    _bound_adapter().write_input(scene, tmp_path)
     assert json.loads((tmp_path / "deck.json").read_text()).get("eddy_viscosity") == expected
     with pytest.raises(CaseError, match="eddy_viscosity"):
         load_case(REFERENCE_2D, overrides=["physics.eddy_viscosity=1.5"])
@@ -120,7 +120,7 @@ def test_eddy_viscosity_reaches_the_deck(overrides, expected, tmp_path):
 
 def test_input_files_hold_the_scene(tmp_path):
     scene = build_scene(load_case(CHANNEL).model)
-    _backend().write_input(scene, tmp_path)
+    _bound_adapter().write_input(scene, tmp_path)
     with h5py.File(tmp_path / "particles.h5", "r") as h5:
         np.testing.assert_array_equal(h5["positions"][()], scene.positions)
         np.testing.assert_array_equal(h5["kind"][()], scene.kind)
@@ -389,7 +389,7 @@ def test_a_cavitation_floor_reaches_the_deck(overrides, expected, tmp_path):
     """fluid.min_pressure writes "min_pressure" (engine eos.h: the pressure's floor); the default writes nothing;
     a floor at or above the rest pressure is refused, naming both keys."""
     scene = build_scene(load_case(REFERENCE_2D, overrides=overrides).model)
-    _backend().write_input(scene, tmp_path)
+    _bound_adapter().write_input(scene, tmp_path)
     assert json.loads((tmp_path / "deck.json").read_text()).get("min_pressure") == expected
     with pytest.raises(CaseError, match="fluid.min_pressure = 0 Pa must lie below the rest pressure"):
         load_case(REFERENCE_2D, overrides=["fluid.min_pressure=0"])

@@ -39,9 +39,9 @@ def _engine_frames(scene, workdir: Path) -> list[dict]:
     """Run the executable on the scene; every frame as {step, ids, positions, densities}."""
     import h5py
 
-    backend = bind("sph_flow", "sph")
-    backend.write_input(scene, workdir)
-    command, env = backend.command(scene, workdir)
+    bound_adapter = bind("sph_flow", "sph")
+    bound_adapter.write_input(scene, workdir)
+    command, env = bound_adapter.command(scene, workdir)
     done = subprocess.run(command, cwd=workdir, env={**env, "PATH": "/usr/bin:/bin"}, capture_output=True,
                           text=True, timeout=120)
     assert done.returncode == 0, done.stderr

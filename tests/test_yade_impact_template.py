@@ -32,20 +32,20 @@ GOLDEN = HERE / "golden" / "yade_impact_sphere_drop.py"
 STORED = HERE / "data" / "yade_impact_output"  # Yade 2023.02a on chung_ooi_test2_sphere_plane.toml
 
 
-def backend():
+def bound_adapter():
     """Yade's impact adapter bound to a Yade that is not installed (files only)."""
     return bind("impact", "yade", executable="/nonexistent/yade")
 
 
 def test_rendered_script_matches_golden(tmp_path):
-    backend().write_input(build_scene(load_case(DROP).model), tmp_path)
+    bound_adapter().write_input(build_scene(load_case(DROP).model), tmp_path)
     rendered = (tmp_path / "impact.py").read_text()
     assert_matches_golden(rendered, GOLDEN)
     compile(rendered, "impact.py", "exec")
 
 
 def test_command_runs_the_impact_script(tmp_path):
-    yade = backend()
+    yade = bound_adapter()
     yade.write_input(build_scene(load_case(DROP).model), tmp_path)
     command, env = yade.command(build_scene(load_case(DROP).model), tmp_path)
     assert command[-1].endswith("impact.py") and env["TMPDIR"].startswith(str(tmp_path.resolve()))
@@ -53,7 +53,7 @@ def test_command_runs_the_impact_script(tmp_path):
 
 def test_tilted_plane_becomes_one_large_facet(tmp_path):
     case = load_case(DROP, overrides=["plane.normal=[0.0, 0.6, 0.8]", "spheres.0.position=[0, 0.0, 0.02]"]).model
-    backend().write_input(build_scene(case), tmp_path)
+    bound_adapter().write_input(build_scene(case), tmp_path)
     script = (tmp_path / "impact.py").read_text()
     assert "utils.facet(" in script and "utils.wall(" not in script
     compile(script, "impact.py", "exec")
@@ -61,7 +61,7 @@ def test_tilted_plane_becomes_one_large_facet(tmp_path):
 
 def test_scene_arrays_round_trip(tmp_path):
     scene = build_scene(load_case(CASES / "chung_ooi_test1_sphere_sphere.toml").model)
-    backend().write_input(scene, tmp_path)
+    bound_adapter().write_input(scene, tmp_path)
     data = np.load(tmp_path / "scene.npz")
     np.testing.assert_array_equal(data["positions"], scene.positions)
     np.testing.assert_array_equal(data["velocities"], scene.velocities)

@@ -195,7 +195,7 @@ def _validate(data: dict, base_dir: Path, where: str):
         raise CaseError(f"{where}: case.kind: required key is missing; allowed: {allowed}")
     if not isinstance(kind, str) or kind not in kind_names():
         raise CaseError(f"{where}: case.kind = {kind!r} is not known; allowed: {allowed}")
-    model_cls = get_kind(kind).model()
+    model_cls = get_kind(kind).case_model.load()
     try:
         return model_cls.model_validate(data, context={"base_dir": str(base_dir)})
     except ValidationError as exc:

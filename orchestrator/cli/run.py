@@ -11,7 +11,8 @@ from orchestrator.engines import engine_names
 from orchestrator.errors import OrchestratorError
 from orchestrator.humanize import duration
 from orchestrator.kinds import get_kind
-from orchestrator.run import resumable_run, run_case
+from orchestrator.rundir import resumable_run
+from orchestrator.run import run_case
 
 
 def add_parser(sub) -> None:

@@ -10,7 +10,7 @@ import importlib
 
 from orchestrator.engines import get_engine
 from orchestrator.errors import OrchestratorError
-from orchestrator.kinds.base import Adapter, Bound, Kind
+from orchestrator.kinds.base import Adapter, BoundAdapter, Kind
 
 _REGISTRY: dict[str, str] = {}
 _LOADED: dict[str, Kind] = {}
@@ -68,24 +68,25 @@ def kinds_for_engine(engine: str) -> list[str]:
 
 def build_scene(case):
     """The scene of a validated case model, built by its kind."""
-    return get_kind(case.case.kind).scene(case)
+    return get_kind(case.case.kind).build_scene(case)
 
 
 def measure(case, result) -> dict[str, float]:
     """The case's measured quantities from a Result, by its kind (SI units; empty if the run has too little data)."""
-    return get_kind(case.case.kind).measured(case, result)
+    return get_kind(case.case.kind).measure(case, result)
 
 
-def bind(kind: str, engine: str, scene=None, **profile) -> Bound:
-    """The adapter of engine for kind bound to the engine's profile (engines.get_engine(engine, **profile)).
+def bind(kind: str, engine: str, scene=None, **options) -> BoundAdapter:
+    """The adapter of engine (its registry name) for kind, bound to the engine's profile
+    (engines.get_engine(engine, **options): threads, mpi_ranks, executable).
 
     Raises OrchestratorError when the engine does not run the kind (with the kind's reason when it has one: pass the
-    scene) or the profile options do not apply to the engine.
+    scene) or the options do not apply to the engine.
     """
 
     adapter = get_kind(kind).adapter(engine, scene)
-    return Bound(get_engine(engine, **profile), adapter)
+    return BoundAdapter(get_engine(engine, **options), adapter)
 
 
-__all__ = ["Adapter", "Bound", "Kind", "bind", "build_scene", "measure", "engines_for_kind", "get_kind", "kind_commands", "kind_names", "kinds_for_engine",
-           "register"]
+__all__ = ["Adapter", "BoundAdapter", "Kind", "bind", "build_scene", "measure", "engines_for_kind", "get_kind",
+           "kind_commands", "kind_names", "kinds_for_engine", "register"]

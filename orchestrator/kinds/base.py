@@ -5,8 +5,11 @@ the case model (case.py), the scene builder (scene.py), its quantities and analy
 that runs it with that engine's template beside it (templates/<engine>.*.j2), and its verification scenes. Which
 engines run a kind is answered by ``Kind.adapters`` alone.
 
-An Adapter is stateless: every method receives the engine (its profile: executable, threads, MPI ranks, see
-orchestrator.engines) and the scene, and keeps nothing between calls.
+Names, one per thing: an engine is named by its registry name (``engine``, a string: "sph", "yade"); its profile is
+the object that knows the program on this machine (``profile``: executable, threads, MPI ranks; engines.get_engine);
+an Adapter is how that engine runs this kind (its input files, command line and output parsing). An Adapter is
+stateless: every method receives the profile and the scene and keeps nothing between calls. A BoundAdapter is an
+adapter with its profile filled in (kinds.bind), what run.py drives.
 """
 
 from __future__ import annotations
@@ -37,36 +40,36 @@ class Adapter(abc.ABC):
     engine = ""
     templates: tuple[Path, ...] = ()
 
-    def check_scene(self, engine, scene) -> None:
+    def check_scene(self, profile, scene) -> None:
         """Raise OrchestratorError for a scene this engine cannot run (before anything is written)."""
 
     @abc.abstractmethod
-    def write_input(self, engine, scene, workdir: Path) -> None:
+    def write_input(self, profile, scene, workdir: Path) -> None:
         """Write every input file the engine needs into workdir."""
 
     @abc.abstractmethod
-    def command(self, engine, scene, workdir: Path) -> tuple[list[str], dict[str, str]]:
+    def command(self, profile, scene, workdir: Path) -> tuple[list[str], dict[str, str]]:
         """The command line and the extra environment that run the engine in workdir."""
 
     @abc.abstractmethod
-    def read_output(self, engine, scene, workdir: Path):
+    def read_output(self, profile, scene, workdir: Path):
         """Parse what the engine wrote (complete or partial) into an engines.base.Result."""
 
-    def planned_steps(self, engine, scene) -> int:
+    def planned_steps(self, profile, scene) -> int:
         """Upper bound of the run's time steps (0: unknown, no timing probe)."""
         return 0
 
-    def wants_probe(self, engine, scene) -> bool:
+    def wants_probe(self, profile, scene) -> bool:
         """True when the run is long enough to start with a timing probe: by default, more than PROBE_ABOVE_STEPS
         planned steps (an adapter whose cost lies in its particles rather than its steps says otherwise)."""
-        return self.planned_steps(engine, scene) > PROBE_ABOVE_STEPS
+        return self.planned_steps(profile, scene) > PROBE_ABOVE_STEPS
 
-    def probe_command(self, engine, scene, workdir: Path, steps: int = 200) -> tuple[list[str], dict[str, str]]:
+    def probe_command(self, profile, scene, workdir: Path, steps: int = 200) -> tuple[list[str], dict[str, str]]:
         """Command of a timing probe (a few steps on a dense lattice) in workdir; only asked when planned_steps is
         large."""
         raise OrchestratorError(f"{self.engine} has no timing probe for this kind")
 
-    def resume_input(self, engine, scene, workdir: Path) -> tuple[list[str], dict[str, str]]:
+    def resume_input(self, profile, scene, workdir: Path) -> tuple[list[str], dict[str, str]]:
         """Write the input that continues a stopped run in workdir from its last checkpoint; returns its command."""
         raise OrchestratorError(f"--resume: {self.engine} runs of {scene.case.case.kind} cases cannot be resumed from a "
                                 "checkpoint; LIGGGHTS and Yade drag-finishing runs can (output.checkpoint_interval), and "
@@ -197,7 +200,7 @@ class Kind:
     """A process kind (see the module docstring). Its parts are 'module:name' strings, held as Lazy references and
     imported on first use; a part that is a function is called under its own name (kind.build_scene(case)).
 
-    name: case.kind in case files; case_model: the pydantic model of its case files (kind.case_model.load());
+    name: case.kind in case files; case_model: the pydantic model class of its case files (kind.case_model.load());
     build_scene(case) -> scene; measure(case, result) -> {quantity: SI value}; analyze(run_dir, run, case, render)
     -> {name: path} (prints the kind's table, draws its pictures); adapters: engine name -> 'module:AdapterClass';
     refusals: engine name -> 'module:function(scene) -> message' for engines that have no adapter but can say why
@@ -244,23 +247,6 @@ class Kind:
         """Names of the engines that run this kind (those with an adapter), sorted."""
         return sorted(self.adapters)
 
-    def model(self):
-        """The case model class (case_model, loaded)."""
-        return self.case_model.load()
-
-    # The former names of build_scene, measure and analyze, until every caller uses those.
-    def scene(self, case):
-        """See build_scene."""
-        return self.build_scene(case)
-
-    def measured(self, case, result) -> dict[str, float]:
-        """See measure."""
-        return self.measure(case, result)
-
-    def analysis(self, run_dir, run: dict, case, render: bool) -> dict:
-        """See analyze."""
-        return self.analyze(run_dir, run, case, render)
-
     def unit_of(self, quantity: str) -> str:
         """SI unit of one of its measured quantities ('' when the kind does not say)."""
         return unit_in(self.quantities.load(), quantity) if self.quantities is not None else ""
@@ -285,40 +271,41 @@ class Kind:
 
 
 @dataclass(frozen=True)
-class Bound:
-    """An adapter bound to an engine: the adapter's steps with the engine filled in (what run.py drives)."""
+class BoundAdapter:
+    """An adapter bound to an engine's profile: the adapter's steps with the profile filled in (what run.py drives;
+    kinds.bind makes one)."""
 
-    engine: Any
+    profile: Any
     adapter: Adapter
 
     def check_scene(self, scene) -> None:
         """See Adapter.check_scene."""
-        self.adapter.check_scene(self.engine, scene)
+        self.adapter.check_scene(self.profile, scene)
 
     def write_input(self, scene, workdir: Path) -> None:
         """See Adapter.write_input."""
-        self.adapter.write_input(self.engine, scene, Path(workdir))
+        self.adapter.write_input(self.profile, scene, Path(workdir))
 
     def command(self, scene, workdir: Path) -> tuple[list[str], dict[str, str]]:
         """See Adapter.command."""
-        return self.adapter.command(self.engine, scene, Path(workdir))
+        return self.adapter.command(self.profile, scene, Path(workdir))
 
     def read_output(self, scene, workdir: Path):
         """See Adapter.read_output."""
-        return self.adapter.read_output(self.engine, scene, Path(workdir))
+        return self.adapter.read_output(self.profile, scene, Path(workdir))
 
     def planned_steps(self, scene) -> int:
         """See Adapter.planned_steps."""
-        return self.adapter.planned_steps(self.engine, scene)
+        return self.adapter.planned_steps(self.profile, scene)
 
     def wants_probe(self, scene) -> bool:
         """See Adapter.wants_probe (False when the adapter has no probe)."""
-        return self.adapter.probes and self.adapter.wants_probe(self.engine, scene)
+        return self.adapter.probes and self.adapter.wants_probe(self.profile, scene)
 
     def probe_command(self, scene, workdir: Path, steps: int = 200):
         """See Adapter.probe_command."""
-        return self.adapter.probe_command(self.engine, scene, Path(workdir), steps)
+        return self.adapter.probe_command(self.profile, scene, Path(workdir), steps)
 
     def resume_input(self, scene, workdir: Path):
         """See Adapter.resume_input."""
-        return self.adapter.resume_input(self.engine, scene, Path(workdir))
+        return self.adapter.resume_input(self.profile, scene, Path(workdir))

@@ -104,9 +104,9 @@ class Study:
         self._kind = cases[0].kind
         versions = {}
         for engine in self.engines:
-            program = get_engine(engine)
-            program.check_available()
-            versions[engine] = program.version()
+            profile = get_engine(engine)
+            profile.check_available()
+            versions[engine] = profile.version()
         for point, loaded in zip(self.points, cases):
             scene = _build_scene(loaded)
             for engine in self.engines:

@@ -5,8 +5,8 @@ The engines run one after the other, each into OUT/<engine>/ through
 run.run_case (so each gets its own run.h5). An engine that is not installed,
 or that does not run this kind of case, is skipped with the reason; an
 engine that fails keeps its row (status, message, whatever it measured) and
-the others still run. Per measured quantity (RunSummary.measured, from
-orchestrator.analysis) the table shows every engine's value and their spread
+the others still run. Per measured quantity (RunSummary.measured, from the
+case's kind, Kind.measure) the table shows every engine's value and their spread
 (max - min, and relative to the mean's magnitude); per engine the engine's
 wall time, particle-steps per second and the orchestrator's own overhead by
 phase (run.OVERHEAD_PHASES). What else a comparison shows is the case's
@@ -150,13 +150,13 @@ def parse_engines(text: str) -> list[str]:
 def why_not(engine: str, loaded) -> str:
     """Why engine cannot run this case here ('' when it can): not installed (with the install hint), or the
     case's kind is not one it runs."""
-    program = get_engine(engine)
+    profile = get_engine(engine)
     if engine not in engines_for_kind(loaded.kind):
         return f"{engine} does not run {loaded.kind} cases (it runs: {', '.join(kinds_for_engine(engine))})"
     try:
-        program.check_available()
+        profile.check_available()
     except EngineNotFound as exc:
-        hint = program.install_hint()
+        hint = profile.install_hint()
         return str(exc) if hint in str(exc) else f"{exc}; {hint}"
     return ""
 

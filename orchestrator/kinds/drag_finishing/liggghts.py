@@ -21,25 +21,25 @@ class LiggghtsDragFinishing(Adapter):
     engine = "liggghts"
     templates = (TEMPLATE,)
 
-    def check_scene(self, engine, scene) -> None:
+    def check_scene(self, profile, scene) -> None:
         """Refuse an impact window on a rod that is not a regular prism (impacts.template_values)."""
         template_values(scene)
 
-    def write_input(self, engine, scene, workdir: Path) -> None:
+    def write_input(self, profile, scene, workdir: Path) -> None:
         (workdir / "output").mkdir(exist_ok=True)
         write_drag_files(scene, workdir)
         (workdir / DECK).write_text(render(TEMPLATE, drag_context(scene)))
 
-    def command(self, engine, scene, workdir: Path) -> tuple[list[str], dict[str, str]]:
-        return engine.command(DECK)
+    def command(self, profile, scene, workdir: Path) -> tuple[list[str], dict[str, str]]:
+        return profile.command(DECK)
 
-    def resume_input(self, engine, scene, workdir: Path) -> tuple[list[str], dict[str, str]]:
+    def resume_input(self, profile, scene, workdir: Path) -> tuple[list[str], dict[str, str]]:
         """Write the deck that continues the stopped run from its last checkpoint (liggghts_resume)."""
-        return engine.command(write_resume_deck(scene, workdir))
+        return profile.command(write_resume_deck(scene, workdir))
 
-    def planned_steps(self, engine, scene) -> int:
+    def planned_steps(self, profile, scene) -> int:
         """Upper bound of the run's time steps."""
         return int(drag_context(scene)["planned_steps"])
 
-    def read_output(self, engine, scene, workdir: Path):
+    def read_output(self, profile, scene, workdir: Path):
         return read_drag_output(scene, workdir)

@@ -26,11 +26,11 @@ class YadeDragFinishing(Adapter):
     engine = "yade"
     templates = (TEMPLATE,)
 
-    def check_scene(self, engine, scene) -> None:
+    def check_scene(self, profile, scene) -> None:
         """Refuse an impact window on a rod that is not a regular prism (impacts.template_values)."""
         template_values(scene)
 
-    def write_input(self, engine, scene, workdir: Path) -> None:
+    def write_input(self, profile, scene, workdir: Path) -> None:
         arrays = {"positions": scene.positions, "radii": scene.radii}
         for name, part in scene.meshes.items():
             arrays[f"{name}_vertices"] = np.asarray(part.mesh.vertices, dtype=float)
@@ -39,10 +39,10 @@ class YadeDragFinishing(Adapter):
         scene.write_meshes(workdir)
         (workdir / SCRIPT).write_text(render(TEMPLATE, render_context(scene)))
 
-    def command(self, engine, scene, workdir: Path) -> tuple[list[str], dict[str, str]]:
-        return engine.run_command(SCRIPT, workdir)
+    def command(self, profile, scene, workdir: Path) -> tuple[list[str], dict[str, str]]:
+        return profile.run_command(SCRIPT, workdir)
 
-    def resume_input(self, engine, scene, workdir: Path) -> tuple[list[str], dict[str, str]]:
+    def resume_input(self, profile, scene, workdir: Path) -> tuple[list[str], dict[str, str]]:
         """Command that continues a stopped run from its last checkpoint (output/checkpoint.json, written with
         output.checkpoint_interval): the same script with --resume, after the series rows recorded after the
         checkpoint are dropped."""
@@ -59,19 +59,19 @@ class YadeDragFinishing(Adapter):
             raise OrchestratorError(f"{path} names no saved scene of this run; run the case again instead")
         for name in ("series.csv", "impacts.csv"):
             _drop_rows_after(workdir / "output" / name, step)
-        command, env = self.command(engine, scene, workdir)
+        command, env = self.command(profile, scene, workdir)
         return command + ["--resume"], env
 
-    def planned_steps(self, engine, scene) -> int:
+    def planned_steps(self, profile, scene) -> int:
         """Upper bound of the run's time steps (settling counted at its maximum time)."""
         return render_context(scene)["planned_steps"]
 
-    def probe_command(self, engine, scene, workdir: Path, steps: int = 200):
+    def probe_command(self, profile, scene, workdir: Path, steps: int = 200):
         """The same script on a dense lattice for a few steps."""
-        command, env = self.command(engine, scene, workdir)
+        command, env = self.command(profile, scene, workdir)
         return command + ["--probe", str(steps)], env
 
-    def read_output(self, engine, scene, workdir: Path) -> Result:
+    def read_output(self, profile, scene, workdir: Path) -> Result:
         return read_drag_finishing_output(scene, workdir)
 
 

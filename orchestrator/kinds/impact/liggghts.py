@@ -19,17 +19,17 @@ class LiggghtsImpact(Adapter):
     engine = "liggghts"
     templates = (TEMPLATE,)
 
-    def check_scene(self, engine, scene) -> None:
+    def check_scene(self, profile, scene) -> None:
         """Refuse what LIGGGHTS-PUBLIC 3.8 cannot run (liggghts_deck.check_impact_scene)."""
         check_impact_scene(scene)
 
-    def write_input(self, engine, scene, workdir: Path) -> None:
+    def write_input(self, profile, scene, workdir: Path) -> None:
         (workdir / "output").mkdir(exist_ok=True)
         write_impact_files(scene, workdir)
         (workdir / DECK).write_text(render(TEMPLATE, impact_context(scene)))
 
-    def command(self, engine, scene, workdir: Path) -> tuple[list[str], dict[str, str]]:
-        return engine.command(DECK)
+    def command(self, profile, scene, workdir: Path) -> tuple[list[str], dict[str, str]]:
+        return profile.command(DECK)
 
-    def read_output(self, engine, scene, workdir: Path):
+    def read_output(self, profile, scene, workdir: Path):
         return read_impact_output(scene, workdir)

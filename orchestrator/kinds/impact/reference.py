@@ -41,7 +41,7 @@ class ReferenceImpact(Adapter):
 
     engine = "reference"
 
-    def check_scene(self, engine, scene) -> None:
+    def check_scene(self, profile, scene) -> None:
         """Raise OrchestratorError (exit 2) for a scene the reference DEM cannot or should not run."""
 
         name = scene.case.case.name
@@ -57,14 +57,14 @@ class ReferenceImpact(Adapter):
                 f"{duration(MAX_WALL_TIME_S)}). Shorten simulation.duration, raise numerics.timestep_factor, or run "
                 "it on an engine: --engine yade")
 
-    def write_input(self, engine, scene, workdir: Path) -> None:
-        self.check_scene(engine, scene)
+    def write_input(self, profile, scene, workdir: Path) -> None:
+        self.check_scene(profile, scene)
         (workdir / "reference.json").write_text(json.dumps(scene_description(scene), indent=1))
 
-    def command(self, engine, scene, workdir: Path) -> tuple[list[str], dict[str, str]]:
-        return [engine.python, "-u", "-m", "orchestrator.kinds.impact.reference", "."], {"OMP_NUM_THREADS": "1"}
+    def command(self, profile, scene, workdir: Path) -> tuple[list[str], dict[str, str]]:
+        return [profile.python, "-u", "-m", "orchestrator.kinds.impact.reference", "."], {"OMP_NUM_THREADS": "1"}
 
-    def read_output(self, engine, scene, workdir: Path) -> Result:
+    def read_output(self, profile, scene, workdir: Path) -> Result:
         return read_impact_output(scene, workdir)
 
 

@@ -144,17 +144,17 @@ class YadeImpact(Adapter):
     engine = "yade"
     templates = (TEMPLATE,)
 
-    def write_input(self, engine, scene, workdir: Path) -> None:
+    def write_input(self, profile, scene, workdir: Path) -> None:
         """scene.npz (sphere arrays, material names) and impact.py into workdir."""
         np.savez(workdir / "scene.npz", positions=scene.positions, velocities=scene.velocities,
                  angular_velocities=scene.angular_velocities, radii=scene.radii,
                  materials=np.array(scene.sphere_materials, dtype=str))
         (workdir / SCRIPT).write_text(render(TEMPLATE, impact_context(scene)))
 
-    def command(self, engine, scene, workdir: Path) -> tuple[list[str], dict[str, str]]:
-        return engine.run_command(SCRIPT, workdir)
+    def command(self, profile, scene, workdir: Path) -> tuple[list[str], dict[str, str]]:
+        return profile.run_command(SCRIPT, workdir)
 
-    def read_output(self, engine, scene, workdir: Path) -> Result:
+    def read_output(self, profile, scene, workdir: Path) -> Result:
         result = read_impact_output(scene, workdir)
         if yade_deviations(scene.case):
             result.attrs["deviation"] = yade_deviations(scene.case)

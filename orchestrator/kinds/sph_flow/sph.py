@@ -29,23 +29,23 @@ class SphFlow(Adapter):
     engine = "sph"
     templates = (TEMPLATE,)
 
-    def write_input(self, engine, scene, workdir: Path) -> None:
+    def write_input(self, profile, scene, workdir: Path) -> None:
         write_particles(scene, workdir / "particles.h5")
         if scene.meshes:
             write_meshes(scene, workdir / "meshes.h5")
-        (workdir / DECK).write_text(render(TEMPLATE, deck_context(scene, threads=engine.threads)))
+        (workdir / DECK).write_text(render(TEMPLATE, deck_context(scene, threads=profile.threads)))
 
-    def command(self, engine, scene, workdir: Path) -> tuple[list[str], dict[str, str]]:
-        return [engine.executable or "sph", DECK], engine.environment(scene.case.numerics.thread_wait)
+    def command(self, profile, scene, workdir: Path) -> tuple[list[str], dict[str, str]]:
+        return [profile.executable or "sph", DECK], profile.environment(scene.case.numerics.thread_wait)
 
-    def read_output(self, engine, scene, workdir: Path) -> Result:
+    def read_output(self, profile, scene, workdir: Path) -> Result:
         return read_sph_output(workdir, scene)
 
-    def resume_input(self, engine, scene, workdir: Path) -> tuple[list[str], dict[str, str]]:
+    def resume_input(self, profile, scene, workdir: Path) -> tuple[list[str], dict[str, str]]:
         """Continue the stopped run in workdir from its last frame (resume.py): its deck from that frame's time to the
         case's simulation.duration (later than the run's own with `run --resume --until`)."""
         deck = write_resume_input(Path(workdir), DECK, OUTPUT, t_end=scene.case.simulation.duration)
-        return [engine.executable or "sph", deck], engine.environment(scene.case.numerics.thread_wait)
+        return [profile.executable or "sph", deck], profile.environment(scene.case.numerics.thread_wait)
 
 
 def deck_context(scene, threads: int = 1) -> dict:
