@@ -17,6 +17,7 @@ from typing import Literal
 from pydantic import Field, create_model, model_validator
 
 from orchestrator.case.common import CaseMeta, Frozen, Positive
+from orchestrator.drill.descriptions import DRILL_DESCRIPTIONS
 from orchestrator.drill.geometry import DrillGeometry
 from orchestrator.kinds.sph_flow.case_parts import ArtificialViscosity, Fluid, SphNumerics, SphSimulation
 from orchestrator.reference.drill_network import DrillNetwork
@@ -30,20 +31,24 @@ MIN_SPACINGS_ACROSS = 2.5
 
 
 def _drill_fields() -> dict:
-    """Every DrillNetwork field and DrillGeometry's own, with their types and defaults (one source of defaults)."""
+    """Every DrillNetwork field and DrillGeometry's own, with their types, defaults (one source of defaults) and
+    descriptions (drill/descriptions.py; KeyError for a field without one)."""
     out = {}
     for f in dataclasses.fields(DrillNetwork):
         kind = int if isinstance(f.default, int) else float
-        out[f.name] = (kind, Field(f.default, gt=0) if f.name not in ("p_ambient",) else Field(f.default))
+        bound = {} if f.name == "p_ambient" else {"gt": 0}
+        out[f.name] = (kind, Field(f.default, description=DRILL_DESCRIPTIONS[f.name], **bound))
     for f in dataclasses.fields(DrillGeometry):
         if f.name != "network":
-            out[f.name] = (type(f.default), Field(f.default, ge=0) if f.name == "groove_depth" else
-                           Field(f.default, gt=0))
+            bound = {"ge": 0} if f.name == "groove_depth" else {"gt": 0}
+            out[f.name] = (type(f.default), Field(f.default, description=DRILL_DESCRIPTIONS[f.name], **bound))
     return out
 
 
 #: The [drill] table: dimensions (m), counts, coefficients and fluid properties of the 1D network and the geometry.
-Drill = create_model("Drill", __base__=Frozen, **_drill_fields())
+Drill = create_model("Drill", __base__=Frozen, __doc__=(
+    "The drill's dimensions, counts, coefficients and fluid properties (the 1D network's and the geometry's); the "
+    "defaults are the reconstruction in reference/drill_network.py and drill/geometry.py."), **_drill_fields())
 
 
 class DrillPenalty(Frozen):
@@ -73,7 +78,7 @@ class DrillPhysics(Frozen):
         "annular gap does not resolve its walls)"))
     walls: Literal["particles", "penalty"] = Field(
         "particles", description="particles: fixed boundary particles on the fluid's lattice inside the solids, "
-                                 "each with its nearest point of the wetted surface (no-slip there; walls.py); "
+                                 "each with its nearest point of the wetted surface (no-slip there; drill/walls.py); "
                                  "penalty: the solids' meshes with the penalty force of eq. 14 (wall_penalty)")
     wall_penalty: DrillPenalty = Field(default_factory=lambda: DrillPenalty(pressure=5.0e7),
                                        description="the penalty walls' force (only with walls = 'penalty')")

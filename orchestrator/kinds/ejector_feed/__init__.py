@@ -4,7 +4,7 @@ inlets and outlets carry the 1D hydraulic network's state. The case (case.py), w
 walls (walls.py), the network at the boundaries (network.py), the scene (build.py), what is measured (analysis.py)
 and `orchestrator analyze` beside the network (report.py, pictures.py). The drill's geometry, the SPH scene's
 shared parts and the sph adapter are orchestrator/drill; the paper's flow-exit and drill-head scenes are the kind
-ejector_drill. docs/ejector_drill.md."""
+ejector_drill. docs/ejector_feed.md."""
 
 from orchestrator.kinds.base import Kind
 
