@@ -57,7 +57,7 @@ class Inlet(Patch):
 
     def deck_options(self) -> dict:
         """The profile, pressure, material and ramp keys of the engine deck, only where they differ from the
-        deck's defaults (plug, summation: a deck written before the case's defaults changed reads the same)."""
+        deck's own defaults (plug, summation: a summation inlet's deck carries no pressure key)."""
         out = {"profile": self.profile, "inner_radius": self.inner_radius, "pressure": self.pressure,
                "material": self.material, "ramp_time": self.ramp_time or None}
         return {k: v for k, v in out.items() if v not in ("plug", None, "summation")}
