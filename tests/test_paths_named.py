@@ -31,15 +31,9 @@ BUILT = ("engines/sph/build",)
 MAPPED = {"orchestrator.templates": "templates", "orchestrator.verification_cases": "cases/verification"}
 #: Dotted names that stand for any module in a docstring's example.
 PLACEHOLDERS = {"orchestrator.a.b", "orchestrator.x.y"}
-#: (file, reference) -> why it is still broken. Clear a line when its reference is fixed.
-KNOWN_BROKEN: dict[tuple[str, str], str] = {
-    ("docs/rheometry.md", "orchestrator/workflows/calibrate_maxwell.py"):
-        "the Maxwell fit moved into the rheometer kind (kinds/rheometer/calibration.py)",
-    ("docs/verify_dem.md", "orchestrator/kinds/liggghts_physics.py"):
-        "the LIGGGHTS contact-law mapping moved to orchestrator/dem/liggghts_law.py",
-    ("orchestrator/workflows/compare.py", "orchestrator.analysis"):
-        "there is no analysis package: each kind measures in its own analysis module (Kind.measured)",
-}
+#: (file, reference) -> why it is still broken. Empty: every reference resolves. A reference that another piece of
+#: work will fix may stand here for a while, with the reason; clear its line when it resolves.
+KNOWN_BROKEN: dict[tuple[str, str], str] = {}
 
 
 def named_texts():

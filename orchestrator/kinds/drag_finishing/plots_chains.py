@@ -1,7 +1,7 @@
 """Pictures of contact chains and of the rod's contact intensity (matplotlib, Agg, no pyplot state), and
 ``report_chains``, the part of ``orchestrator analyze`` that prints and draws them for a drag-finishing run.
 
-Figures (all SI; see analysis.contact_chains and analysis.contact_intensity for the definitions):
+Figures (all SI; see chains.py and intensity.py for the definitions):
 chains_network.png  xy and xz views of a snapshot's network with the chains highlighted (Uhlmann Fig. 4b-c)
 chains_fn.png       F_n with its peaks, the chain count per snapshot and their cross-correlation against lag
 contact_profiles.png mean ball-ball contact force against the angle to v_w and against height
@@ -272,7 +272,7 @@ def render_rod_intensity(ires: dict, vertices: np.ndarray, faces: np.ndarray, to
 
 
 def chain_text(res: dict) -> str:
-    """The printed summary of analysis.contact_chains.analyze_chains(): each rule first, then the numbers (SI)."""
+    """The printed summary of chains.analyze_chains(): each rule first, then the numbers (SI)."""
     n = len(res["time"])
     lines = [f"contact chains ({n} snapshot{'s' if n != 1 else ''}): strong contact = normal force > mean + "
              f"{res['k_std']:g} std of the snapshot's compressive contacts; chain = shortest path (m) through strong "

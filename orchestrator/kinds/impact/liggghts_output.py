@@ -1,4 +1,4 @@
-"""What a LIGGGHTS impact run wrote into output/, read back into the run.h5 names (liggghts.py writes the deck)."""
+"""What a LIGGGHTS impact run wrote into output/, read back into the run.h5 names (liggghts_deck.py writes the deck)."""
 
 from __future__ import annotations
 

@@ -1,6 +1,6 @@
 """Closed forms an impact case can name in its [[expected]] table.
 
-Each closed form computes one measured quantity (analysis.impact.QUANTITIES)
+Each closed form computes one measured quantity (QUANTITIES, below)
 from the case itself, with the functions of orchestrator.reference
 (closed_form, oblique, contact). They apply to the canonical scenes:
 one sphere against the plane, or two spheres colliding (normal impacts
