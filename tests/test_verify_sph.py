@@ -132,7 +132,7 @@ def _key(row) -> tuple[str, str]:
 
 @needs_sph
 def test_every_scene_at_its_quick_preset_passes(tmp_path):
-    runs = run_verification("sph", out_dir=tmp_path, cases_dir=CASES, workers=2, preset="quick")
+    runs = run_verification("sph", engines=["sph"], out_dir=tmp_path, cases_dir=CASES, workers=2, preset="quick")
     rows = [row for run in runs for row in run.rows]
     failed = [f"{r['scene']} {r['quantity']}: {r['value']} vs {r['expected']} ({r['rel_error']}) {r['note']}"
               for r in rows if not r["passed"] and _key(r) not in KNOWN_FAILURES]
@@ -175,7 +175,7 @@ def test_cli_verify_sph_json_and_plot(tmp_path, capsys):
 
 def test_cli_verify_sph_refuses_another_engine(capsys):
     assert main(["verify", "sph", "--engine", "yade"]) == 2
-    assert "sph engine only" in capsys.readouterr().err
+    assert "verify sph runs on the engines lammps, sph" in capsys.readouterr().err
 
 
 def test_cli_verify_timeout_reaches_every_run(tmp_path, monkeypatch):

@@ -5,14 +5,15 @@ A suite is what the kinds declare (kinds.base.Verification, as pytest's plug-ins
 that takes part names the suite, how a run of one of its scenes becomes check rows (the one row format of
 workflows.base.ROW_KEYS) and the units of the checked quantities; the kind that owns the suite adds its picture,
 its description, its default timeout and, if any, the case key a time-step sweep varies. This module loops over
-the kinds and names none. A suite's scenes are the case files of its kinds in the shipped cases/<folder> (or
---cases); each runs on every installed engine of its kind (or the requested ones), one run per scene and engine
-(or per point of the scene's own sweep), in parallel; a run that ends unstable or failed gives failing rows with
-the reason.
+the kinds and names none. A suite's scenes are the case files of its kinds in the shipped cases/<folder>, or in a
+folder of the owning kind's package (Verification.cases; --cases another folder); each runs on every installed
+engine of its kind (or the requested ones), one run per scene and engine (or per point of the scene's own sweep),
+in parallel; a run that ends unstable or failed gives failing rows with the reason.
 """
 
 from __future__ import annotations
 
+import importlib.util
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -23,7 +24,7 @@ from orchestrator.engines import engine_names, get_engine
 from orchestrator.errors import CaseError, EngineNotFound, OrchestratorError
 from orchestrator.humanize import stamped_dir
 from orchestrator.kinds import get_kind, kind_names
-from orchestrator.kinds.base import Verification, unit_in
+from orchestrator.kinds.base import Adapter, Verification, unit_in
 from orchestrator.run import run_case
 from orchestrator.runh5 import read_run
 from orchestrator.workflows.base import CheckedRun, Workflow
@@ -82,10 +83,23 @@ def get_suite(name: str) -> Suite:
     return known[name]
 
 
+def suite_cases(declared: Verification) -> Path:
+    """The folder of a suite's scenes (Verification.cases): cases/<folder> shipped with the package, or the folder
+    of a 'package:folder' reference inside that importable package (OrchestratorError when it has none)."""
+    package, sep, folder = declared.cases.rpartition(":")
+    if not sep:
+        return shipped_cases(folder)
+    spec = importlib.util.find_spec(package)
+    if spec is None or not spec.submodule_search_locations:
+        raise OrchestratorError(f"the scenes of the verification suite {declared.suite!r} ({declared.cases}): "
+                                f"{package} is not an importable package")
+    return Path(list(spec.submodule_search_locations)[0]) / folder
+
+
 def scene_files(suite: Suite, directory: Path | None = None) -> list[Path]:
-    """The suite's scenes in directory (default the shipped cases/<folder>): the case files of its kinds, sorted
+    """The suite's scenes in directory (default the suite's own, suite_cases): the case files of its kinds, sorted
     by name. The owner's kind must have some; the other kinds' are optional."""
-    directory = Path(directory) if directory is not None else shipped_cases(suite.declared.cases)
+    directory = Path(directory) if directory is not None else suite_cases(suite.declared)
     if not directory.is_dir():
         what = "does not exist" if not directory.exists() else "is not a directory"
         raise OrchestratorError(f"--cases {directory} {what}; give a directory of case files (*.toml), e.g. "
@@ -177,6 +191,23 @@ def run_scene(case_file: Path, engine: str, out_dir: Path, overrides=(), timeout
     return result
 
 
+def accepting_engines(model) -> list[str]:
+    """The engines of the model's kind whose adapter runs this scene: an adapter's check_scene may refuse one
+    (physics the engine lacks); that pair is left out of the suite rather than run to a refusal."""
+    kind = get_kind(model.case.kind)
+    accepted, scene = [], None
+    for engine in kind.engines():
+        adapter = kind.adapter(engine)
+        if type(adapter).check_scene is not Adapter.check_scene:
+            scene = kind.build_scene(model) if scene is None else scene
+            try:
+                adapter.check_scene(get_engine(engine), scene)
+            except OrchestratorError:
+                continue
+        accepted.append(engine)
+    return accepted
+
+
 def verification(suite: Suite, engines=None, cases_dir=None, overrides=(), timeout_s: float | None = None,
                  preset: str | None = None, only=None) -> Workflow:
     """The Workflow of every scene of the suite (or those whose stem is in `only`) on every engine that runs its
@@ -198,7 +229,7 @@ def verification(suite: Suite, engines=None, cases_dir=None, overrides=(), timeo
                 model = load_case(path, preset=preset, overrides=extra).model
                 if not getattr(model, "expected", None):
                     raise OrchestratorError(f"{path}: {model.case.name} has no [[expected]] rows: nothing to check")
-                planned.append((path, folder, extra, get_kind(model.case.kind).engines()))
+                planned.append((path, folder, extra, accepting_engines(model)))
 
     def jobs(folder: Path):
         ready = installed(names, bool(engines))  # after the folder: a bad --out is named first

@@ -9,7 +9,8 @@ KIND = Kind(
     build_scene="orchestrator.kinds.sph_flow.scene:build_sph_flow",
     measure="orchestrator.kinds.sph_flow.analysis:measure_sph_flow",
     analyze="orchestrator.kinds.sph_flow.analysis:analyze_sph_run",
-    adapters={"sph": "orchestrator.kinds.sph_flow.sph:SphFlow"},
+    adapters={"sph": "orchestrator.kinds.sph_flow.sph:SphFlow",
+              "lammps": "orchestrator.kinds.sph_flow.lammps:LammpsSphFlow"},
     quantities="orchestrator.kinds.sph_flow.analysis:QUANTITIES",
     benches={"sph": "orchestrator.kinds.sph_flow.bench_scenes"},
     verification=Verification(
