@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
+from orchestrator.case.loader import format_validation_error
 from orchestrator.engines.base import Result
 from orchestrator.errors import OrchestratorError, ReadError
 from orchestrator.humanize import byte_size
@@ -148,7 +149,8 @@ def stored_case(run: dict, path) -> object:
     """The validated case model stored in a run read by read_run (its /case group's TOML).
 
     Raises ReadError naming the file when run.h5 has no /case (not written by 'orchestrator run') or its case
-    cannot be read or validated by this version.
+    cannot be read or validated by this version; a case that no longer validates is named one line per problem,
+    each naming its key (case.loader.format_validation_error).
     """
 
     from pydantic import ValidationError
@@ -159,14 +161,13 @@ def stored_case(run: dict, path) -> object:
                         "'orchestrator run' (or is damaged)")
     try:
         data = tomllib.loads(text)
-        kind = data["case"]["kind"]
-        return get_kind(kind).case_model.load().model_validate(data)
+        model = get_kind(data["case"]["kind"]).case_model.load()
+        return model.model_validate(data)
     except (tomllib.TOMLDecodeError, KeyError, TypeError, RecursionError, OrchestratorError):
         raise ReadError(f"{path}: the case stored in run.h5 (/case) is not a case this version knows") from None
     except ValidationError as exc:
-        first = str(exc).splitlines()[1:3]
-        raise ReadError(f"{path}: the case stored in run.h5 no longer validates ({' '.join(first)}); it was "
-                        "written by another version of orchestrator") from None
+        raise ReadError(f"{path}: the case stored in run.h5 no longer validates (it was written by another version "
+                        f"of orchestrator):\n{format_validation_error(exc, model)}") from None
 
 
 def _plain(value):
