@@ -38,8 +38,7 @@ def _pages_with_tables() -> dict[str, list[Path]]:
 @pytest.mark.parametrize("kind", kind_names())
 def test_a_kind_page_holds_the_table_of_its_model(kind):
     pages = _pages_with_tables().get(kind, [])
-    if not pages:
-        pytest.skip(f"no docs page holds <!-- keys:{kind} begin -->")
+    assert pages, f"no docs page holds <!-- keys:{kind} begin -->: every kind has a page with its key table"
     for page in pages:
         text = page.read_text()
         assert docs_tables.with_table(text, kind, docs_tables.kind_table(kind)) == text, (
@@ -60,6 +59,16 @@ def test_the_table_lists_every_key_with_its_unit_and_default():
     assert rows["materials.<name>.young_modulus"].meaning == "Young's modulus E"
     assert rows["plane"].default == "none" and rows["plane"].meaning.startswith("table: ")
     assert "`\"exact\"`" in rows["model.damping"].meaning
+
+
+@pytest.mark.parametrize("kind", ["ejector_drill", "ejector_feed"])
+def test_every_drill_key_has_a_unit_and_a_meaning(kind):
+    rows = [row for row in docs_tables.key_rows(get_kind(kind).case_model.load()) if row.key.startswith("drill.")]
+    assert len(rows) == 35
+    assert [row.key for row in rows if not (row.unit and row.meaning)] == []
+    units = {row.key: row.unit for row in rows}
+    assert (units["drill.rho"], units["drill.mu"], units["drill.front_area"]) == ("kg/m^3", "Pa s", "m^2")
+    assert (units["drill.n_holes"], units["drill.nozzle_angle_deg"], units["drill.d_bore"]) == ("-", "deg", "m")
 
 
 @pytest.mark.parametrize("description, unit, meaning", [
