@@ -21,10 +21,11 @@ def add_parser(sub) -> None:
     parser = sub.add_parser(
         "verify", help="verification suite: every scene on every installed engine against closed forms",
         description="Run every scene of a verification suite (the case files of the kinds that declare it, in "
-        "cases/verification or --cases) on every installed engine that runs it, compare each measured quantity "
-        "with its closed form, series solution or measurement, print one table (scene, engine, quantity [SI "
-        "unit], value, expected, rel_error = |value - expected| / |expected|, tolerance, passed) and save the "
-        f"suite's picture, verify_<suite>.png. Exit code 1 if any check fails. {described}")
+        "cases/verification, the folder the suite's kind ships, or --cases) on every installed engine that runs "
+        "it, compare each measured quantity with its closed form, series solution or measurement, print one table "
+        "(scene, engine, quantity [SI unit], value, expected, rel_error = |value - expected| / |expected|, "
+        "tolerance, passed) and save the suite's picture, verify_<suite>.png. Exit code 1 if any check fails. "
+        + described)
     parser.add_argument("suite", choices=list(suites), help="which suite: " + "; ".join(
         f"{name} ({', '.join(sorted(suite.members))} scenes on {', '.join(suite.engines())})"
         for name, suite in suites.items()))
@@ -32,7 +33,7 @@ def add_parser(sub) -> None:
                         help="run on this engine only (repeatable; default: every installed engine of the suite)")
     parser.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE",
                         help="override a value of every scene, SI units, e.g. --set numerics.timestep_factor=0.1")
-    parser.add_argument("--cases", metavar="DIR", help="directory of scenes (default: the shipped cases/verification)")
+    parser.add_argument("--cases", metavar="DIR", help="directory of scenes (default: the suite's own, e.g. the shipped cases/verification)")
     parser.add_argument("--out", metavar="DIR",
                         help="run directories and the PNG (default: runs/verify-<suite>-<time>)")
     parser.add_argument("--workers", type=int, metavar="N", help="parallel runs (default: the number of cores)")

@@ -135,8 +135,11 @@ class Verification:
     sweep), else one run in folder stem. Suite-wide, given by the one kind that owns the suite: picture:
     'module:function(runs, path) -> path' (runs: workflows.base.CheckedRun with .picture); description: what the
     suite checks, for --help; timeout_s: each run's default wall-time limit, s; timestep_key: the case key that
-    `verify <suite> --timestep-factors` sweeps ('' when the suite has none); cases: the folder of the scenes, under
-    cases/ (shipped with the package).
+    `verify <suite> --timestep-factors` sweeps ('' when the suite has none); cases: the folder of the scenes, a
+    folder under cases/ (shipped with the package, e.g. 'verification') or 'package:folder', a folder inside an
+    importable package (a kind's own folder, e.g. 'mykind:scenes'); default_engines: the engines the suite runs on
+    when none is asked for (empty: every engine of its kinds; the others run with --engine, e.g. a cross-code
+    check whose differences are explained in the docs).
     """
 
     suite: str
@@ -148,6 +151,7 @@ class Verification:
     timeout_s: float = 600.0
     timestep_key: str = ""
     cases: str = "verification"
+    default_engines: tuple[str, ...] = ()
 
     def __post_init__(self):
         for name in ("check", "units", "runs", "picture"):

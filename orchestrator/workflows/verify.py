@@ -120,10 +120,11 @@ def scene_files(suite: Suite, directory: Path | None = None) -> list[Path]:
 
 def check_engines(suite: Suite, requested=None) -> list[str]:
     """The requested engine names, each registered and running the suite's scenes (OrchestratorError otherwise),
-    duplicates dropped; None: the suite's engines (which of them are installed is asked when the runs start)."""
+    duplicates dropped; None: the suite's default engines, else all of its engines (which of them are installed is
+    asked when the runs start)."""
     engines = suite.engines()
     if not requested:
-        return engines
+        return list(suite.declared.default_engines) or engines
     for name in requested:
         if name not in engine_names():
             raise OrchestratorError(f"unknown engine {name!r}; allowed: {', '.join(engine_names())}")
