@@ -10,16 +10,16 @@ def check_engines() -> list[dict]:
     packages the adapters use; '' when it says nothing), path, hint (what to do when missing)."""
     rows = []
     for name in engine_names():
-        program = get_engine(name)
-        found = program.available()
+        profile = get_engine(name)
+        found = profile.available()
         rows.append(
             {
                 "engine": name,
                 "found": found,
-                "version": program.version() if found else "",
-                "features": program.features() if found and hasattr(program, "features") else "",
-                "path": program.where() if found else "",
-                "hint": "" if found else program.install_hint(),
+                "version": profile.version() if found else "",
+                "features": profile.features() if found and hasattr(profile, "features") else "",
+                "path": profile.where() if found else "",
+                "hint": "" if found else profile.install_hint(),
             }
         )
     return rows

@@ -48,25 +48,25 @@ class LammpsSphFlow(Adapter):
     engine = "lammps"
     templates = (TEMPLATE,)
 
-    def check_scene(self, engine, scene) -> None:
+    def check_scene(self, profile, scene) -> None:
         """OrchestratorError naming what LAMMPS SPH lacks for this scene (exit 2 at the command line)."""
         reason = refusal(scene)
         if reason:
             raise OrchestratorError(f"{scene.case.case.name}: LAMMPS SPH cannot run this scene: {reason}; run it "
                                     "with --engine sph")
 
-    def write_input(self, engine, scene, workdir: Path) -> None:
+    def write_input(self, profile, scene, workdir: Path) -> None:
         workdir = Path(workdir)
         write_data_file(scene, workdir / DATA)
         (workdir / DECK).write_text(render(TEMPLATE, deck_context(scene)))
 
-    def command(self, engine, scene, workdir: Path) -> tuple[list[str], dict[str, str]]:
-        return engine.command(DECK)
+    def command(self, profile, scene, workdir: Path) -> tuple[list[str], dict[str, str]]:
+        return profile.command(DECK)
 
-    def read_output(self, engine, scene, workdir: Path):
+    def read_output(self, profile, scene, workdir: Path):
         return read_lammps_output(Path(workdir), scene)
 
-    def planned_steps(self, engine, scene) -> int:
+    def planned_steps(self, profile, scene) -> int:
         return planned_steps(scene)
 
 
