@@ -16,7 +16,7 @@ KIND = Kind(
     verification=Verification(
         suite="sph", check="orchestrator.kinds.sph_flow.checks:check_run",
         units="orchestrator.kinds.sph_flow.checks_base:UNITS",
-        picture="orchestrator.kinds.sph_flow.pictures:plot_scenes", timeout_s=3600.0,
+        picture="orchestrator.kinds.sph_flow.pictures:plot_scenes", timeout_s=3600.0, default_engines=("sph",),
         description="the SPH flows (cases/verification/sph_*.toml: Poiseuille and Couette start-up against the "
         "series of Morris et al. 1997, a hydrostatic tank, the 2D dam break against Koshizuka & Oka 1996 and "
         "Martin & Moyce 1952, penalty walls against eq. 14, and the rheometer's scenes) on the sph executable; "
