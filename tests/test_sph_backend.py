@@ -257,7 +257,7 @@ BAD_VALUES = [
     ("output.probes.0.point=[0.1]", ["output.probes[0].point"]),
     ("walls=[{shape='box',name='w',lo=[0.0,0.0],hi=[1.0,1.0],radius=1.0}]", ["walls[0].radius", "unknown key"]),
     ("walls=[{shape='plane',name='w',center=[0.0,0.0],normal=[0.0,1.0]}]", ["walls[0]", "needs half_extents"]),
-    ("case.engine='yade'", ["case.engine = 'yade'", "sph_flow", "allowed: sph"]),
+    ("case.engine='yade'", ["case.engine = 'yade'", "sph_flow", "allowed: lammps, sph"]),
     ("inlets=[{name='in',center=[0.0,0.1],normal=[1.0,0.0],radius=0.05,velocity=1.0,layers=2}]",
      ["inlets[0].layers = 2", "2h"]),
 ]
@@ -295,7 +295,7 @@ def test_engine_and_kind_must_match(capsys, tmp_path):
     err = capsys.readouterr().err
     assert code == 2 and "--engine sph does not run impact cases; allowed: liggghts, reference, yade" in err
     code = main(["run", str(DAM_BREAK), "--engine", "yade", "--out", str(tmp_path / "r")])
-    assert code == 2 and "--engine yade does not run sph_flow cases; allowed: sph" in capsys.readouterr().err
+    assert code == 2 and "--engine yade does not run sph_flow cases; allowed: lammps, sph" in capsys.readouterr().err
     assert not (tmp_path / "r").exists()
 
 
