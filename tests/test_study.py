@@ -197,7 +197,7 @@ def test_report_from_an_index(tmp_path):
     html = write_study_report(tmp_path, quantity="fn_mean", tolerance=0.05).read_text()
     # the finest run is the reference; 0.1 is the cheapest within 5 % (error 0.025); 0.01 is 15 % off
     assert "run aaaaaaaaaaaa" in html
-    assert "#2, numerics.stiffness_scale = 0.1 on yade" in html
+    assert "#2, numerics.stiffness_scale = 0.1 on yade" in html and "3 x faster than the reference run" in html
     assert "0.025" in html and "0.15" in html and "failed" in html
     assert "data:image/png;base64," in html
 

@@ -141,6 +141,9 @@ def test_page_names_the_study_and_no_path_of_this_machine(tmp_path):
     assert "from index.csv." in html
     assert str(tmp_path) not in html and not ABSOLUTE_PATH.search(html), ABSOLUTE_PATH.search(html)
     assert "Error 0 (#2)" in html  # the reference run, named beside the figure instead of drawn at a fake error
+    # the same stiffness with the other seed is within 0.5 % and about as slow: no "1 x faster"
+    assert "#1, numerics.stiffness_scale = 1.0, case.seed = 7 on yade" in html
+    assert "(the reference run took 1008.0 s)" in html
 
 
 @needs_chromium

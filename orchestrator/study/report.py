@@ -159,7 +159,9 @@ def _recommendation(ok, walls, errors, ref_row, varied, quantity, tolerance, num
     text = (f"#{number[id(best)]}, {_label(best, varied or None, short=False)} on {best['engine']}: {quantity} within "
             f"{100 * tolerance:g} % of the reference ({100 * err:.1f} %) in {wall:.1f} s")
     if ref_row is not None:
-        text += f", {_float(ref_row['wall_time_s']) / wall:.0f} x faster than the reference run"
+        speed_up = _float(ref_row["wall_time_s"]) / wall
+        text += (f", {speed_up:.0f} x faster than the reference run" if speed_up >= 1.5 else
+                 f" (the reference run took {_float(ref_row['wall_time_s']):.1f} s)")
     return text
 
 
