@@ -34,7 +34,7 @@ def add_parser(sub) -> None:
     report = sub.add_parser("report", help="HTML report of a study: table, speed against error, Pareto front",
                             description="Write STUDY_DIR/report.html (self-contained): the runs' table, wall time "
                             "against the relative error of a measured quantity with the Pareto front, the "
-                            "cheapest run within the tolerance, and each run's force plot.")
+                            "cheapest run within the tolerance, and the pictures the study's kind draws.")
     report.add_argument("study_dir", metavar="STUDY_DIR", help="directory of a study (holds index.csv)")
     report.add_argument("--quantity", default="fn_mean", help="measured quantity (default fn_mean, N)")
     report.add_argument("--reference", default="finest",
