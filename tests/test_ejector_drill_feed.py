@@ -14,7 +14,7 @@ from orchestrator.case.loader import load_case
 from orchestrator.errors import OrchestratorError
 from orchestrator.kinds import build_scene
 from orchestrator.drill.walls import scene_lattice
-from orchestrator.kinds.ejector_feed.analysis import feed_flows, slab_flow, steady_means
+from orchestrator.kinds.ejector_feed.flows import feed_flows, slab_flow, steady_means
 from orchestrator.kinds.ejector_feed.build import start_pressure, start_velocities, tait_density
 from orchestrator.kinds.ejector_feed.layout import Nozzle
 from orchestrator.kinds.ejector_feed.network import feed_boundary, gap_pressure_below_feed

@@ -11,7 +11,7 @@ import pytest
 from orchestrator.case.loader import load_case
 from orchestrator.errors import OrchestratorError
 from orchestrator.kinds import build_scene, get_kind, kind_names
-from orchestrator.kinds.ejector_drill.analysis import balance, filling_times, flow_series, spaced_frames
+from orchestrator.kinds.ejector_drill.flows import balance, filling_times, flow_series, spaced_frames
 from orchestrator.kinds.ejector_drill.comparison import comparison_rows, network_at_gap_flow
 from orchestrator.kinds.ejector_drill.build import prefill_margin, wall_meshes
 from orchestrator.drill.probe import end_particles, probe_scene
@@ -247,7 +247,7 @@ def test_the_window_balance_counts_volumes_from_frame_to_frame():
     0.6e-3, V_loss 0.1e-3 from t = 0.3 ms on), frames every 1e-4 s holding a volume that gains 0.4e-3 m^3/s before
     and 0.3e-3 after 0.3 ms: over the last 20 % (frames 0.8..1.0 ms) the planes count 2e-7, 1.2e-7, 2e-8 m^3 and the
     storage 6e-8: nothing missing; a volume series that misses 1 % of V_AG is named."""
-    from orchestrator.kinds.ejector_drill.analysis import window_balance
+    from orchestrator.kinds.ejector_drill.flows import window_balance
 
     time = np.linspace(0.0, 1e-3, 101)
     flows = {"V_AG": np.full_like(time, 1e-3), "V_IB": np.full_like(time, 0.6e-3),
@@ -274,7 +274,7 @@ def test_the_window_balance_counts_volumes_from_frame_to_frame():
     (0.05, 0.001, "5 % of V_AG, of which the control volume's storage accounts for 0.1 %"),
 ])
 def test_the_balance_verdict_says_where_the_volume_is(residual, storage, words):
-    from orchestrator.kinds.ejector_drill.report import balance_verdict
+    from orchestrator.kinds.ejector_drill.analysis import balance_verdict
 
     assert words in balance_verdict(residual, storage)
 
@@ -411,7 +411,7 @@ def test_zones_find_the_still_fluid_and_the_pressure_peak():
     """A synthetic frame: the flow-exit quick scene's lattice sites moving at v_in, those in the groove below the
     holes at rest, 1 % of the particles at 500 bar in the head clearance at the face: zones() finds both where they
     were put."""
-    from orchestrator.kinds.ejector_drill.analysis import zones
+    from orchestrator.kinds.ejector_drill.flows import zones
     from orchestrator.drill.scene import filled_sites
 
     case = load_case(CASE, preset="flow_exit_quick").model

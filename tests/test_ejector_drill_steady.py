@@ -13,7 +13,7 @@ from orchestrator.case.loader import load_case
 from orchestrator.errors import OrchestratorError
 from orchestrator.kinds import build_scene
 from orchestrator.drill.series import sensor_pressures
-from orchestrator.kinds.ejector_drill.analysis import less_back_pressure
+from orchestrator.kinds.ejector_drill.flows import less_back_pressure
 from orchestrator.kinds.sph_flow.sph import TEMPLATE, deck_context
 from orchestrator.reference.drill_network import LITRE_PER_MIN, solve
 from orchestrator.templating import render
@@ -78,7 +78,7 @@ def test_the_pressure_beside_the_jets_leaves_out_the_jets_and_other_heights():
     """Fluid in the head clearance at the holes' height 30 degrees or more from every hole's axis counts; a
     particle on a hole's axis (its jet meeting the bore), one above the holes, one in the gap and a wall
     particle do not."""
-    from orchestrator.kinds.ejector_drill.analysis import pressure_beside_jets
+    from orchestrator.kinds.ejector_drill.flows import pressure_beside_jets
     from orchestrator.kinds.ejector_drill.layout import drill_layout
 
     case = load_case(CASE, preset="flow_exit_steady_quick").model

@@ -373,19 +373,9 @@ def test_the_docs_count_the_files_of_a_new_kind():
     assert (int(found.group(1)), int(found.group(2))) == (len(MINIMAL), len(CAPABILITIES))
 
 
-#: Kinds whose analyze still lives elsewhere than their analysis module, with the reason; clear a line when it moves.
-ANALYZE_ELSEWHERE = {
-    "ejector_drill": "report.py holds the drill's analyze beside its network comparison (the drill kinds' own work)",
-    "ejector_feed": "report.py holds the feed's analyze beside its network comparison (the drill kinds' own work)",
-}
-
-
 @pytest.mark.parametrize("name", kind_names())
 def test_every_kind_measures_and_analyzes_in_its_analysis_module(name):
     """As the toy: Kind.measure and Kind.analyze are functions of the kind's module named analysis."""
     kind = registry.get_kind(name)
     assert kind.measure.spec.split(":")[0].endswith(".analysis"), kind.measure.spec
-    if name in ANALYZE_ELSEWHERE:
-        assert not kind.analyze.spec.split(":")[0].endswith(".analysis"), f"{name} moved: clear its line"
-    else:
-        assert kind.analyze.spec.split(":")[0].endswith(".analysis"), kind.analyze.spec
+    assert kind.analyze.spec.split(":")[0].endswith(".analysis"), kind.analyze.spec

@@ -2,7 +2,7 @@
 the flow-exit area (the annular gap, the adduction holes, the clearances to the bore) and the drill-head area (the
 head clearance, the cutting zone, the chip mouth). The case (case.py), where things are (layout.py), the walls
 (walls.py), the scene with its outlets and columns (build.py, columns.py), what is measured (analysis.py) and
-`orchestrator analyze` beside the 1D hydraulic network (comparison.py, report.py, pictures.py). The drill's
+`orchestrator analyze` beside the 1D hydraulic network (comparison.py, analysis.py, pictures.py). The drill's
 geometry, the SPH scene's shared parts and the sph adapter are orchestrator/drill; the feed with its ejector nozzles
 is the kind ejector_feed. docs/ejector_drill.md."""
 
@@ -15,6 +15,6 @@ KIND = Kind(
     case_model="orchestrator.kinds.ejector_drill.case:EjectorDrillCase",
     build_scene="orchestrator.kinds.ejector_drill.build:build_drill_scene",
     measure="orchestrator.kinds.ejector_drill.analysis:measure_drill",
-    analyze="orchestrator.kinds.ejector_drill.report:analyze_drill_run",
+    analyze="orchestrator.kinds.ejector_drill.analysis:analyze_drill_run",
     adapters={"sph": "orchestrator.drill.sph:DrillSph"},
 )

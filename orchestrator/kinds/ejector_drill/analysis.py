@@ -1,178 +1,218 @@
-"""What an ejector-drill SPH run measures (paper eqs. 1-2, Fig. 5): the flows V_AG, V_IB, V_loss and the holes'
-flow from the flow planes, the volume stored in the scene, the balance of eq. 2, the sensor pressures in bar, the
-filling times and the ejector onset. Flows in m^3/s, pressures in Pa (gauge: the outlets hold gauge pressures),
-times in s."""
+"""`orchestrator analyze` of an ejector-drill run: the flows and the balance of eq. 2 (with the volume still filling
+the control volume), the sensor pressures, the filling times and the ejector onset, the SPH beside the 1D network
+and the paper (table and comparison.png), the flow and pressure series (series.png) and, with render, the sectional
+pictures at the case's picture times (pictures.py)."""
 
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 
-from orchestrator.drill.series import STEADY_FRACTION, sensor_pressures
+from orchestrator.drill.series import STEADY_FRACTION, run_series, sensor_pressures, steady_window
+from orchestrator.kinds.ejector_drill.flows import (STILL_SHARE, balance, ejector_onset, filling_times, flow_series,
+                                                       less_back_pressure, pressure_beside_jets, spaced_frames,
+                                                       stored_volume_rate, window_balance, zones)
+from orchestrator.kinds.ejector_drill.comparison import (comparison_rows, element_flows, elements_at_flow,
+                                                         network_at_gap_flow, stored_volume)
+from orchestrator.kinds.ejector_drill.layout import drill_layout
+from orchestrator.kinds.ejector_drill.pictures import draw_run_pictures
+from orchestrator.reference.drill_network import LITRE_PER_MIN, solve
 
 
-def less_back_pressure(series: dict, frames: dict, back: float) -> tuple[dict, dict]:
-    """The series and frames with the scene's back pressure (Pa, `[scene] back_pressure`) taken off every pressure:
-    the probes' (pressure_probe_*), the columns' chambers (column_pressure_*) and the frames' particles, so that
-    they read as the gauge pressures of the flow without it. Unchanged when back is 0."""
-    if not back:
-        return series, frames
-    shifted = {k: (np.asarray(v, dtype=float) - back if k.startswith(("pressure_probe_", "column_pressure_")) else v)
-               for k, v in series.items()}
-    moved = {k: (f if k == "attrs" else {**f, "pressures": np.asarray(f["pressures"], dtype=float) - back})
-             for k, f in frames.items()}
-    return shifted, moved
+#: The paper's mean time steps (sect. 4): flow-exit area over 1 ms, drill-head area over 10 ms, s.
+PAPER_MEAN_DT = {"flow_exit": 1.403e-8, "drill_head": 5.46e-8}
 
 
-#: Beside the jets: at least this angle (rad) from every hole's axis (a Ø4 mm hole spans 8 degrees at the bore).
-BESIDE_JETS = math.radians(30.0)
+def _fmt(value) -> str:
+    return f"{value:10.3g}" if isinstance(value, float) and math.isfinite(value) else f"{'-':>10}"
 
 
-def pressure_beside_jets(layout, frame: dict) -> tuple[float, int]:
-    """(mean gauge pressure Pa, particles) of the head clearance's fluid at the holes' height (within one hole
-    radius of sensor A's z) and at least BESIDE_JETS from every hole's axis: the clearance's static pressure, the
-    network's node A, which sensor A on a hole's axis (where its jet meets the bore) does not read. (NaN, 0) where
-    the scene has no holes or no fluid there."""
-    clearance = next((r for r in layout.regions if getattr(r, "name", "") == "head_clearance"), None)
-    holes = [p for name, p in layout.planes.items() if name.startswith("hole")]
-    if clearance is None or not holes:
-        return math.nan, 0
-    x = np.asarray(frame["positions"], dtype=float).reshape(-1, 3)
-    fluid = np.asarray(frame["kind"]) == 0
-    half = max(p.radius for p in holes)
-    near = fluid & clearance.contains(x) & (np.abs(x[:, 2] - layout.sensors["A"][2]) <= half)
-    angle = np.arctan2(x[:, 1], x[:, 0])
-    for p in holes:
-        off = np.abs(np.angle(np.exp(1j * (angle - math.atan2(p.normal[1], p.normal[0])))))
-        near &= off >= BESIDE_JETS
-    if not near.any():
-        return math.nan, 0
-    return float(np.mean(np.asarray(frame["pressures"], dtype=float)[near])), int(near.sum())
+def balance_verdict(residual_share: float, filling_share: float) -> str:
+    """One line on eq. 2 over the steady window: closed within 1 % of V_AG, or where the missing volume is (the
+    fluid still filling the control volume, when the storage accounts for the residual to within 1 %; else what the
+    planes and frames do not account for). Shares of V_AG, -."""
+    if abs(residual_share) <= 0.01:
+        return "the balance closes within 1 %"
+    if math.isfinite(filling_share) and abs(residual_share - filling_share) <= 0.01:
+        where = "still filling the scene" if filling_share > 0 else "draining from the scene"
+        return (f"the balance does not close within 1 %: the missing volume is the fluid {where} (the control "
+                "volume's storage above), not yet a steady state")
+    return (f"the balance does not close within 1 %: {residual_share * 100:.3g} % of V_AG, of which the control "
+            f"volume's storage accounts for {filling_share * 100:.3g} %")
 
 
-def flow_series(series: dict, time: np.ndarray) -> dict[str, np.ndarray]:
-    """V_AG, V_IB, V_loss, V_holes, V_front, V_in, V_mouth_out, V_leak_out (m^3/s) against time from the run's
-    series (flow_rate_<plane>, inflow_<inlet>, outflow_<outlet>); V_loss = rear + AG (the rear disc covers the gap,
-    whose flow it counts negative). Missing series are absent."""
-    def get(name):
-        return np.asarray(series[name], dtype=float) if name in series else None
-
-    out = {}
-    ag, rear, ib = get("flow_rate_AG"), get("flow_rate_rear"), get("flow_rate_IB")
-    if ag is not None:
-        out["V_AG"] = ag
-    if ib is not None:
-        out["V_IB"] = ib
-    if ag is not None and rear is not None:
-        out["V_loss"] = rear + ag
-    holes = [get(n) for n in sorted(series) if n.startswith("flow_rate_hole")]
-    if holes:
-        out["V_holes"] = np.sum(holes, axis=0)
-    for key, name in (("V_front", "flow_rate_front"), ("V_in", "inflow_gap_inlet"), ("V_in", "inflow_clearance_inlet"),
-                      ("V_mouth_out", "outflow_mouth"), ("V_leak_out", "outflow_leak")):
-        if get(name) is not None:
-            out[key] = get(name)
-    if "V_AG" not in out and "V_in" in out:  # the drill-head scene: the inlet is the gap's flow
-        out["V_AG"] = out["V_in"]
-    return out
+def print_window_balance(bal: dict, win: dict) -> None:
+    """Print eq. 2 as volumes between the steady window's first and last frames (analysis.window_balance) and the
+    verdict; without two frames in the window, the means of `bal` (analysis.balance) and its storage rate."""
+    if not win:
+        print(f"residual V_AG - V_IB - V_loss = {bal['residual_share'] * 100:.3g} % of V_AG; the control volume "
+              f"stores {bal.get('filling_share', math.nan) * 100:.3g} % of V_AG (d volume / dt from the frames)")
+        print(balance_verdict(bal["residual_share"], bal.get("filling_share", math.nan)))
+        return
+    ag = win["V_AG"]
+    residual = (ag - win["V_IB"] - win["V_loss"]) / ag if ag else math.nan
+    print(f"as volumes from frame to frame, {win['t_a'] * 1e3:.4g}..{win['t_b'] * 1e3:.4g} ms (ml): V_AG "
+          f"{ag * 1e6:.4g}, V_IB {win['V_IB'] * 1e6:.4g}, V_loss {win['V_loss'] * 1e6:.4g}, stored in the control "
+          f"volume {win['stored'] * 1e6:+.4g}")
+    print(f"residual V_AG - V_IB - V_loss = {residual * 100:.3g} % of V_AG; the storage {win['stored_share'] * 100:.3g} "
+          f"%; what neither accounts for: {win['closure_share'] * 100:.2g} %")
+    print(balance_verdict(residual, win["stored_share"]))
 
 
-def spaced_frames(t_frames: np.ndarray, interval: float) -> np.ndarray:
-    """Mask of the frames at least interval / 2 (s) after the last kept one: leaves out the extra frame a stopped
-    (and resumed) run wrote at its stop, whose short interval would make a storage rate spike."""
-    keep = np.zeros(len(t_frames), dtype=bool)
-    last = -math.inf
-    for i, t in enumerate(t_frames):
-        if t - last >= 0.5 * interval:
-            keep[i], last = True, t
-    return keep
+def print_zones(layout, frames: dict, v_in: float) -> None:
+    """Print the still zones and the zone of maximum pressure (analysis.zones) of the last frame; v_in m/s."""
+    last = frames[max((k for k in frames if k != "attrs"), key=int)]
+    found = zones(layout, last, v_in)
+    print(f"\nzones at t = {float(last['attrs']['time']) * 1e3:.3g} ms (paper: 'areas with little to zero fluid velocity "
+          "and maximum pressure'):")
+    still = "; ".join(f"{name} {count} ({share * 100:.2g} % of it) at r {r * 1e3:.3g} mm, z {z * 1e3:.3g} mm"
+                      for name, count, share, r, z in found["still"][:4]) or "none"
+    print(f"  still (|v| < {STILL_SHARE * 100:g} % of v_in): {still}")
+    if "peak" in found:
+        n, mean, top, name, r, z = found["peak"]
+        print(f"  highest pressure (top {n} particles): mean {mean / 1e5:.3g} bar, max {top / 1e5:.3g} bar, mostly "
+              f"in {name}, at r {r * 1e3:.3g} mm, z {z * 1e3:.3g} mm")
 
 
-def stored_volume_rate(time: np.ndarray, volume: np.ndarray) -> np.ndarray:
-    """d(volume)/dt, m^3/s, by central differences (one-sided at the ends) of a volume series (m^3)."""
-    if len(time) < 2:
-        return np.zeros_like(volume)
-    return np.gradient(volume, time)
+def print_element_flows(net, sph: dict, scene, layout, p_a: float, where: str) -> None:
+    """Print the flows the network's elements give at the SPH's pressure p_a (Pa gauge, read `where`) and the
+    outlets' held pressures (comparison.element_flows) beside the SPH's V_IB and V_loss (flow_exit; drill_head:
+    V_IB only)."""
+    if not math.isfinite(p_a):
+        return
+    els = element_flows(net, p_a, scene.mouth_pressure, scene.leak_pressure, scene.columns)
+    parts = [f"the cutting zone and the chip mouth's entrance {els['V_IB'] / LITRE_PER_MIN:.3g} l/min (SPH "
+             f"{sph.get('V_IB', math.nan) / LITRE_PER_MIN:.3g})"]
+    if "leak" in layout.outlets:
+        parts.append(f"the leak path {els['V_loss'] / LITRE_PER_MIN:.3g} l/min (SPH "
+                     f"{sph.get('V_loss', math.nan) / LITRE_PER_MIN:.3g})")
+    ends = "the columns' ends" if scene.columns else "the outlets"
+    print(f"the network's elements alone at the SPH's p_A {where} = {p_a / 1e5:.3g} bar and {ends}' pressures: "
+          + ", ".join(parts))
 
 
-def balance(time: np.ndarray, flows: dict, stored: np.ndarray | None = None) -> dict[str, float]:
-    """Eq. 2 over the steady window (the last STEADY_FRACTION of the run): V_AG, V_IB, V_loss (means, m^3/s),
-    residual = V_AG - V_IB - V_loss (m^3/s), its share of V_AG (-), and with `stored` (d volume/dt of the fluid
-    between the planes, m^3/s, at the same times) the share of V_AG still filling the scene (-)."""
-    t_end = time[-1]
-    window = time >= t_end - STEADY_FRACTION * (t_end - time[0])
-    mean = {k: float(np.nanmean(v[window])) for k, v in flows.items() if k in ("V_AG", "V_IB", "V_loss", "V_in")}
-    out = dict(mean)
-    ag, ib, loss = mean.get("V_AG", math.nan), mean.get("V_IB", math.nan), mean.get("V_loss", 0.0)
-    out["residual"] = ag - ib - loss
-    out["residual_share"] = out["residual"] / ag if ag else math.nan
-    if stored is not None:
-        out["filling_share"] = float(np.nanmean(stored[window])) / ag if ag else math.nan
-    return out
+def print_elements_at_flow(net, sph: dict, scene, layout) -> None:
+    """Print the network's elements carrying the SPH's V_AG between the scene's ends (comparison.elements_at_flow):
+    their p_A and split beside the SPH's (flow_exit with a leak outlet)."""
+    v_ag = sph.get("V_AG", math.nan)
+    if "leak" not in layout.outlets or not (math.isfinite(v_ag) and v_ag > 0):
+        return
+    p_a, els = elements_at_flow(net, v_ag, scene.mouth_pressure, scene.leak_pressure, scene.columns)
+    print(f"the network's elements carrying the SPH's V_AG = {v_ag / LITRE_PER_MIN:.3g} l/min between the scene's "
+          f"ends (the SPH's boundary conditions): p_A {p_a / 1e5:.3g} bar, V_IB {els['V_IB'] / LITRE_PER_MIN:.3g} "
+          f"l/min (SPH {sph.get('V_IB', math.nan) / LITRE_PER_MIN:.3g}), V_loss {els['V_loss'] / LITRE_PER_MIN:.3g} "
+          f"l/min (SPH {sph.get('V_loss', math.nan) / LITRE_PER_MIN:.3g})")
 
 
-def window_balance(time: np.ndarray, flows: dict, t_frames: np.ndarray, volumes: np.ndarray) -> dict[str, float]:
-    """Eq. 2 as volumes over the steady window's frames: from the first frame at or after the window's start (the
-    last STEADY_FRACTION of the run) to the last frame, t_a..t_b (s). V_AG, V_IB, V_loss are the volumes (m^3) the
-    planes counted over (t_a, t_b] (each series record is the mean flow since the one before, so the sum of rate x
-    interval is exact), stored the change of the control volume's fluid volume between the two frames (m^3), and
-    closure_share = (V_AG - V_IB - V_loss - stored) / V_AG (-): what neither the planes nor the storage account for.
-    Empty when fewer than two frames lie in the window, or no series record or no inflow between them (a run's
-    stop frame a few steps after its last regular one)."""
-    if len(time) < 2 or len(t_frames) < 2:
+def beside_jets(layout, frames: dict) -> tuple[np.ndarray, np.ndarray]:
+    """(frame times s, gauge pressures Pa) beside the holes' jets (analysis.pressure_beside_jets), in time order,
+    for the frames that have fluid there (empty without holes)."""
+    side = sorted((float(f["attrs"]["time"]), pressure_beside_jets(layout, f)[0]) for k, f in frames.items()
+                  if k != "attrs")
+    side = [v for v in side if math.isfinite(v[1])]
+    return (np.array([t for t, _ in side]), np.array([p for _, p in side])) if side else (np.zeros(0), np.zeros(0))
+
+
+def print_columns(series: dict, time: np.ndarray, layout) -> None:
+    """Print each column outlet's chamber pressure (bar gauge), speed (m/s) and flow (l/min) over the steady window
+    (engine eq. OB5; nothing for plain outlets)."""
+    window = steady_window(time)
+    parts = []
+    for role in layout.outlets:
+        p, u = series.get(f"column_pressure_{role}"), series.get(f"column_speed_{role}")
+        if p is None or u is None:
+            continue
+        parts.append(f"{role} {np.mean(np.asarray(p)[window]) / 1e5:.3g} bar, {np.mean(np.asarray(u)[window]):.3g} m/s")
+    if parts:
+        print(f"columns (eq. OB5) over the last {STEADY_FRACTION:.0%}: chamber pressure and speed: " + "; ".join(parts))
+
+
+def print_balance(case, layout, time: np.ndarray, flows: dict, frames: dict) -> tuple[dict, np.ndarray | None]:
+    """Print eq. 2 over the steady window with the control volume's storage (from the frames) and the filling
+    times (a start 'empty'); returns the balance (analysis.balance) and the storage rate at the series' times
+    (m^3/s; None with fewer than two frames on the frame grid)."""
+    t_frames, volumes = stored_volume(layout, frames, case.fluid.density * case.numerics.dx ** 3,
+                                      case.scene_fluid().floor_density)
+    grid = spaced_frames(t_frames, case.output.frame_interval)
+    stored = (np.interp(time, t_frames[grid], stored_volume_rate(t_frames[grid], volumes[grid]))
+              if grid.sum() >= 2 else None)
+    bal = balance(time, flows, stored)
+    print(f"\neq. 2 over the last 20 % of the run (l/min): V_AG {bal.get('V_AG', math.nan) / LITRE_PER_MIN:.4g}, "
+          f"V_IB {bal.get('V_IB', math.nan) / LITRE_PER_MIN:.4g}, V_loss {bal.get('V_loss', 0.0) / LITRE_PER_MIN:.4g}")
+    print_window_balance(bal, window_balance(time, flows, t_frames, volumes))
+    if case.scene.start == "filled":
+        print(f"\nstarted filled at rest, the inlet ramped over {case.scene.ramp_time * 1e3:g} ms: no filling times")
+    else:
+        times = filling_times(time, flows)
+        print("\nfilling times (s): " + ", ".join(f"{k} {v:.3g}" if math.isfinite(v) else f"{k} not reached"
+                                                 for k, v in times.items()))
+    return bal, stored
+
+
+def print_comparison(case, layout, series: dict, time: np.ndarray, bal: dict) -> tuple[dict, list]:
+    """Print the SPH beside the network at the SPH's V_AG, at the standard flow and the paper (comparison_rows);
+    returns the SPH's flows and pressures (SI) and the rows."""
+    net = case.network()
+    sph = {k: v for k, v in bal.items() if k.startswith("V_")}
+    sph.update({f"p_{k}": v for k, v in sensor_pressures(series, time).items()})
+    at_gap = network_at_gap_flow(net, sph["V_AG"]) if sph.get("V_AG", 0) > 0 else None
+    standard = solve(net, case.scene.network_flow * LITRE_PER_MIN)
+    b_distance = layout.sensors["B"][2] - case.geometry().head_length if layout.area == "flow_exit" else None
+    rows = comparison_rows(sph, net, at_gap, standard, b_distance, case.scene.network_flow)
+    feed = at_gap.litres_per_min("V_total") if at_gap else math.nan
+    print(f"\n{'quantity':<20}{'unit':>6}{'SPH':>10}{'net@V_AG':>10}{'net@' + format(case.scene.network_flow, 'g'):>10}"
+          f"  paper          (net@V_AG: the network at the feed {feed:.4g} l/min whose V_AG is the SPH's)")
+    for name, unit, a, b, c, paper in rows:
+        print(f"{name:<20}{unit:>6}{_fmt(a)}{_fmt(b)}{_fmt(c)}  {paper}")
+    return sph, rows
+
+
+def print_beside_jets(case, layout, sph: dict, frames: dict, time: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Print the network's elements at the SPH's p_A (sensor A), the pressure beside the jets over the steady
+    window with the elements at it, and the elements carrying the SPH's V_AG; returns beside_jets' series."""
+    net = case.network()
+    print_element_flows(net, sph, case.scene, layout, sph.get("p_A", math.nan), "(sensor A)")
+    t_side, p_sides = beside_jets(layout, frames)
+    steady = t_side >= time[-1] - STEADY_FRACTION * (time[-1] - time[0])
+    p_side = float(np.mean(p_sides[steady])) if steady.any() else math.nan
+    if math.isfinite(p_side):
+        print(f"p_A beside the jets (the head clearance at the holes' height, >= 30 degrees from each hole's axis; "
+              f"frames of the last {STEADY_FRACTION:.0%}): {p_side / 1e5:.3g} bar, where sensor A on a hole's axis "
+              f"reads the jet meeting the bore; the network's p_A is this static pressure")
+        print_element_flows(net, sph, case.scene, layout, p_side, "beside the jets")
+    print_elements_at_flow(net, sph, case.scene, layout)
+    return t_side, p_sides
+
+
+def analyze_drill_run(run_dir, run: dict, case, render: bool = True) -> dict:
+    """Print the run's flows, balance, pressures, filling times and the comparison with the network and the paper;
+    write series.png, comparison.png and (render) section_<t>.png. Returns {name: path}."""
+    run_dir = Path(run_dir)
+    layout = drill_layout(case)
+    paper_dt = PAPER_MEAN_DT[layout.area]
+    series, time = run_series(run_dir, run, case, f" (paper: {paper_dt:.4g} s)")
+    if time.size < 2:
         return {}
-    tol = 1e-9 * (time[-1] - time[0])
-    start = time[-1] - STEADY_FRACTION * (time[-1] - time[0])
-    inside = np.nonzero(t_frames >= start - tol)[0]
-    if len(inside) < 2:
-        return {}
-    t_a, t_b = float(t_frames[inside[0]]), float(t_frames[inside[-1]])
-    step = np.diff(time, prepend=time[0])
-    counted = (time > t_a + tol) & (time <= t_b + tol)
-    if "V_AG" not in flows or not np.any(flows["V_AG"][counted]):
-        return {}
-    out = {"t_a": t_a, "t_b": t_b, "stored": float(volumes[inside[-1]] - volumes[inside[0]])}
-    for key in ("V_AG", "V_IB", "V_loss"):
-        out[key] = float(np.sum(flows[key][counted] * step[counted])) if key in flows else 0.0
-    out["closure_share"] = (out["V_AG"] - out["V_IB"] - out["V_loss"] - out["stored"]) / out["V_AG"] \
-        if out["V_AG"] else math.nan
-    out["stored_share"] = out["stored"] / out["V_AG"] if out["V_AG"] else math.nan
-    return out
-
-
-def first_time(time: np.ndarray, values: np.ndarray, threshold: float) -> float:
-    """First time (s) the series reaches `threshold` (NaN if never)."""
-    hit = np.nonzero(np.asarray(values) >= threshold)[0]
-    return float(time[hit[0]]) if hit.size else math.nan
-
-
-def filling_times(time: np.ndarray, flows: dict) -> dict[str, float]:
-    """Times (s): t_gap (fluid first crosses the holes' planes: the gap is full down to the holes), t_holes (the
-    holes carry 90 % of V_AG: running full), t_front (fluid first reaches the plane ahead of the holes), t_mouth
-    (first flow into the chip mouth), t_leak (first flow into the tube/bore clearance). NaN when it did not happen;
-    thresholds are 1 % of the inflow's mean."""
-    v_in = flows.get("V_AG")
-    ref = float(np.nanmax(np.abs(v_in))) if v_in is not None and np.size(v_in) else 0.0
-    small = 0.01 * ref
-    out = {}
-    if "V_holes" in flows:
-        out["t_gap"] = first_time(time, flows["V_holes"], small)
-        full = (flows["V_holes"] >= 0.9 * flows["V_AG"]) & (flows["V_holes"] > small) if "V_AG" in flows else None
-        out["t_holes"] = first_time(time, full.astype(float), 0.5) if full is not None else math.nan
-    for key, name in (("t_front", "V_front"), ("t_mouth", "V_IB"), ("t_leak", "V_loss")):
-        if name in flows:
-            out[key] = first_time(time, flows[name], small)
-    return out
-
-
-def ejector_onset(time: np.ndarray, flows: dict, after: float) -> float:
-    """First time (s) after `after` (s) at which V_loss <= 0 (the ejector draws fluid from the cutting zone; NaN if
-    never, or without V_loss)."""
-    if "V_loss" not in flows or not math.isfinite(after):
-        return math.nan
-    hit = np.nonzero((time > after) & (flows["V_loss"] <= 0.0))[0]
-    return float(time[hit[0]]) if hit.size else math.nan
+    series, frames = less_back_pressure(series, run.get("frames", {}), case.scene.back_pressure)
+    flows = flow_series(series, time)
+    bal, stored = print_balance(case, layout, time, flows, frames)
+    if frames:
+        print_zones(layout, frames, case.scene.inlet_velocity)
+    sph, rows = print_comparison(case, layout, series, time, bal)
+    beside = print_beside_jets(case, layout, sph, frames, time)
+    print_columns(series, time, layout)
+    v_in = case.scene.inlet_velocity
+    if case.scene.back_pressure:
+        print(f"pressures are gauge less the scene's back pressure, {case.scene.back_pressure / 1e5:g} bar (held at "
+              "both outlets and the fluid's rest pressure: the same flow, above the vapour floor)")
+    print(f"anchor: 1/2 rho v_in^2 = {0.5 * case.fluid.density * v_in ** 2 / 1e5:.3g} bar at v_in = {v_in:g} m/s; "
+          "sensors outside the scene (C1, C2 at the feed) are '-'")
+    outputs = draw_run_pictures(run_dir, case, layout, time, flows, series, stored, beside, rows, frames, render)
+    for name, path in outputs.items():
+        print(f"{name:<14} {path}")
+    return outputs
 
 
 def measure_drill(case, result) -> dict[str, float]:
@@ -201,47 +241,4 @@ def measure_drill(case, result) -> dict[str, float]:
         out["t_ejector_onset"] = ejector_onset(time, flows, times.get("t_leak", math.nan))
     if "max_density_deviation" in series:
         out["max_density_deviation"] = float(np.nanmax(series["max_density_deviation"]))
-    return out
-
-
-#: A fluid particle slower than this share of the inflow speed is "still" (paper sect. 3.2: "areas with little to
-#: zero fluid velocity"), -.
-STILL_SHARE = 0.05
-#: The share of fluid particles with the highest pressure that marks the zone of maximum pressure, -.
-PEAK_SHARE = 0.01
-
-
-def zones(layout, frame: dict, v_in: float) -> dict:
-    """The zones the paper describes (sect. 3.2: little to zero velocity, maximum pressure) in one run.h5 frame:
-    {'still': [(region, count, share of the region's particles, mean r m, mean z m), ...] for the fluid particles
-    slower than STILL_SHARE v_in, largest count first; 'peak': (count, mean p Pa, max p Pa, region holding most,
-    mean r m and z m of its particles among them) of the PEAK_SHARE of fluid particles with the highest pressure}. Only particles inside the
-    layout's fluid regions count (not the open boundaries' buffers)."""
-    fluid = np.asarray(frame["kind"]) == 0
-    x = np.asarray(frame["positions"], dtype=float)[fluid]
-    speed = np.linalg.norm(np.asarray(frame["velocities"], dtype=float)[fluid], axis=1)
-    p = np.asarray(frame["pressures"], dtype=float)[fluid]
-    label = np.full(len(x), -1)
-    for k, region in enumerate(layout.regions):
-        label[(label < 0) & region.contains(x)] = k
-    inside = label >= 0
-    x, speed, p, label = x[inside], speed[inside], p[inside], label[inside]
-    r = np.hypot(x[:, 0], x[:, 1])
-    still = []
-    slow = speed < STILL_SHARE * v_in
-    for k, region in enumerate(layout.regions):
-        mine = label == k
-        hit = mine & slow
-        if hit.any():
-            still.append((region.name, int(hit.sum()), float(hit.sum() / mine.sum()), float(r[hit].mean()),
-                          float(x[hit, 2].mean())))
-    still.sort(key=lambda row: -row[1])
-    out = {"still": still}
-    if len(p):
-        n = max(1, int(round(PEAK_SHARE * len(p))))
-        top = np.argsort(p)[-n:]
-        most = np.bincount(label[top], minlength=len(layout.regions)).argmax()
-        there = top[label[top] == most]
-        out["peak"] = (n, float(p[top].mean()), float(p[top].max()), layout.regions[most].name,
-                       float(r[there].mean()), float(x[there, 2].mean()))
     return out

@@ -1,56 +1,92 @@
-"""What a feed-scene run measures (layout.py): V_total (the feed inlet's inflow), V_EN (the discs across the
-nozzles), V_AG (the discs at C1: AG_all over the gap and the tube, -z, plus IB over the tube, +z), V_IB (IB, and
-the tube inlet's inflow), the mixed flow behind the nozzles; eq. 1 (V_total = V_AG + V_EN) and the tube's balance
-(V_IB + V_EN = V_mixed) as residuals; the sensor pressures B, C1, C2. SI units (m^3/s, Pa gauge, s).
-
-The tube's discs count particles crossing them, and at 3.7-5.5 m/s a whole lattice layer of the bore (201 mm^2 x dx,
-1,800 particles at dx = 1/3 mm) crosses every 60-90 us, together while the lattice is still ordered: over a window
-of 50 us their mean is quantised by +-80 l/min. The tube's flows are therefore also taken from the frames, as the
-volume flux sum (m / rho) v_z / (2 w) of the fluid in a slab of half-width w around C1 and C2 (tube_slab_flows)."""
+"""`orchestrator analyze` of a feed-scene run: the flows through the nozzle ring and the tube with their balances,
+the sensor pressures B, C1, C2 beside the 1D network at the state the scene's boundaries carry (network.py),
+the series (series.png), the comparison (comparison.png) and, with render, sections at the picture times. Flows in
+l/min, pressures in bar (gauge) in the table."""
 
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 
-from orchestrator.drill.series import STEADY_FRACTION, sensor_pressures, steady_window
+from orchestrator.drill.series import run_series, sensor_pressures
+from orchestrator.kinds.ejector_feed.flows import feed_flows, gap_storage, steady_means, tube_slab_flows
 from orchestrator.kinds.ejector_feed.layout import feed_layout
+from orchestrator.kinds.ejector_feed.network import feed_boundary, gap_pressure_below_feed
+from orchestrator.kinds.ejector_feed.pictures import draw_run_pictures
+from orchestrator.reference.drill_network import LITRE_PER_MIN
+
+def _fmt(value) -> str:
+    return f"{value:10.4g}" if isinstance(value, float) and math.isfinite(value) else f"{'-':>10}"
 
 
-def feed_flows(series: dict) -> dict[str, np.ndarray]:
-    """V_total, V_AG, V_EN, V_IB, V_IB_in, V_mixed, V_gap_out, V_tube_out (m^3/s) from the run's series (the ones
-    present)."""
-    def get(name):
-        return np.asarray(series[name], dtype=float) if name in series else None
+def feed_rows(case, means: dict, pressures: dict) -> list:
+    """Rows (quantity, unit, SPH, network at scene.network_flow, note): flows in l/min, the nozzles' share in %,
+    gauge pressures in bar; the held outlet pressures for reference."""
+    layout = feed_layout(case)
+    boundary = feed_boundary(case, layout.z_nozzles - layout.outlets["gap"].center[2])
+    net, state = case.network(), boundary.state
+    rows = []
+    for name, key, note in (("V_total", "V_total", "the feed inlet's inflow (held)"),
+                            ("V_AG", "V_AG", "gap, at C1 (discs AG_all + IB)"),
+                            ("V_EN", "V_EN", "the nozzles' discs"),
+                            ("V_IB", "V_IB_slab", "tube, at C1 (frames' slab; the inlet holds it)"),
+                            ("V_mixed", "V_mixed_slab", "tube, at C2 (frames' slab)")):
+        value = means.get(key, math.nan)
+        network = state.V_IB + state.V_EN if name == "V_mixed" else getattr(state, name)
+        rows.append((name, "l/min", value / LITRE_PER_MIN, network / LITRE_PER_MIN, note))
+    rows.append(("V_EN / V_total", "%", 100 * means.get("EN_share", math.nan), 100 * state.V_EN / state.V_total, ""))
+    b_bar = gap_pressure_below_feed(net, state, case.scene.c1_distance) / 1e5
+    rows.append(("p_B", "bar", pressures.get("B", math.nan) / 1e5, b_bar,
+                 f"gap, {case.scene.c1_distance * 1e3:g} mm below the nozzles (network: there)"))
+    rows.append(("p_C1", "bar", pressures.get("C1", math.nan) / 1e5, state.gauge_bar("p_C1"),
+                 f"tube axis, {case.scene.c1_distance * 1e3:g} mm before the nozzles"))
+    rows.append(("p_C2", "bar", pressures.get("C2", math.nan) / 1e5, state.gauge_bar("p_C2"),
+                 f"SPH: {case.scene.c2_distance * 1e3:g} mm behind; network: end of mixing "
+                 f"({net.mixing_length * 1e3:g} mm)"))
+    rows.append(("p_C2 - p_C1", "bar", (pressures.get("C2", math.nan) - pressures.get("C1", math.nan)) / 1e5,
+                 state.gauge_bar("p_C2") - state.gauge_bar("p_C1"), "the jets' pressure rise"))
+    rows.append(("p gap outlet", "bar", math.nan, boundary.gap_outlet_pressure / 1e5, "held by the SPH's gap outlet"))
+    rows.append(("p tube outlet", "bar", math.nan, boundary.tube_outlet_pressure / 1e5, "held: the network's p_C2"))
+    return rows
 
-    out = {}
-    for key, name in (("V_total", "inflow_feed_inlet"), ("V_IB_in", "inflow_tube_inlet"), ("V_IB", "flow_rate_IB"),
-                      ("V_mixed", "flow_rate_mixed"), ("V_gap_out", "outflow_gap_outlet"),
-                      ("V_tube_out", "outflow_tube_outlet")):
-        if get(name) is not None:
-            out[key] = get(name)
-    if get("flow_rate_AG_all") is not None and "V_IB" in out:  # AG_all counts the tube's +z flow negative
-        out["V_AG"] = get("flow_rate_AG_all") + out["V_IB"]
-    nozzles = [get(n) for n in sorted(series) if n.startswith("flow_rate_nozzle")]
-    if nozzles:
-        out["V_EN"] = np.sum(nozzles, axis=0)
-    return out
 
-
-def steady_means(time: np.ndarray, flows: dict) -> dict[str, float]:
-    """Each flow's mean over the last STEADY_FRACTION of the run (m^3/s), the nozzles' share V_EN / V_total (-),
-    eq. 1's residual V_total - V_AG - V_EN and the tube's V_IB + V_EN - V_mixed (m^3/s) with their shares of
-    V_total (-)."""
-    window = steady_window(time)
-    out = {k: float(np.nanmean(v[window])) for k, v in flows.items()}
-    total = out.get("V_total", math.nan)
-    out["EN_share"] = out.get("V_EN", math.nan) / total if total else math.nan
-    out["residual_eq1"] = total - out.get("V_AG", math.nan) - out.get("V_EN", math.nan)
-    out["residual_tube"] = out.get("V_IB", math.nan) + out.get("V_EN", math.nan) - out.get("V_mixed", math.nan)
-    for key in ("residual_eq1", "residual_tube"):
-        out[key + "_share"] = out[key] / total if total else math.nan
-    return out
+def analyze_feed_run(run_dir, run: dict, case, render: bool = True) -> dict:
+    """Print the feed run's flows, balances and pressures beside the network; write series.png, comparison.png and
+    (render) section_<t>.png. Returns {name: path}."""
+    run_dir = Path(run_dir)
+    series, time = run_series(run_dir, run, case)
+    if time.size < 2:
+        return {}
+    flows = feed_flows(series)
+    means = steady_means(time, flows)
+    frames = run.get("frames", {})
+    listed = [(float(frames[k]["attrs"]["time"]), frames[k]) for k in sorted((k for k in frames if k != "attrs"),
+                                                                              key=int)]
+    means.update(tube_slab_flows(listed, case, feed_layout(case)))
+    pressures = sensor_pressures(series, time)
+    total = means.get("V_total", math.nan)
+    slab_residual = (means.get("V_IB_slab", math.nan) + means.get("V_EN", math.nan)
+                     - means.get("V_mixed_slab", math.nan)) / total
+    print(f"\nover the last 20 % of the run ({time[-1] * 0.8e3 + time[0] * 0.2e3:.3g}-{time[-1] * 1e3:.3g} ms): "
+          f"eq. 1 V_total - V_AG - V_EN = {means['residual_eq1_share'] * 100:.3g} % of V_total; the tube's "
+          f"V_IB + V_EN - V_mixed = {means['residual_tube_share'] * 100:.3g} % of V_total by the discs (quantised by "
+          f"whole layers: kinds/ejector_feed/flows.py), {slab_residual * 100:.3g} % by the frames' slabs")
+    stored = gap_storage(listed, case, feed_layout(case))
+    if math.isfinite(stored):
+        print(f"eq. 1's control volume (the gap above C1 with the nozzles) stores {stored / total * 100:.3g} % of "
+              f"V_total (frames {case.output.frame_interval * 1e3:g} ms apart): the residual less the storage is "
+              f"{(means['residual_eq1_share'] - stored / total) * 100:.3g} %")
+    rows = feed_rows(case, means, pressures)
+    print(f"\n{'quantity':<16}{'unit':>6}{'SPH':>10}{'network':>10}  (network at {case.scene.network_flow:g} l/min: "
+          "the state the inlets and outlets carry)")
+    for name, unit, a, b, note in rows:
+        print(f"{name:<16}{unit:>6}{_fmt(a)}{_fmt(b)}  {note}")
+    outputs = draw_run_pictures(run_dir, case, time, flows, series, rows, run.get("frames", {}), render)
+    for name, path in outputs.items():
+        print(f"{name:<14} {path}")
+    return outputs
 
 
 def measure_feed(case, result) -> dict[str, float]:
@@ -66,51 +102,3 @@ def measure_feed(case, result) -> dict[str, float]:
     if "max_density_deviation" in series:
         out["max_density_deviation"] = float(np.nanmax(series["max_density_deviation"]))
     return out
-
-
-def slab_flow(arrays: dict, mass: float, z: float, half_width: float, radius: float) -> float:
-    """Volume flow (m^3/s) along +z through the bore at height z from one frame's arrays (positions, velocities,
-    densities, kind): sum (m / rho) v_z over the fluid with r < radius and |z_i - z| < half_width, / (2 half_width)."""
-    x = np.asarray(arrays["positions"], dtype=float)
-    fluid = np.asarray(arrays["kind"]) == 0
-    inside = fluid & (np.hypot(x[:, 0], x[:, 1]) < radius) & (np.abs(x[:, 2] - z) < half_width)
-    v = np.asarray(arrays["velocities"], dtype=float)[inside, 2]
-    return float(np.sum(mass / np.asarray(arrays["densities"], dtype=float)[inside] * v) / (2.0 * half_width))
-
-
-def tube_slab_flows(frames, case, layout) -> dict[str, float]:
-    """V_IB_slab and V_mixed_slab (m^3/s): slab_flow at C1 and C2 (half-width: 3/8 of c1_distance, clear of the
-    nozzles' mouths, 0.6 mm from the ring) averaged over the frames (time s, arrays) in the last STEADY_FRACTION of
-    the run; {} without such frames."""
-    if not frames:
-        return {}
-    t_end = frames[-1][0]
-    chosen = [a for t, a in frames if t >= t_end - STEADY_FRACTION * t_end and t > 0.0]
-    if not chosen:
-        return {}
-    mass = case.fluid.density * case.numerics.dx ** 3
-    half = 0.375 * case.scene.c1_distance
-    out = {}
-    for key, sensor in (("V_IB_slab", "C1"), ("V_mixed_slab", "C2")):
-        z = layout.sensors[sensor][2]
-        out[key] = float(np.mean([slab_flow(a, mass, z, half, layout.tube.r_out) for a in chosen]))
-    return out
-
-
-def gap_storage(frames, case, layout) -> float:
-    """d/dt (m^3/s) of the fluid volume sum m / rho above C1 outside the bore (the gap with the nozzles, eq. 1's
-    control volume, and whatever fluid sits in the walls' layer between their surface and their particles), between
-    the first and the last frame of the last STEADY_FRACTION of the run (NaN with fewer than two)."""
-    t_end = frames[-1][0] if frames else 0.0
-    chosen = [(t, a) for t, a in frames if t >= t_end - STEADY_FRACTION * t_end]
-    if len(chosen) < 2:
-        return math.nan
-    mass, z = case.fluid.density * case.numerics.dx ** 3, layout.sensors["C1"][2]
-
-    def volume(arrays):
-        x = np.asarray(arrays["positions"], dtype=float)
-        inside = (np.asarray(arrays["kind"]) == 0) & (x[:, 2] > z) & (np.hypot(x[:, 0], x[:, 1]) > layout.tube.r_out)
-        return float(np.sum(mass / np.asarray(arrays["densities"], dtype=float)[inside]))
-
-    (t0, a0), (t1, a1) = chosen[0], chosen[-1]
-    return (volume(a1) - volume(a0)) / (t1 - t0)
