@@ -280,8 +280,8 @@ BAD_INPUTS = [
         "binary": ("index.csv", "not a text file"), "nocolumns": ("index.csv", "no column"),
         "latin": ("not a text file",)}.items()],
     (["status", "@BAD/nowhere"], 2, "no index.csv"), (["report", "@BAD/nowhere"], 2, "no index.csv"),
-    (["status", "@BAD/afile"], 2, "no index.csv"), (["report", "@BAD/index/zero"], 2, "non-zero"),
-    (["report", "@BAD/index/zero", "--reference", "nan"], 2, "--reference"),
+    (["status", "@BAD/afile"], 2, "no index.csv"), (["report", "@BAD/index/zero"], 2, "magnitude"),
+    *[(["report", "@BAD/index/zero", "--reference", r], 2, "--reference") for r in ("nan", "5e-324", "1e308")],
     (["report", "@BAD/index/zero", "--quantity", "nope"], 2, "'nope'"),
     *[(["report", "@BAD/index/zero", "--tolerance", t], 2, "--tolerance") for t in ("0", "-1", "nan", "inf")],
     # verify

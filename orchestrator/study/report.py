@@ -13,6 +13,7 @@ import os
 from pathlib import Path
 
 from orchestrator import __version__
+from orchestrator.case.common import MAX_MAGNITUDE
 from orchestrator.errors import OrchestratorError
 from orchestrator.kinds import get_kind
 from orchestrator.plots import place_point_labels, plain_log_ticks
@@ -144,9 +145,10 @@ def _reference(ok: list[dict], quantity: str, reference: str) -> tuple[dict | No
             ref_row = matches[0]
         ref_value = _float(ref_row[quantity])
         label = f"run {ref_row['run_id'][:12]} ({quantity} = {ref_value:.4g})"
-    if not math.isfinite(ref_value) or ref_value == 0:
+    if not (math.isfinite(ref_value) and 1.0 / MAX_MAGNITUDE <= abs(ref_value) <= MAX_MAGNITUDE):
         raise OrchestratorError(f"--reference {reference}: the reference {quantity} is {ref_value:g}; relative errors "
-                                "need a finite, non-zero reference ('finest', a run id or a number such as 1.8)")
+                                f"need a reference of magnitude {1.0 / MAX_MAGNITUDE:g} to {MAX_MAGNITUDE:g} "
+                                "('finest', a run id or a number such as 1.8)")
     return ref_row, ref_value, label
 
 
