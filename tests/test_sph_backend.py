@@ -293,7 +293,7 @@ def test_engine_and_kind_must_match(capsys, tmp_path):
     assert code == 2 and "case.engine = 'sph' does not run impact cases" in capsys.readouterr().err
     code = main(["run", str(drop), "--engine", "sph", "--out", str(tmp_path / "r")])
     err = capsys.readouterr().err
-    assert code == 2 and "--engine sph does not run impact cases; allowed: liggghts, reference, yade" in err
+    assert code == 2 and "--engine sph does not run impact cases; allowed: lammps, liggghts, reference, yade" in err
     code = main(["run", str(DAM_BREAK), "--engine", "yade", "--out", str(tmp_path / "r")])
     assert code == 2 and "--engine yade does not run sph_flow cases; allowed: lammps, sph" in capsys.readouterr().err
     assert not (tmp_path / "r").exists()

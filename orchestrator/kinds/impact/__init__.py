@@ -11,6 +11,7 @@ KIND = Kind(
     analyze="orchestrator.kinds.impact.analysis:analyze_impact_run",
     adapters={"yade": "orchestrator.kinds.impact.yade:YadeImpact",
               "liggghts": "orchestrator.kinds.impact.liggghts:LiggghtsImpact",
+              "lammps": "orchestrator.kinds.impact.lammps:LammpsImpact",
               "reference": "orchestrator.kinds.impact.reference:ReferenceImpact"},
     quantities="orchestrator.kinds.impact.theory:QUANTITIES",
     expected="orchestrator.kinds.impact.analysis:expected_values",
