@@ -26,7 +26,7 @@
 #include <cmath>
 
 #include "cell_list.h"
-#include "deck.h"
+#include "parameters.h"
 #include "vec.h"
 
 namespace sph {
@@ -146,5 +146,16 @@ class PeriodicImages {
   LeesEdwardsSpec le_;
   double gamma_ = 0.0, gamma_build_ = 0.0, delta_ = 0.0, delta_build_ = 0.0, u_ = 0.0;
 };
+
+// The periodic box of a run: the deck's periodic axes with their bounds, m.
+template <int D>
+PeriodicBox<D> periodic_box(const RunParameters& deck) {
+  PeriodicBox<D> box;
+  for (std::size_t i = 0; i < deck.periodic_axes.size(); ++i) {
+    const int a = deck.periodic_axes[i];
+    box.periodic[a] = true, box.lo[a] = deck.periodic_lo[i], box.hi[a] = deck.periodic_hi[i];
+  }
+  return box;
+}
 
 }  // namespace sph

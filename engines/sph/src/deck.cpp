@@ -17,6 +17,12 @@ namespace {
 
 using namespace deck_json;
 
+// A path of the deck, relative to the deck file's folder `deck_dir` unless absolute.
+std::string resolve(const std::string& deck_dir, const std::string& path) {
+  const std::filesystem::path p(path);
+  return p.is_absolute() || deck_dir.empty() ? p.string() : (std::filesystem::path(deck_dir) / p).string();
+}
+
 unsigned parse_physics(const json& v) {
   std::vector<std::string> names;
   for (const auto& t : term::optional) names.push_back(t.name);
@@ -36,13 +42,13 @@ unsigned parse_physics(const json& v) {
 }
 
 // A key that belongs to a term must be present exactly when the term is on.
-void require_with_term(const json& j, const Deck& d, unsigned bit, const std::string& key, const std::string& term) {
+void require_with_term(const json& j, const RunParameters& d, unsigned bit, const std::string& key, const std::string& term) {
   const bool on = d.terms & bit;
   if (on && !j.contains(key)) fail("physics term '" + term + "' is on but key '" + key + "' is missing");
   if (!on && j.contains(key)) fail("key '" + key + "' is given but physics term '" + term + "' is not in 'physics'");
 }
 
-void parse_meshes(const json& j, Deck& d) {
+void parse_meshes(const json& j, const std::string& deck_dir, RunParameters& d) {
   if (!j.is_array() || j.empty()) fail("'meshes' must be a non-empty list");
   std::set<std::string> seen;
   for (std::size_t i = 0; i < j.size(); ++i) {
@@ -53,7 +59,7 @@ void parse_meshes(const json& j, Deck& d) {
     if (j[i].contains("file")) {
       if (j[i].contains("vertices") || j[i].contains("faces"))
         fail("'" + path + "' has both 'file' and inline 'vertices'/'faces'; give one");
-      m.file = d.resolve(text(j[i]["file"], where(path, "file")));
+      m.file = resolve(deck_dir, text(j[i]["file"], where(path, "file")));
       if (!std::filesystem::exists(m.file)) fail("mesh file '" + m.file + "' (" + path + ".file) does not exist");
       m.group = j[i].contains("group") ? text(j[i]["group"], where(path, "group")) : "/";
     } else {
@@ -79,11 +85,11 @@ void parse_meshes(const json& j, Deck& d) {
   }
 }
 
-void parse_output(const json& j, Deck& d) {
+void parse_output(const json& j, const std::string& deck_dir, RunParameters& d) {
   const std::string p = "output";
   check_keys(j, p, {"file", "frame_interval", "series_interval", "probes", "flow_planes", "progress_interval"});
-  if (j.contains("file")) d.output_file = d.resolve(text(j["file"], "output.file"));
-  else d.output_file = d.resolve(d.output_file);
+  if (j.contains("file")) d.output_file = resolve(deck_dir, text(j["file"], "output.file"));
+  else d.output_file = resolve(deck_dir, d.output_file);
   d.frame_interval = positive(j, p, "frame_interval");
   d.series_interval = j.contains("series_interval") ? positive(j, p, "series_interval") : d.frame_interval;
   if (j.contains("progress_interval")) d.progress_interval = positive(j, p, "progress_interval");
@@ -110,7 +116,7 @@ void parse_output(const json& j, Deck& d) {
 }
 
 // `eddy_viscosity`: {"model": "smagorinsky", "cs": C, "walls": true} (eddy_viscosity.h); the scalar path of one fluid with Morris.
-void parse_eddy_viscosity(const json& e, bool several_materials, Deck& d) {
+void parse_eddy_viscosity(const json& e, bool several_materials, RunParameters& d) {
   if (!e.is_object()) fail("'eddy_viscosity' must be an object {\"model\": \"smagorinsky\", \"cs\": 0.12}");
   check_keys(e, "eddy_viscosity", {"model", "cs", "walls"});
   const std::string model = text(need(e, "eddy_viscosity", "model"), "eddy_viscosity.model");
@@ -129,42 +135,20 @@ void parse_eddy_viscosity(const json& e, bool several_materials, Deck& d) {
   d.smagorinsky_cs = cs;
 }
 
-}  // namespace
-
-std::string Deck::resolve(const std::string& path) const {
-  const std::filesystem::path p(path);
-  return p.is_absolute() || deck_dir.empty() ? p.string() : (std::filesystem::path(deck_dir) / p).string();
-}
-
-std::string Deck::terms_string() const {
-  std::string out = "continuity,tait_eos,pressure_gradient";
-  for (const auto& t : term::optional)
-    if (terms & t.bit) out += std::string(",") + t.name;
-  if (smagorinsky_cs > 0) out += " with eddy_viscosity";
-  return viscosity_correction ? out + " with viscosity_correction" : out;
-}
-
-bool Deck::inlets_extrapolated() const {
-  return !inlets.empty() && std::all_of(inlets.begin(), inlets.end(), [](const InletSpec& in) { return in.extrapolated; });
-}
-
-Deck parse_deck(const json& j, const std::string& deck_dir) {
-  check_keys(j, "", {"dimension", "particles_file", "physics", "rho0", "c0", "gamma", "background_pressure", "v_max",
-                     "viscosity", "alpha", "beta", "artificial_viscosity", "h", "dx", "body_force", "meshes", "wall", "periodic", "inlets",
-                     "outlets", "dt", "time_step", "t_end", "t_start", "step_start", "max_steps", "stability", "output", "threads",
-                     "materials", "lees_edwards", "neighbour_skin", "viscosity_correction", "eddy_viscosity", "open_boundary_list",
-                     "min_pressure"});
-  Deck d;
-  d.deck_dir = deck_dir;
+// `dimension`, `particles_file` and `physics`.
+void parse_basics(const json& j, const std::string& deck_dir, RunParameters& d) {
   const auto& dim = need(j, "", "dimension");
   if (!dim.is_number_integer() || (dim.get<int>() != 2 && dim.get<int>() != 3))
     fail("'dimension' must be 2 or 3, got " + dim.dump());
   d.dimension = dim.get<int>();
-  d.particles_file = d.resolve(text(need(j, "", "particles_file"), "particles_file"));
+  d.particles_file = resolve(deck_dir, text(need(j, "", "particles_file"), "particles_file"));
   if (!std::filesystem::exists(d.particles_file))
     fail("particles_file '" + d.particles_file + "' does not exist");
   d.terms = parse_physics(need(j, "", "physics"));
+}
 
+// The fluid: `v_max`, then `materials` or the one fluid's top-level EOS keys, and the kernel's `h` and `dx`.
+void parse_fluid(const json& j, RunParameters& d) {
   d.v_max = positive(j, "", "v_max");
   if (j.contains("materials")) {
     // Several materials: the fluid keys live in each material, not at the top level.
@@ -186,7 +170,11 @@ Deck parse_deck(const json& j, const std::string& deck_dir) {
   }
   d.h = positive(j, "", "h");
   d.dx = positive(j, "", "dx");
+}
 
+// The viscosities: Morris (`viscosity`, `viscosity_correction`) and artificial (`alpha`, `beta`,
+// `artificial_viscosity`).
+void parse_viscosities(const json& j, RunParameters& d) {
   if (!j.contains("materials")) {
     require_with_term(j, d, term::morris_viscosity, "viscosity", "morris_viscosity");
     if (j.contains("viscosity")) d.viscosity = positive(j, "", "viscosity");
@@ -216,12 +204,16 @@ Deck parse_deck(const json& j, const std::string& deck_dir) {
       d.av_walls = av["walls"].get<bool>();
     }
   }
+}
+
+// `body_force` and the wall penalty's `meshes` and `wall`.
+void parse_forces_and_walls(const json& j, const std::string& deck_dir, RunParameters& d) {
   require_with_term(j, d, term::body_force, "body_force", "body_force");
   if (j.contains("body_force")) d.body_force = vector_of(j["body_force"], "body_force", d.dimension);
 
   require_with_term(j, d, term::wall_penalty, "meshes", "wall_penalty");
   require_with_term(j, d, term::wall_penalty, "wall", "wall_penalty");
-  if (j.contains("meshes")) parse_meshes(j["meshes"], d);
+  if (j.contains("meshes")) parse_meshes(j["meshes"], deck_dir, d);
   if (j.contains("wall")) {
     check_keys(j["wall"], "wall", {"range", "s", "psi"});
     d.wall_range = positive(j["wall"], "wall", "range");
@@ -230,32 +222,31 @@ Deck parse_deck(const json& j, const std::string& deck_dir) {
     if (!j["wall"].contains("psi")) fail("missing key 'wall.psi'");
     if (!(d.wall_s < d.wall_range)) fail("'wall.s' must be smaller than 'wall.range' (R), got s >= R");
   }
+}
 
-  if (j.contains("periodic")) {
-    const auto& p = j["periodic"];
-    check_keys(p, "periodic", {"axes", "lo", "hi"});
-    const auto& axes = need(p, "periodic", "axes");
-    if (!axes.is_array() || axes.empty() || axes.size() > static_cast<std::size_t>(d.dimension))
-      fail("'periodic.axes' must be a non-empty list of axis indices (0..dimension-1)");
-    for (const auto& a : axes) {
-      if (!a.is_number_integer() || a.get<int>() < 0 || a.get<int>() >= d.dimension)
-        fail("'periodic.axes' entries must be integers in 0.." + std::to_string(d.dimension - 1) + ", got " + a.dump());
-      if (std::count(d.periodic_axes.begin(), d.periodic_axes.end(), a.get<int>()))
-        fail("'periodic.axes' lists axis " + a.dump() + " twice");
-      d.periodic_axes.push_back(a.get<int>());
-    }
-    d.periodic_lo = vector_of(need(p, "periodic", "lo"), "periodic.lo", axes.size());
-    d.periodic_hi = vector_of(need(p, "periodic", "hi"), "periodic.hi", axes.size());
-    for (std::size_t i = 0; i < axes.size(); ++i)
-      if (!(d.periodic_hi[i] - d.periodic_lo[i] >= 2.0 * d.h))
-        fail("periodic box along axis " + std::to_string(d.periodic_axes[i]) +
-             " must be at least the kernel support 2h long (periodic.hi - periodic.lo >= 2h)");
+// `periodic`: {"axes": [...], "lo": [...], "hi": [...]}, each box at least the kernel support 2h long.
+void parse_periodic(const json& p, RunParameters& d) {
+  check_keys(p, "periodic", {"axes", "lo", "hi"});
+  const auto& axes = need(p, "periodic", "axes");
+  if (!axes.is_array() || axes.empty() || axes.size() > static_cast<std::size_t>(d.dimension))
+    fail("'periodic.axes' must be a non-empty list of axis indices (0..dimension-1)");
+  for (const auto& a : axes) {
+    if (!a.is_number_integer() || a.get<int>() < 0 || a.get<int>() >= d.dimension)
+      fail("'periodic.axes' entries must be integers in 0.." + std::to_string(d.dimension - 1) + ", got " + a.dump());
+    if (std::count(d.periodic_axes.begin(), d.periodic_axes.end(), a.get<int>()))
+      fail("'periodic.axes' lists axis " + a.dump() + " twice");
+    d.periodic_axes.push_back(a.get<int>());
   }
+  d.periodic_lo = vector_of(need(p, "periodic", "lo"), "periodic.lo", axes.size());
+  d.periodic_hi = vector_of(need(p, "periodic", "hi"), "periodic.hi", axes.size());
+  for (std::size_t i = 0; i < axes.size(); ++i)
+    if (!(d.periodic_hi[i] - d.periodic_lo[i] >= 2.0 * d.h))
+      fail("periodic box along axis " + std::to_string(d.periodic_axes[i]) +
+           " must be at least the kernel support 2h long (periodic.hi - periodic.lo >= 2h)");
+}
 
-  if (j.contains("lees_edwards")) parse_lees_edwards(j["lees_edwards"], d);
-  if (j.contains("eddy_viscosity")) parse_eddy_viscosity(j["eddy_viscosity"], j.contains("materials"), d);
-  parse_open_boundaries(j, d);
-
+// The time: `dt` or `time_step`, `t_end`, a resumed run's `t_start` and `step_start`, `max_steps`, `stability`.
+void parse_time(const json& j, RunParameters& d) {
   if (j.contains("dt") && j.contains("time_step"))
     fail("give either 'dt' (fixed step) or 'time_step' (adaptive factors), not both");
   if (j.contains("dt")) d.dt = positive(j, "", "dt");
@@ -286,7 +277,10 @@ Deck parse_deck(const json& j, const std::string& deck_dir) {
     if (j["stability"].contains("max_density_deviation"))
       d.max_density_deviation = positive(j["stability"], "stability", "max_density_deviation");
   }
-  parse_output(need(j, "", "output"), d);
+}
+
+// `threads`, `neighbour_skin` and `open_boundary_list`.
+void parse_run_options(const json& j, RunParameters& d) {
   if (j.contains("threads")) {
     if (!j["threads"].is_number_integer() || j["threads"].get<int>() < 1)
       fail("'threads' must be a positive integer, got " + j["threads"].dump());
@@ -299,10 +293,32 @@ Deck parse_deck(const json& j, const std::string& deck_dir) {
       fail("'open_boundary_list' must be \"kept\" or \"rebuilt\", got " + v.dump());
     d.open_boundary_list = v.get<std::string>();
   }
+}
+
+}  // namespace
+
+RunParameters parse_deck(const json& j, const std::string& deck_dir) {
+  check_keys(j, "", {"dimension", "particles_file", "physics", "rho0", "c0", "gamma", "background_pressure", "v_max",
+                     "viscosity", "alpha", "beta", "artificial_viscosity", "h", "dx", "body_force", "meshes", "wall", "periodic", "inlets",
+                     "outlets", "dt", "time_step", "t_end", "t_start", "step_start", "max_steps", "stability", "output", "threads",
+                     "materials", "lees_edwards", "neighbour_skin", "viscosity_correction", "eddy_viscosity", "open_boundary_list",
+                     "min_pressure"});
+  RunParameters d;
+  parse_basics(j, deck_dir, d);
+  parse_fluid(j, d);
+  parse_viscosities(j, d);
+  parse_forces_and_walls(j, deck_dir, d);
+  if (j.contains("periodic")) parse_periodic(j["periodic"], d);
+  if (j.contains("lees_edwards")) parse_lees_edwards(j["lees_edwards"], d);
+  if (j.contains("eddy_viscosity")) parse_eddy_viscosity(j["eddy_viscosity"], j.contains("materials"), d);
+  parse_open_boundaries(j, d);
+  parse_time(j, d);
+  parse_output(need(j, "", "output"), deck_dir, d);
+  parse_run_options(j, d);
   return d;
 }
 
-Deck load_deck(const std::string& path) {
+RunParameters load_deck(const std::string& path) {
   std::ifstream in(path);
   if (!in) fail("cannot open deck '" + path + "'");
   json j;

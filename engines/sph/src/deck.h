@@ -1,207 +1,26 @@
-// The run deck (JSON): every setting of a run in SI units, validated on load.
+// The run deck (JSON): every setting of a run in SI units, validated on load into the plain parameter structs of
+// parameters.h.
 #pragma once
-#include <array>
-#include <optional>
-#include <stdexcept>
 #include <set>
 #include <string>
-#include <utility>
-#include <vector>
 
 #include <nlohmann/json_fwd.hpp>
 
-#include "eos.h"
+#include "material_keys.h"
+#include "parameters.h"
 
 namespace sph {
 
-// Bad input: the message names the key, the value and what is allowed.
-struct InputError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
-
-struct MeshSpec {
-  std::string name;
-  std::string file, group;                   // HDF5 source (group holds vertices, faces) ...
-  std::vector<std::vector<double>> vertices;  // ... or inline data
-  std::vector<std::vector<long>> faces;
-};
-
-struct ProbeSpec {
-  std::string name;
-  std::vector<double> point;  // m
-};
-
-// A named patch of a plane: a disc (radius) or a rectangle (u, half_extents).
-// In 2D it is a segment of half-length `radius` (or half_extents[0]).
-struct PlanePatch {
-  std::string name;
-  std::vector<double> center, normal;  // m, unit vector
-  double radius = 0.0;                 // m (disc)
-  std::vector<double> u;               // in-plane direction (rectangle, 3D)
-  std::vector<double> half_extents;    // m (rectangle)
-};
-using FlowPlaneSpec = PlanePatch;  // volume flux through it is measured
-
-// Velocity inlet: fluid enters through the patch along `normal` at `velocity`,
-// fed by `layers` layers of buffer particles behind the patch.
-// profile: plug (velocity everywhere, the default), parabolic (disc: pipe
-// Poiseuille; rectangle or 2D segment: plane Poiseuille across u) or annular
-// (disc with inner_radius: the laminar annulus profile); for a profile,
-// `velocity` is the mean speed over the patch. extrapolated: the buffer takes
-// the mean density of the fluid just inside the patch (else its summation
-// density). material: index into the run's materials (0 by default).
-// ramp_time: the inlet's speed rises as 0.5 (1 - cos(pi t / ramp_time)) of
-// its value up to t = ramp_time (0: full speed from the start), so that a
-// scene filled at rest is not struck by the inflow (eq. OB4, open_boundaries.h).
-struct InletSpec {
-  PlanePatch patch;
-  double velocity = 0.0;  // m/s
-  int layers = 3;
-  std::string profile = "plug";
-  double inner_radius = 0.0;  // m (annular)
-  bool extrapolated = false;
-  int material = 0;
-  double ramp_time = 0.0;  // s
-};
-
-// Outlet: fluid leaving through the patch along `normal` keeps its velocity
-// in a buffer `layers` dx deep and is then removed. With `pressure` (Pa), the
-// buffer holds the density of that pressure (the reference pressure of the
-// domain); without it, each particle keeps the density it left with.
-struct OutletSpec {
-  PlanePatch patch;
-  int layers = 3;
-  std::optional<double> pressure;  // Pa
-  bool backflow = false;           // a pressure opening: fluid may also enter through it (needs a pressure)
-  double column_length = 0.0;      // m; > 0: a column outlet (outlet_buffer.h, eq. OB5; needs a pressure)
-  double column_loss = 0.0;        // the column's loss coefficient K on its speed, -
-  double column_area = 0.0;        // m^2 (m in 2D): the column's cross-section; 0: the patch's area
-};
-
-// One material of the deck's `materials` list. Every material is weakly
-// compressible with a Tait EOS (rho0, c0, gamma, background_pressure, eq. 6);
-// `model` names its constitutive model (material_models.h), which reads its
-// own keys (Newtonian: `viscosity`, the kinematic viscosity of the Morris term).
-struct MaterialSpec {
-  std::string name, model = "newtonian";
-  double rho0 = 0, c0 = 0, gamma = 7, background_pressure = 0;  // kg/m^3, m/s, -, Pa
-  double viscosity = 0;                                         // kinematic, m^2/s (Newtonian)
-  bool quadratic_eos = false;                                   // `eos`: "tait" (eq. 6) or "quadratic" (Nutto et al. eq. 9)
-  std::optional<double> min_pressure;                           // cavitation floor of the pressure, Pa (eos.h)
-  // PTT (materials/ptt.h): relaxation time s and viscosity Pa s per mode, extensibility, solvent viscosity Pa s
-  std::vector<double> mode_lambda, mode_eta;
-  double epsilon = 0, solvent_viscosity = 0;
-};
-
-// A material's equation of state with its cavitation floor (eos.h).
-inline TaitEos material_eos(const MaterialSpec& m) {
-  TaitEos eos{m.rho0, m.c0, m.gamma, m.background_pressure, m.quadratic_eos};
-  if (m.min_pressure) eos.set_min_pressure(*m.min_pressure);
-  return eos;
-}
-
-// Lees-Edwards boundaries (box_policy.h): a sheared periodic cell, shear along
-// x (axis 0), gradient along y (axis 1). Steady: gamma(t) = shear_rate t;
-// oscillatory: gamma(t) = amplitude sin(omega t).
-struct LeesEdwardsSpec {
-  bool on = false;
-  double shear_rate = 0;          // 1/s (steady)
-  double amplitude = 0, omega = 0;  // strain amplitude, angular frequency rad/s (oscillatory)
-};
-
-// A material's keys as the model's parser sees them (deck.cpp): values checked, errors name the key.
-class MaterialKeys {
- public:
-  MaterialKeys(const nlohmann::json& j, std::string path, unsigned terms) : j_(j), path_(std::move(path)), terms_(terms) {}
-  bool has(const std::string& key) const;
-  double positive(const std::string& key) const;  // required, > 0
-  double non_negative_or(const std::string& key, double fallback) const;  // optional, >= 0
-  // The entries of list `key` (required, min_size..max_size objects with only `allowed` keys), each as MaterialKeys.
-  std::vector<MaterialKeys> objects(const std::string& key, std::size_t min_size, std::size_t max_size,
-                                    const std::vector<std::string>& allowed) const;
-  // Required exactly when the physics term `bit` (named `term`) is on; 0 otherwise.
-  double positive_with_term(const std::string& key, unsigned bit, const std::string& term) const;
-  const std::string& path() const { return path_; }
-  bool term_on(unsigned bit) const { return (terms_ & bit) != 0; }  // physics term `bit` is in the deck
-
- private:
-  const nlohmann::json& j_;
-  std::string path_;
-  unsigned terms_;
-};
-
-struct Deck {
-  std::string deck_dir;  // files are resolved relative to it
-  int dimension = 3;
-  std::string particles_file;
-  unsigned terms = 0;  // bit set of term:: flags
-  // materials: empty means one Newtonian material from the top-level keys below
-  // (every deck written before materials existed); otherwise the top-level
-  // rho0, c0, gamma, background_pressure hold those of materials[0] (inlets use them).
-  std::vector<MaterialSpec> materials;
-  // fluid
-  double rho0 = 0, c0 = 0, gamma = 7, background_pressure = 0;  // kg/m^3, m/s, -, Pa
-  std::optional<double> min_pressure;                           // one material: its cavitation floor, Pa
-  double v_max = 0;                                             // expected max speed, m/s
-  double viscosity = 0;                                         // kinematic, m^2/s
-  double alpha = 0, beta = 0;                                   // artificial viscosity
-  bool av_walls = true;  // artificial viscosity also on pairs with a fixed particle
-  bool viscosity_correction = false;  // Morris sum renormalised per particle (viscosity_correction.h, eq. VC1)
-  double smagorinsky_cs = 0;  // > 0: Smagorinsky's eddy viscosity nu_t = (cs dx)^2 |S| (eddy_viscosity.h, eq. SM1)
-  bool eddy_walls = true;     // nu_t also on pairs with a fixed particle (false: fluid-fluid pairs only, eq. SM2)
-  double h = 0, dx = 0;                                         // m
-  std::vector<double> body_force;                               // m/s^2
-  // walls
-  std::vector<MeshSpec> meshes;
-  double wall_range = 0, wall_s = 0, wall_psi = 0;  // R m, s m, psi N
-  // periodic boundaries
-  LeesEdwardsSpec lees_edwards;
-  std::vector<int> periodic_axes;
-  std::vector<double> periodic_lo, periodic_hi;  // m, one per axis
-  // open boundaries
-  std::vector<InletSpec> inlets;
-  std::vector<OutletSpec> outlets;
-  // time
-  std::optional<double> dt;                                  // fixed step, s
-  double cfl = 0.25, viscous_factor = 0.125, force_factor = 0.25;
-  double t_end = 0;                                          // s
-  long max_steps = 0;                                        // 0: no limit
-  // resumed run (the particle file holds a stopped run's last frame): its time and step, s
-  double t_start = 0;
-  long step_start = 0;
-  // stability
-  double max_density_deviation = 0.1;  // |rho/rho0 - 1| allowed
-  // output
-  std::string output_file = "out.h5";
-  double frame_interval = 0, series_interval = 0;  // s
-  std::vector<ProbeSpec> probes;
-  std::vector<FlowPlaneSpec> flow_planes;
-  double progress_interval = 1.0;  // s of wall time
-  int threads = 0;                 // 0: OpenMP default
-  // Verlet skin as a fraction of the support 2h (LAMMPS's 0.3 mm on a 3 mm cutoff is 0.1): the list
-  // holds pairs closer than (1 + skin) 2h and is rebuilt when a particle has moved skin/2 since the build.
-  double neighbour_skin = 0.1;
-  // Open boundaries' conversions: "kept" re-sorts the list's rows and lets additions and removals wait
-  // for the next build where that is exact (open_boundaries.h); "rebuilt" rebuilds the list at each change.
-  std::string open_boundary_list = "kept";
-
-  std::string resolve(const std::string& path) const;
-  std::string terms_string() const;
-  bool inlets_extrapolated() const;  // there are inlets and every one extrapolates its pressure
-  // The run's materials: `materials`, or the one Newtonian material of the top-level keys.
-  std::vector<MaterialSpec> material_list() const;
-};
-
 // Parse and validate a deck; throws InputError.
-Deck parse_deck(const nlohmann::json& j, const std::string& deck_dir);
-Deck load_deck(const std::string& path);
+RunParameters parse_deck(const nlohmann::json& j, const std::string& deck_dir);
+RunParameters load_deck(const std::string& path);
 // The `materials` list into d.materials (deck_materials.cpp; d.terms and d.v_max must be parsed).
-void parse_materials(const nlohmann::json& j, Deck& d);
+void parse_materials(const nlohmann::json& j, RunParameters& d);
 // The `lees_edwards` object into d.lees_edwards (deck_lees_edwards.cpp; d.periodic_* must be parsed).
-void parse_lees_edwards(const nlohmann::json& j, Deck& d);
+void parse_lees_edwards(const nlohmann::json& j, RunParameters& d);
 // The `inlets` and `outlets` lists into d.inlets, d.outlets (deck_open_boundaries.cpp; d.dx, d.h and the materials
 // must be parsed), and one plane patch of them or of the flow planes (its name must be new in `seen`).
-void parse_open_boundaries(const nlohmann::json& j, Deck& d);
+void parse_open_boundaries(const nlohmann::json& j, RunParameters& d);
 PlanePatch parse_patch(const nlohmann::json& e, const std::string& path, int dim, std::set<std::string>& seen);
 
 }  // namespace sph

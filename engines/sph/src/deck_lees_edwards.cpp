@@ -1,4 +1,4 @@
-// The deck's `lees_edwards` object (deck.h: LeesEdwardsSpec).
+// The deck's `lees_edwards` object (parameters.h: LeesEdwardsSpec).
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -12,7 +12,7 @@ using namespace deck_json;
 
 // {"shear_rate": 1/s} (steady) or {"amplitude": -, "omega": rad/s} (oscillatory);
 // axes 0 (shear) and 1 (gradient) must be periodic.
-void parse_lees_edwards(const json& j, Deck& d) {
+void parse_lees_edwards(const json& j, RunParameters& d) {
   const std::string path = "lees_edwards";
   if (!j.is_object()) fail("'lees_edwards' must be a JSON object: {\"shear_rate\": 1/s} or {\"amplitude\": -, \"omega\": rad/s}");
   check_keys(j, path, {"shear_rate", "amplitude", "omega"});

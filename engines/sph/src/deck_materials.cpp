@@ -1,4 +1,4 @@
-// The deck's `materials` list (deck.h: MaterialSpec) and the keys a material model reads.
+// The deck's `materials` list (parameters.h: MaterialSpec) and the keys a material model reads.
 #include <set>
 #include <string>
 #include <vector>
@@ -12,7 +12,7 @@ namespace sph {
 using namespace deck_json;
 
 // The `materials` list: each {name, model, rho0, c0, gamma (7), background_pressure (0), <model keys>}.
-void parse_materials(const json& j, Deck& d) {
+void parse_materials(const json& j, RunParameters& d) {
   if (!j.is_array() || j.empty() || j.size() > 255) fail("'materials' must be a list of 1 to 255 materials");
   std::vector<std::string> models;
   MaterialModels::visit_all([&](auto model) { models.push_back(decltype(model)::name); });
@@ -87,15 +87,5 @@ double MaterialKeys::positive_with_term(const std::string& key, unsigned bit, co
     fail("key '" + where(path_, key) + "' is given but physics term '" + term + "' is not in 'physics'");
   return on ? positive(key) : 0.0;
 }
-
-std::vector<MaterialSpec> Deck::material_list() const {
-  if (!materials.empty()) return materials;
-  MaterialSpec m;
-  m.name = "fluid", m.model = "newtonian";
-  m.rho0 = rho0, m.c0 = c0, m.gamma = gamma, m.background_pressure = background_pressure, m.viscosity = viscosity;
-  m.min_pressure = min_pressure;
-  return {m};
-}
-
 
 }  // namespace sph

@@ -1,4 +1,4 @@
-// The deck's open boundaries (deck.h InletSpec, OutletSpec): the `inlets` and `outlets` lists, and the plane
+// The deck's open boundaries (parameters.h InletSpec, OutletSpec): the `inlets` and `outlets` lists, and the plane
 // patches they and the flow planes are made of.
 #include <cmath>
 #include <set>
@@ -43,7 +43,7 @@ PlanePatch parse_patch(const json& e, const std::string& path, int dim, std::set
 
 namespace {
 
-int buffer_layers(const json& e, const std::string& path, const Deck& d) {
+int buffer_layers(const json& e, const std::string& path, const RunParameters& d) {
   int layers = 3;
   if (e.contains("layers")) {
     if (!e["layers"].is_number_integer() || e["layers"].get<int>() < 1)
@@ -56,8 +56,8 @@ int buffer_layers(const json& e, const std::string& path, const Deck& d) {
   return layers;
 }
 
-// An inlet's profile, inner_radius, pressure and material (deck.h InletSpec).
-void parse_inlet_options(const json& e, const std::string& path, const Deck& d, InletSpec& in) {
+// An inlet's profile, inner_radius, pressure and material (parameters.h InletSpec).
+void parse_inlet_options(const json& e, const std::string& path, const RunParameters& d, InletSpec& in) {
   if (e.contains("profile")) in.profile = text(e["profile"], path + ".profile");
   const double v = in.velocity;
   double peak = v;  // largest speed of the profile, m/s
@@ -103,7 +103,7 @@ void parse_inlet_options(const json& e, const std::string& path, const Deck& d, 
 
 // A column outlet's keys (outlet_buffer.h, eq. OB5): column_length > 0 (m), column_loss >= 0 (-), column_area > 0
 // (m^2; default the patch's: an annular passage's outlet patch is a disc).
-void parse_column(const json& e, const std::string& path, const Deck& d, OutletSpec& out) {
+void parse_column(const json& e, const std::string& path, const RunParameters& d, OutletSpec& out) {
   for (const char* key : {"column_loss", "column_area"})
     if (e.contains(key) && !e.contains("column_length"))
       fail("'" + path + "." + key + "' needs '" + path + ".column_length': it is the column's");
@@ -119,7 +119,7 @@ void parse_column(const json& e, const std::string& path, const Deck& d, OutletS
 
 }  // namespace
 
-void parse_open_boundaries(const json& j, Deck& d) {
+void parse_open_boundaries(const json& j, RunParameters& d) {
   std::set<std::string> seen;
   for (const char* key : {"inlets", "outlets"}) {
     if (!j.contains(key)) continue;

@@ -1,7 +1,7 @@
 // An inlet's buffer (open_boundaries.h): its patch, speed and profile, options and state, and the
 // profile's column speeds (eqs. OB1-OB3).
 //
-// Options (deck.h InletSpec):
+// Options (parameters.h InletSpec):
 // - profile: each lattice column moves at v(q) = U f(q) / <f>, with f the
 //   Poiseuille shape across the patch (eqs. OB1-OB3 below) and <f> its mean
 //   over the lattice columns, so the columns carry exactly U times the patch
@@ -23,6 +23,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "parameters.h"
 #include "particles.h"
 #include "plane_patch.h"
 #include "vec.h"
@@ -91,6 +92,24 @@ struct InletBuffer {
   double speed(const Vec<D>& q) const {
     return profile == InletProfile::plug ? velocity : scale * shape(q);
   }
+  // Append the buffer's particles, `layers` behind the patch on each lattice column, from id next_id on; dx: the
+  // lattice spacing, m; rho0: the run's first material's density, kg/m^3. Returns the next free id.
+  std::int64_t fill(Particles<D>& P, std::int64_t next_id, double dx, double rho0) const {
+    if (profile == InletProfile::plug && material == 0) {
+      const double mass = rho0 * std::pow(dx, D);
+      for (const auto& q : patch.lattice(dx))
+        for (int l = 0; l < layers; ++l)
+          P.append(patch.c + q - (l + 0.5) * dx * patch.n, factor * velocity * patch.n, rho0, mass, Kind::inlet,
+                   next_id++);
+      return next_id;
+    }
+    const double m = rho_ref * std::pow(dx, D);
+    for (const auto& q : columns(dx))
+      for (int l = 0; l < layers; ++l)
+        P.append(patch.c + q - (l + 0.5) * dx * patch.n, factor * speed(q) * patch.n, rho_ref, m, Kind::inlet,
+                 next_id++, material);
+    return next_id;
+  }
   // Whether the in-plane offset q lies within `reach` (m) of the patch laterally (the patch grown by it).
   bool near(const Vec<D>& q, double reach) const {
     const double a = q.dot(patch.u);
@@ -140,5 +159,24 @@ struct InletBuffer {
     scale = sum > 0.0 ? velocity * area / (sum * std::pow(dx, D - 1)) : 0.0;
   }
 };
+
+// An inlet's buffer from its deck entry `s` and its material; dx: the lattice spacing, m.
+template <int D>
+InletBuffer<D> make_inlet(const InletSpec& s, const MaterialSpec& material, double dx) {
+  InletBuffer<D> in(Patch<D>(s.patch), s.velocity, s.layers);
+  in.profile = s.profile == "parabolic" ? InletProfile::parabolic
+               : s.profile == "annular" ? InletProfile::annular
+                                        : InletProfile::plug;
+  in.inner_radius = s.inner_radius;
+  in.extrapolated = s.extrapolated;
+  in.material = static_cast<std::uint8_t>(s.material);
+  in.rho_ref = material.rho0;
+  in.floor_rho = material_eos(material).floor_rho;
+  in.ramp_time = s.ramp_time;
+  in.factor = s.ramp_time > 0.0 ? 0.0 : 1.0;  // eq. OB4 at t = 0
+  in.reference_volumes = in.profile != InletProfile::plug || in.extrapolated || s.material != 0;
+  if (in.profile != InletProfile::plug) in.normalise(dx);
+  return in;
+}
 
 }  // namespace sph

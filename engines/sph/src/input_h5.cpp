@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "deck.h"
+#include "parameters.h"
 #include "h5_handle.h"
 
 namespace sph {

@@ -18,6 +18,7 @@
 
 #include "box_policy.h"
 #include "cell_list.h"
+#include "material.h"
 #include "parallel.h"
 #include "particles.h"
 
@@ -106,6 +107,21 @@ inline void correct_at(Particles<D>& P, std::ptrdiff_t i, double dt) {
     if (P.integrates(who, i)) f.value[i] = f.start[i] + dt * f.rate[i];
   });
   if (P.advects(i)) P.x[i] = P.x0[i] + dt * (P.v0[i] + 0.5 * dt * P.acc[i]);
+}
+
+// crossed(x_old, dx, volume) for each moving particle over the step of dt (s) just taken: its start x0 wrapped
+// into the box, its displacement dt (v0 + dt a / 2) (m) and its liquid's volume (m^3; a cavitating particle
+// holds its mass at the floor's density, the rest is vapour), for the flow planes (recorder.h).
+template <int D, class Crossed>
+void step_displacements(const Particles<D>& P, const PeriodicImages<D>& images, const MaterialTable& materials,
+                        double dt, Crossed&& crossed) {
+  for (std::ptrdiff_t i = 0, n = P.size(); i < n; ++i)
+    if (P.moves(i)) {
+      Vec<D> x_old = P.x0[i];
+      images.wrap(x_old);
+      const double rho = std::max(P.rho[i], materials.eos(P.material[i]).floor_rho);
+      crossed(x_old, Vec<D>(dt * (P.v0[i] + 0.5 * dt * P.acc[i])), P.mass[i] / rho);
+    }
 }
 
 }  // namespace sph

@@ -36,7 +36,7 @@ int main(int argc, char** argv) {
     return sph::exit_bad_input;
   }
   try {
-    const sph::Deck deck = sph::load_deck(argv[1]);
+    const sph::RunParameters deck = sph::load_deck(argv[1]);
     return sph::run_deck(deck);
   } catch (const sph::InputError& e) {
     std::fprintf(stderr, "error: %s\n", one_line(e.what()).c_str());

@@ -4,7 +4,7 @@
 #include <string>
 #include <type_traits>
 
-#include "deck.h"
+#include "parameters.h"
 #include "material.h"
 
 #include "materials/newtonian.h"
@@ -52,7 +52,7 @@ using MaterialModels = ModelList<Newtonian, Ptt>;
 // configuration's model list and its model's own parameters); returns the
 // largest number of stress modes among them (0: none).
 template <class Models>
-int add_materials(const Deck& deck, MaterialTable& table) {
+int add_materials(const RunParameters& deck, MaterialTable& table) {
   int modes = 0;
   for (const MaterialSpec& m : deck.material_list()) {
     Material mat{material_eos(m), m.viscosity, m.rho0 * m.viscosity, std::max(0, Models::index(m.model)), {}};

@@ -40,6 +40,7 @@
 
 #include "box_policy.h"
 #include "cell_list.h"
+#include "cell_movers.h"
 #include "physics_terms.h"
 #include "vec.h"
 
@@ -70,107 +71,21 @@ class NeighbourList {
   void reserve(std::size_t n) {
     rows_.reserve(n);
     block_of_.reserve(n);
-    mover_items_.reserve(n);
+    movers_.reserve(n);
   }
 
   // List the pairs of x[0..n) closer than `range` (kind: fluid first in each
   // row; pairs of two fixed boundary particles left out when skip_walls).
   void build(const CellList<D>& cells, const std::vector<Vec<D>>& x, const std::vector<Kind>& kind, double range,
              bool skip_walls) {
-    const std::size_t n = x.size();
-    rows_.resize(n);
-    block_of_.resize(n);
-    const auto& dims = cells.dims();
-    const int layers = dims[D - 1];
-    int layer_cells = 1;
-    for (int d = 0; d + 1 < D; ++d) layer_cells *= dims[d];
-    periodic_last_ = cells.periodic_internal(D - 1);
-    int nb = std::max(1, layers / 2);
-    if (periodic_last_ && nb < 3) nb = 1;
-    blocks_ = nb;
-    if (static_cast<int>(lists_.size()) < nb) lists_.resize(nb), others_.resize(nb);
-    if (static_cast<int>(begin_.size()) < nb + 1) begin_.resize(nb + 1);
-    for (int k = 0; k < nb; ++k) begin_[k] = cells.cell_begin(static_cast<std::ptrdiff_t>(2 * k) * layer_cells);
-    begin_[0] = 0;
-    begin_[nb] = static_cast<int>(n);
-    for (auto& c : colours_) c.clear();
-    for (int k = 0; k < nb; ++k) {
-      int colour = k % 2;
-      if (periodic_last_ && nb % 2 == 1 && k == nb - 1 && nb > 1) colour = 2;
-      colours_[colour].push_back(k);
-    }
+    const int layer_cells = plan_blocks(cells, x.size());
+    const int nb = blocks_;
     const double range2 = range * range;
-    count_movers(cells, kind, skip_walls);
+    if (skip_walls) movers_.count(cells, kind);
     auto build_block = [&](int k) {
       for (int i = begin_[k]; i < begin_[k + 1]; ++i) block_of_[i] = k;
     };
-    auto list_block = [&](int k) {
-      std::vector<std::uint32_t>& list = lists_[k];
-      list.clear();
-      using Run = typename CellList<D>::Run;
-      Run runs[CellList<D>::max_runs];
-      int codes[CellList<D>::max_runs];
-      const std::ptrdiff_t first_cell = static_cast<std::ptrdiff_t>(2 * k) * layer_cells;
-      const std::ptrdiff_t last_cell =
-          k + 1 == nb ? cells.cell_count() : static_cast<std::ptrdiff_t>(2 * (k + 1)) * layer_cells;
-      for (std::ptrdiff_t cell = first_cell; cell < last_cell; ++cell) {
-        const int first = cells.cell_begin(cell), last = cells.cell_end(cell);
-        if (first == last) continue;
-        if (skip_walls && !movers_around(cells, cell)) {  // only boundary particles here, none other in reach: their rows are empty
-          for (int a = first; a < last; ++a) rows_[a] = {static_cast<int>(list.size()), static_cast<int>(list.size()),
-                                                         static_cast<int>(list.size())};
-          continue;
-        }
-        const int nr = cells.runs_of_cell(cell, runs);
-        for (int q = 0; q < nr; ++q) codes[q] = code_of(runs[q].shift);
-        std::vector<std::uint32_t>& others = others_[k];
-        if (others.capacity() < 4096) others.reserve(4096);  // a row's non-fluid neighbours: no growth later
-        for (int a = first; a < last; ++a) {
-          Row& row = rows_[a];
-          const bool a_wall = kind[a] == Kind::boundary;
-          row.begin = static_cast<int>(list.size());
-          others.clear();
-          // One sweep over the candidates: fluid neighbours go to the list,
-          // the others to a side buffer appended after them (the row's
-          // [mid, end)). Two sweeps (fluid, then the others) cost the 2D dam
-          // break a fifth of its run time.
-          const bool only_movers = skip_walls && a_wall;  // a wall's row lists no wall
-          for (int q = 0; q < nr; ++q) {
-            if (only_movers && movers(runs[q]) == 0) continue;  // no candidate of this run would be listed
-            // A run's cells lie in one layer, so in one block kb: a owns none of it when kb is block k - 1,
-            // all of it when kb is k + 1, and in its own block the particles from `from` on (owns); the sweep
-            // skips the rest (half the candidates; the same pairs in the same order).
-            int from = cells.item_begin(runs[q]);
-            if (from == cells.item_end(runs[q])) continue;
-            const int kb = block_of_[from];
-            if (kb == k) from = std::max(from, codes[q] > centre_code ? a : a + 1);
-            else if (!(kb == k + 1 || (periodic_last_ && k == nb - 1 && kb == 0))) continue;
-            const Vec<D> xs = x[a] - runs[q].shift;
-            const std::uint32_t code = static_cast<std::uint32_t>(codes[q]);
-            auto candidate = [&](int b) {
-              if ((xs - x[b]).squaredNorm() >= range2) return;
-              if (!owns(a, b, codes[q], k)) return;  // also drops a itself at the centre image
-              const std::uint32_t entry = static_cast<std::uint32_t>(b) << shift_bits | code;
-              if (kind[b] == Kind::fluid) {
-                list.push_back(entry);
-              } else if (!(skip_walls && a_wall && kind[b] == Kind::boundary)) {
-                others.push_back(entry);
-              }
-            };
-            if (only_movers) {  // the run's movers only, in index order (the others would be dropped)
-              const int* const first_mover = mover_items_.data() + movers_[runs[q].cell_begin];
-              const int* const end = mover_items_.data() + movers_[runs[q].cell_end];
-              for (const int* m = std::lower_bound(first_mover, end, from); m < end; ++m) candidate(*m);
-            } else {
-              for (int b = from, end = cells.item_end(runs[q]); b < end; ++b) candidate(b);
-            }
-          }
-          row.mid = static_cast<int>(list.size());
-          list.insert(list.end(), others.begin(), others.end());
-          row.end = static_cast<int>(list.size());
-        }
-      }
-    };
+    auto list_block = [&](int k) { list_block_pairs(cells, x, kind, range2, skip_walls, layer_cells, k); };
     if (omp_get_max_threads() > 1 && nb > 1) {
 #pragma omp parallel
       {
@@ -275,62 +190,111 @@ class NeighbourList {
  private:
   int code_of(const Vec<D>& shift) const { return images_->code_of(shift); }
 
-  // movers_[c]: particles other than fixed boundary ones (movers) in the cells before c (particles sorted by
-  // cell), mover_items_ their indices in order (a run's movers: mover_items_[movers_[begin], movers_[end])).
-  // Walls never pair with walls when skip_walls, so a wall's row needs only the runs' movers:
-  // the walls far from any fluid or buffer cost one look at their cell (not a sweep of its stencil),
-  // the others a sweep of the movers around them only (the drill's walls outnumber its fluid 6 to 1).
-  void count_movers(const CellList<D>& cells, const std::vector<Kind>& kind, bool skip_walls) {
-    if (!skip_walls) return;
-    const std::ptrdiff_t nc = cells.cell_count();
-    if (movers_.capacity() < static_cast<std::size_t>(nc) + 1) movers_.reserve(nc + nc / 4 + 1);
-    movers_.resize(nc + 1);
-    movers_[0] = 0;
-    if (mover_items_.capacity() < kind.size()) mover_items_.reserve(kind.size() + kind.size() / 4);
-    mover_items_.clear();
-    for (std::ptrdiff_t c = 0; c < nc; ++c) {
-      for (int i = cells.cell_begin(c), e = cells.cell_end(c); i < e; ++i)
-        if (kind[i] != Kind::boundary) mover_items_.push_back(i);
-      movers_[c + 1] = static_cast<int>(mover_items_.size());
-    }
-  }
-  // Whether a particle other than a fixed boundary one lies in the cell or its (2 reach + 1)^D stencil.
-  // Without periodic axes the stencil is a box of cells clamped to the grid (rows along axis 0 are
-  // contiguous); otherwise the cell list's runs (their shifts and Lees-Edwards rows) decide.
-  bool movers_around(const CellList<D>& cells, std::ptrdiff_t cell) const {
-    if (movers_[cell + 1] != movers_[cell]) return true;
+  // The blocks of n particles sorted into `cells` (their particle ranges and colours, see the top of the file);
+  // returns the number of cells in a layer along the last axis.
+  int plan_blocks(const CellList<D>& cells, std::size_t n) {
+    rows_.resize(n);
+    block_of_.resize(n);
     const auto& dims = cells.dims();
-    bool periodic = false;
-    for (int d = 0; d < D; ++d) periodic = periodic || cells.periodic_internal(d);
-    if (periodic) {
-      typename CellList<D>::Run runs[CellList<D>::max_runs];
-      const int nr = cells.runs_of_cell(cell, runs);
-      for (int q = 0; q < nr; ++q)
-        if (movers(runs[q]) != 0) return true;
-      return false;
+    const int layers = dims[D - 1];
+    int layer_cells = 1;
+    for (int d = 0; d + 1 < D; ++d) layer_cells *= dims[d];
+    periodic_last_ = cells.periodic_internal(D - 1);
+    int nb = std::max(1, layers / 2);
+    if (periodic_last_ && nb < 3) nb = 1;
+    blocks_ = nb;
+    if (static_cast<int>(lists_.size()) < nb) lists_.resize(nb), others_.resize(nb);
+    if (static_cast<int>(begin_.size()) < nb + 1) begin_.resize(nb + 1);
+    for (int k = 0; k < nb; ++k) begin_[k] = cells.cell_begin(static_cast<std::ptrdiff_t>(2 * k) * layer_cells);
+    begin_[0] = 0;
+    begin_[nb] = static_cast<int>(n);
+    for (auto& c : colours_) c.clear();
+    for (int k = 0; k < nb; ++k) {
+      int colour = k % 2;
+      if (periodic_last_ && nb % 2 == 1 && k == nb - 1 && nb > 1) colour = 2;
+      colours_[colour].push_back(k);
     }
-    const int reach = cells.reach();
-    std::array<int, D> c{}, lo{}, hi{};
-    for (int d = 0; d < D; ++d) {
-      c[d] = static_cast<int>(cell % dims[d]);
-      cell /= dims[d];
-      lo[d] = std::max(0, c[d] - reach), hi[d] = std::min(dims[d] - 1, c[d] + reach);
-    }
-    std::array<int, D> o = lo;  // o[0] unused: a row lo[0]..hi[0] at a time
-    while (true) {
-      std::ptrdiff_t row = 0;
-      for (int d = D - 1; d >= 1; --d) row = row * dims[d] + o[d];
-      row *= dims[0];
-      if (movers_[row + hi[0] + 1] != movers_[row + lo[0]]) return true;
-      int d = 1;
-      for (; d < D; ++d) {
-        if (++o[d] <= hi[d]) break;
-        o[d] = lo[d];
+    return layer_cells;
+  }
+
+  // The rows of block k's particles, cell by cell, into lists_[k].
+  void list_block_pairs(const CellList<D>& cells, const std::vector<Vec<D>>& x, const std::vector<Kind>& kind,
+                        double range2, bool skip_walls, int layer_cells, int k) {
+    std::vector<std::uint32_t>& list = lists_[k];
+    list.clear();
+    typename CellList<D>::Run runs[CellList<D>::max_runs];
+    int codes[CellList<D>::max_runs];
+    const std::ptrdiff_t first_cell = static_cast<std::ptrdiff_t>(2 * k) * layer_cells;
+    const std::ptrdiff_t last_cell =
+        k + 1 == blocks_ ? cells.cell_count() : static_cast<std::ptrdiff_t>(2 * (k + 1)) * layer_cells;
+    for (std::ptrdiff_t cell = first_cell; cell < last_cell; ++cell) {
+      const int first = cells.cell_begin(cell), last = cells.cell_end(cell);
+      if (first == last) continue;
+      if (skip_walls && !movers_.around(cells, cell)) {  // only boundary particles here, none other in reach: their rows are empty
+        for (int a = first; a < last; ++a) rows_[a] = {static_cast<int>(list.size()), static_cast<int>(list.size()),
+                                                       static_cast<int>(list.size())};
+        continue;
       }
-      if (d == D) return false;
+      const int nr = cells.runs_of_cell(cell, runs);
+      for (int q = 0; q < nr; ++q) codes[q] = code_of(runs[q].shift);
+      std::vector<std::uint32_t>& others = others_[k];
+      if (others.capacity() < 4096) others.reserve(4096);  // a row's non-fluid neighbours: no growth later
+      for (int a = first; a < last; ++a) list_row(cells, x, kind, range2, skip_walls, k, runs, codes, nr, a);
     }
   }
-  int movers(const typename CellList<D>::Run& r) const { return movers_[r.cell_end] - movers_[r.cell_begin]; }
+
+  // Particle a's row of block k from the runs of cells around its cell (and their image codes).
+  inline __attribute__((always_inline)) void list_row(const CellList<D>& cells, const std::vector<Vec<D>>& x,
+                                                      const std::vector<Kind>& kind, double range2, bool skip_walls,
+                                                      int k, const typename CellList<D>::Run* runs, const int* codes,
+                                                      int nr, int a) {
+    std::vector<std::uint32_t>& list = lists_[k];
+    std::vector<std::uint32_t>& others = others_[k];
+    const int nb = blocks_;
+    Row& row = rows_[a];
+    const bool a_wall = kind[a] == Kind::boundary;
+    row.begin = static_cast<int>(list.size());
+    others.clear();
+    // One sweep over the candidates: fluid neighbours go to the list,
+    // the others to a side buffer appended after them (the row's
+    // [mid, end)). Two sweeps (fluid, then the others) cost the 2D dam
+    // break a fifth of its run time.
+    const bool only_movers = skip_walls && a_wall;  // a wall's row lists no wall
+    for (int q = 0; q < nr; ++q) {
+      if (only_movers && movers_.in(runs[q]) == 0) continue;  // no candidate of this run would be listed
+      // A run's cells lie in one layer, so in one block kb: a owns none of it when kb is block k - 1,
+      // all of it when kb is k + 1, and in its own block the particles from `from` on (owns); the sweep
+      // skips the rest (half the candidates; the same pairs in the same order).
+      int from = cells.item_begin(runs[q]);
+      if (from == cells.item_end(runs[q])) continue;
+      const int kb = block_of_[from];
+      if (kb == k) from = std::max(from, codes[q] > centre_code ? a : a + 1);
+      else if (!(kb == k + 1 || (periodic_last_ && k == nb - 1 && kb == 0))) continue;
+      const Vec<D> xs = x[a] - runs[q].shift;
+      const std::uint32_t code = static_cast<std::uint32_t>(codes[q]);
+      auto candidate = [&](int b) {
+        if ((xs - x[b]).squaredNorm() >= range2) return;
+        if (!owns(a, b, codes[q], k)) return;  // also drops a itself at the centre image
+        const std::uint32_t entry = static_cast<std::uint32_t>(b) << shift_bits | code;
+        if (kind[b] == Kind::fluid) {
+          list.push_back(entry);
+        } else if (!(skip_walls && a_wall && kind[b] == Kind::boundary)) {
+          others.push_back(entry);
+        }
+      };
+      if (only_movers) {  // the run's movers only, in index order (the others would be dropped)
+        const int* const first_mover = movers_.begin(runs[q]);
+        const int* const end = movers_.end(runs[q]);
+        for (const int* m = std::lower_bound(first_mover, end, from); m < end; ++m) candidate(*m);
+      } else {
+        for (int b = from, end = cells.item_end(runs[q]); b < end; ++b) candidate(b);
+      }
+    }
+    row.mid = static_cast<int>(list.size());
+    list.insert(list.end(), others.begin(), others.end());
+    row.end = static_cast<int>(list.size());
+  }
+
 
   // The queue of for_blocks_coloured: colour after colour, in a colour most
   // pairs first (ties: lower index; the last block a thread takes is a small
@@ -375,7 +339,8 @@ class NeighbourList {
   const PeriodicImages<D>* images_ = nullptr;
   PeriodicBox<D> box_;
   std::vector<Row> rows_;
-  std::vector<int> block_of_, begin_, movers_, mover_items_;
+  std::vector<int> block_of_, begin_;
+  CellMovers<D> movers_;  // a wall's candidates (skip_walls)
   std::vector<std::vector<std::uint32_t>> lists_;
   std::vector<std::vector<std::uint32_t>> others_;  // per block: a row's non-fluid neighbours while it is built
   std::array<std::vector<int>, 3> colours_;

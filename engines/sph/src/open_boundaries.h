@@ -17,7 +17,7 @@
 // The volume converted at each patch gives the inflow and outflow rates (an
 // opening's backflow counts as negative outflow).
 //
-// Options (deck.h InletSpec, OutletSpec), after the buffer inlets and
+// Options (parameters.h InletSpec, OutletSpec), after the buffer inlets and
 // outlets of Lastiwka et al. 2009 and Tafuni et al. 2018 (velocity imposed at
 // the inlet, pressure at the outlet): the inlet's profile, extrapolated
 // pressure and ramp (inlet_buffer.h, eqs. OB1-OB4), the outlet's held
@@ -44,7 +44,7 @@
 #include <string>
 #include <vector>
 
-#include "deck.h"
+#include "parameters.h"
 #include "particles.h"
 #include "inlet_buffer.h"
 #include "outlet_buffer.h"
@@ -55,37 +55,12 @@ namespace sph {
 template <int D>
 class OpenBoundaries {
  public:
-  explicit OpenBoundaries(const Deck& deck)
+  explicit OpenBoundaries(const RunParameters& deck)
       : dx_(deck.dx), rho0_(deck.rho0), reach_(2.0 * deck.h * (1.0 + deck.neighbour_skin)),
         t_last_(deck.t_start), keep_list_(deck.open_boundary_list == "kept") {
     const auto materials = deck.material_list();
-    for (const auto& s : deck.inlets) {
-      Inlet in(Patch<D>(s.patch), s.velocity, s.layers);
-      in.profile = s.profile == "parabolic" ? Profile::parabolic : s.profile == "annular" ? Profile::annular : Profile::plug;
-      in.inner_radius = s.inner_radius;
-      in.extrapolated = s.extrapolated;
-      in.material = static_cast<std::uint8_t>(s.material);
-      in.rho_ref = materials[s.material].rho0;
-      in.floor_rho = material_eos(materials[s.material]).floor_rho;
-      in.ramp_time = s.ramp_time;
-      in.factor = s.ramp_time > 0.0 ? 0.0 : 1.0;  // eq. OB4 at t = 0
-      in.reference_volumes = in.profile != Profile::plug || in.extrapolated || s.material != 0;
-      if (in.profile != Profile::plug) in.normalise(dx_);
-      inlets_.push_back(in);
-    }
-    for (const auto& s : deck.outlets) {
-      Outlet out(Patch<D>(s.patch), s.layers);
-      out.holds = s.pressure.has_value();
-      out.backflow = s.backflow;
-      for (const auto& m : materials) {
-        out.rho0.push_back(m.rho0);
-        if (out.holds) out.rho_ref.push_back(material_eos(m).density(*s.pressure));  // eq. 6 (or 9) inverted
-      }
-      out.column_length = s.column_length, out.column_loss = s.column_loss;
-      out.column_area = s.column_area > 0.0 ? s.column_area : out.patch.area();
-      if (out.column()) out.p_ref = *s.pressure, out.eos = material_eos(materials[0]);
-      outlets_.push_back(out);
-    }
+    for (const auto& s : deck.inlets) inlets_.push_back(make_inlet<D>(s, materials[s.material], dx_));
+    for (const auto& s : deck.outlets) outlets_.push_back(make_outlet<D>(s, materials));
     new_options_only_ = !empty();
     for (const auto& in : inlets_) new_options_only_ = new_options_only_ && in.reference_volumes;
     for (const auto& out : outlets_) new_options_only_ = new_options_only_ && out.holds;
@@ -109,21 +84,7 @@ class OpenBoundaries {
 
   // Append the inlet buffers; returns the next free particle id.
   std::int64_t fill(Particles<D>& P, std::int64_t next_id) const {
-    const double mass = rho0_ * std::pow(dx_, D);
-    for (const auto& in : inlets_) {
-      if (in.profile == Profile::plug && in.material == 0) {
-        for (const auto& q : in.patch.lattice(dx_))
-          for (int l = 0; l < in.layers; ++l)
-            P.append(in.patch.c + q - (l + 0.5) * dx_ * in.patch.n, in.factor * in.velocity * in.patch.n, rho0_, mass,
-                     Kind::inlet, next_id++);
-        continue;
-      }
-      const double m = in.rho_ref * std::pow(dx_, D);
-      for (const auto& q : in.columns(dx_))
-        for (int l = 0; l < in.layers; ++l)
-          P.append(in.patch.c + q - (l + 0.5) * dx_ * in.patch.n, in.factor * in.speed(q) * in.patch.n, in.rho_ref, m,
-                   Kind::inlet, next_id++, in.material);
-    }
+    for (const auto& in : inlets_) next_id = in.fill(P, next_id, dx_, rho0_);
     return next_id;
   }
 
@@ -168,102 +129,21 @@ class OpenBoundaries {
   std::int64_t update(Particles<D>& P, std::int64_t next_id, double t, Event&& event) {
     const std::size_t n = P.size();
     bool removals = false;
-    bool extrapolate = false;
-    bool ramping = false;
-    for (auto& in : inlets_) {
-      in.ramping = in.factor < 1.0;  // some buffer particles still move below full speed
-      if (in.ramping) in.factor = t < in.ramp_time ? 0.5 * (1.0 - std::cos(M_PI * t / in.ramp_time)) : 1.0;
-      ramping = ramping || in.ramping;
-    }
-    for (auto& in : inlets_)
-      if (in.extrapolated) in.rho_fluid = in.fluid_density_ahead(P, dx_), extrapolate = true;
-    for (auto& out : outlets_) {
-      if (out.holds) out.gather_fluid_behind(P, dx_);
-      if (out.column() && !out.column_started) out.start_column(P, dx_);
-    }
-    const double dt = t - t_last_;
-    kept_ = new_options_only_;
-    changed_.clear();
-    candidates_.clear();
-    for (auto& w : waiting_) {  // they move as the buffer does (their velocity: the ramp's at the last update)
-      w.x += (t - t_last_) * w.v;
-      if (w.outlet) continue;
-      const Inlet& in = inlets_[w.inlet];
-      if (in.ramping) {
-        const Vec<D> q = w.x - in.patch.c;
-        w.v = in.factor * in.speed(q - q.dot(in.patch.n) * in.patch.n) * in.patch.n;
-      }
-    }
-    t_last_ = t;
+    const Pending pending = prepare_update(P, t);
     for (std::size_t i = 0; i < n; ++i) {
       if (defer_ && P.kind[i] == Kind::fluid) note_fluid_behind(P.x[i]);
       if (P.kind[i] == Kind::inlet) {
-        if (extrapolate) hold_inlet_density(P, i);
-        if (ramping) ramp_inlet_velocity(P, i);
-        for (auto& in : inlets_) {
-          const double s = in.patch.height(P.x[i]);
-          if (s < 0.0 || s > 2.0 * dx_ || !in.patch.contains(P.x[i] - in.patch.c)) continue;
-          P.kind[i] = Kind::fluid;
-          in.volume += P.mass[i] / (in.reference_volumes ? in.rho_ref : P.rho[i]);
-          const Vec<D> spawn = P.x[i] - in.layers * dx_ * in.patch.n;
-          if (defer_) {
-            changed_.push_back(i);
-            waiting_.push_back({spawn, P.v[i], P.mass[i], next_id++, static_cast<std::size_t>(&in - inlets_.data())});
-            break;
-          }
-          kept_ = false;
-          event(spawn, P.mass[i], 1.0);
-          if (in.reference_volumes)
-            P.append(spawn, P.v[i], in.extrapolated ? in.rho_fluid : in.rho_ref, P.mass[i], Kind::inlet, next_id++,
-                     in.material);
-          else
-            P.append(spawn, in.factor * in.velocity * in.patch.n, rho0_, P.mass[i], Kind::inlet, next_id++);
-          break;
-        }
+        if (pending.extrapolate) hold_inlet_density(P, i);
+        if (pending.ramping) ramp_inlet_velocity(P, i);
+        next_id = inlet_to_fluid(P, i, next_id, event);
       } else if (P.kind[i] == Kind::fluid) {
-        for (auto& out : outlets_) {
-          const double s = out.patch.height(P.x[i]);
-          if (s < 0.0 || s > out.layers * dx_ || !out.patch.contains(P.x[i] - out.patch.c)) continue;
-          P.kind[i] = Kind::outlet;
-          if (defer_) changed_.push_back(i);
-          else kept_ = false;
-          P.v[i] = std::max(P.v[i].dot(out.patch.n), 0.0) * out.patch.n;  // straight out, not into walls
-          if (out.holds) {
-            out.volume += P.mass[i] / out.rho0[P.material[i]];
-            P.rho[i] = out.buffer_density(P.material[i]);
-          } else {
-            out.volume += P.mass[i] / P.rho[i];
-          }
-          break;
-        }
+        fluid_to_outlet(P, i);
       } else if (P.kind[i] == Kind::outlet) {
-        for (auto& out : outlets_) {
-          if (!out.patch.contains(P.x[i] - out.patch.c)) continue;
-          const double s = out.patch.height(P.x[i]);
-          if (s >= out.layers * dx_) {
-            if (defer_) {  // it moves on until the next flush, beyond the reach of the fluid
-              leaving_ = true;
-              break;
-            }
-            event(P.x[i], P.mass[i], -1.0);
-            P.mass[i] = 0.0;  // marks it for removal (real particles have mass > 0)
-            removals = true;
-            break;
-          }
-          if (out.backflow && s < 0.0 && s > -dx_) {  // back in through a pressure opening
-            next_id = enter_through(P, i, out, next_id, event);
-            break;
-          }
-          if (out.holds && s >= 0.0) {
-            P.rho[i] = out.buffer_density(P.material[i]);  // the reference pressure, held (a column's: carried on)
-            P.v[i] = out.velocity_behind(P.x[i] - out.patch.c, dx_) * out.patch.n;
-            break;
-          }
-        }
+        next_id = move_outlet_particle(P, i, next_id, event, removals);
       }
     }
     for (auto& out : outlets_)
-      if (out.column()) out.advance_column(dt);
+      if (out.column()) out.advance_column(pending.dt);
     if (removals) P.compact([&](std::size_t i) { return P.mass[i] > 0.0; }), kept_ = false;
     if (defer_ && waiting_too_close()) flush(P, event);
     return next_id;
@@ -324,7 +204,6 @@ class OpenBoundaries {
   }
 
  private:
-  using Profile = InletProfile;
   using Inlet = InletBuffer<D>;
   using Outlet = OutletBuffer<D>;
   bool new_options_only_ = false, kept_ = false;
@@ -341,6 +220,113 @@ class OpenBoundaries {
   std::vector<Vec<D>> candidates_;  // fluid behind an inlet's patch, near it (this update)
   bool leaving_ = false;            // outlet particles past their buffer wait for the flush
 
+  // An update's state besides the particles: inlets ramping or extrapolating; the time since the last one, s.
+  struct Pending { bool ramping, extrapolate; double dt; };
+  // Before the particles: the inlets' ramp factors (eq. OB4) and densities ahead, the outlets' fluid behind
+  // and columns, and the waiting particles moved on to time t (s).
+  Pending prepare_update(const Particles<D>& P, double t) {
+    bool extrapolate = false, ramping = false;
+    for (auto& in : inlets_) {
+      in.ramping = in.factor < 1.0;  // some buffer particles still move below full speed
+      if (in.ramping) in.factor = t < in.ramp_time ? 0.5 * (1.0 - std::cos(M_PI * t / in.ramp_time)) : 1.0;
+      ramping = ramping || in.ramping;
+    }
+    for (auto& in : inlets_)
+      if (in.extrapolated) in.rho_fluid = in.fluid_density_ahead(P, dx_), extrapolate = true;
+    for (auto& out : outlets_) {
+      if (out.holds) out.gather_fluid_behind(P, dx_);
+      if (out.column() && !out.column_started) out.start_column(P, dx_);
+    }
+    const double dt = t - t_last_;
+    kept_ = new_options_only_;
+    changed_.clear();
+    candidates_.clear();
+    for (auto& w : waiting_) {  // they move as the buffer does (their velocity: the ramp's at the last update)
+      w.x += (t - t_last_) * w.v;
+      if (w.outlet) continue;
+      const Inlet& in = inlets_[w.inlet];
+      if (in.ramping) {
+        const Vec<D> q = w.x - in.patch.c;
+        w.v = in.factor * in.speed(q - q.dot(in.patch.n) * in.patch.n) * in.patch.n;
+      }
+    }
+    t_last_ = t;
+    return {ramping, extrapolate, dt};
+  }
+  // Inlet buffer particle i that reached 2 dx past its patch becomes fluid, and a new buffer particle takes
+  // its place layers dx upstream (now, or at the flush). Returns the next free id.
+  template <class Event>
+  std::int64_t inlet_to_fluid(Particles<D>& P, std::size_t i, std::int64_t next_id, Event&& event) {
+    for (auto& in : inlets_) {
+      const double s = in.patch.height(P.x[i]);
+      if (s < 0.0 || s > 2.0 * dx_ || !in.patch.contains(P.x[i] - in.patch.c)) continue;
+      P.kind[i] = Kind::fluid;
+      in.volume += P.mass[i] / (in.reference_volumes ? in.rho_ref : P.rho[i]);
+      const Vec<D> spawn = P.x[i] - in.layers * dx_ * in.patch.n;
+      if (defer_) {
+        changed_.push_back(i);
+        waiting_.push_back({spawn, P.v[i], P.mass[i], next_id++, static_cast<std::size_t>(&in - inlets_.data())});
+        break;
+      }
+      kept_ = false;
+      event(spawn, P.mass[i], 1.0);
+      if (in.reference_volumes)
+        P.append(spawn, P.v[i], in.extrapolated ? in.rho_fluid : in.rho_ref, P.mass[i], Kind::inlet, next_id++,
+                 in.material);
+      else
+        P.append(spawn, in.factor * in.velocity * in.patch.n, rho0_, P.mass[i], Kind::inlet, next_id++);
+      break;
+    }
+    return next_id;
+  }
+  // Fluid particle i inside an outlet's buffer becomes outlet fluid (its outflow counted).
+  void fluid_to_outlet(Particles<D>& P, std::size_t i) {
+    for (auto& out : outlets_) {
+      const double s = out.patch.height(P.x[i]);
+      if (s < 0.0 || s > out.layers * dx_ || !out.patch.contains(P.x[i] - out.patch.c)) continue;
+      P.kind[i] = Kind::outlet;
+      if (defer_) changed_.push_back(i);
+      else kept_ = false;
+      P.v[i] = std::max(P.v[i].dot(out.patch.n), 0.0) * out.patch.n;  // straight out, not into walls
+      if (out.holds) {
+        out.volume += P.mass[i] / out.rho0[P.material[i]];
+        P.rho[i] = out.buffer_density(P.material[i]);
+      } else {
+        out.volume += P.mass[i] / P.rho[i];
+      }
+      break;
+    }
+  }
+  // Outlet particle i: removed past its buffer (marked by mass 0, `removals` set; or left for the flush), back
+  // in through a pressure opening, or held at the buffer's density and velocity. Returns the next free id.
+  template <class Event>
+  std::int64_t move_outlet_particle(Particles<D>& P, std::size_t i, std::int64_t next_id, Event&& event,
+                                    bool& removals) {
+    for (auto& out : outlets_) {
+      if (!out.patch.contains(P.x[i] - out.patch.c)) continue;
+      const double s = out.patch.height(P.x[i]);
+      if (s >= out.layers * dx_) {
+        if (defer_) {  // it moves on until the next flush, beyond the reach of the fluid
+          leaving_ = true;
+          break;
+        }
+        event(P.x[i], P.mass[i], -1.0);
+        P.mass[i] = 0.0;  // marks it for removal (real particles have mass > 0)
+        removals = true;
+        break;
+      }
+      if (out.backflow && s < 0.0 && s > -dx_) {  // back in through a pressure opening
+        next_id = enter_through(P, i, out, next_id, event);
+        break;
+      }
+      if (out.holds && s >= 0.0) {
+        P.rho[i] = out.buffer_density(P.material[i]);  // the reference pressure, held (a column's: carried on)
+        P.v[i] = out.velocity_behind(P.x[i] - out.patch.c, dx_) * out.patch.n;
+        break;
+      }
+    }
+    return next_id;
+  }
   // Whether an outlet particle lies past the whole buffer of the outlet it is in.
   bool past_buffer(const Vec<D>& x) const {
     for (const auto& out : outlets_)

@@ -1,7 +1,7 @@
 // An outlet's buffer (open_boundaries.h): its patch and options, and the zero-gradient velocity its
 // particles take from the fluid before the patch.
 //
-// Options (deck.h OutletSpec):
+// Options (parameters.h OutletSpec):
 // - pressure p_ref: the buffer holds rho_ref = rho0 (1 + gamma (p_ref - p_B)
 //   / (rho0 c0^2))^(1/gamma) (eq. 6 inverted), the domain's reference
 //   pressure, so the mean density cannot drift; its particles move at the
@@ -39,6 +39,7 @@
 #include <vector>
 
 #include "eos.h"
+#include "parameters.h"
 #include "particles.h"
 #include "plane_patch.h"
 #include "vec.h"
@@ -151,5 +152,21 @@ struct OutletBuffer {
     return 0.0;
   }
 };
+
+// An outlet's buffer from its deck entry `s`, for the run's materials.
+template <int D>
+OutletBuffer<D> make_outlet(const OutletSpec& s, const std::vector<MaterialSpec>& materials) {
+  OutletBuffer<D> out(Patch<D>(s.patch), s.layers);
+  out.holds = s.pressure.has_value();
+  out.backflow = s.backflow;
+  for (const auto& m : materials) {
+    out.rho0.push_back(m.rho0);
+    if (out.holds) out.rho_ref.push_back(material_eos(m).density(*s.pressure));  // eq. 6 (or 9) inverted
+  }
+  out.column_length = s.column_length, out.column_loss = s.column_loss;
+  out.column_area = s.column_area > 0.0 ? s.column_area : out.patch.area();
+  if (out.column()) out.p_ref = *s.pressure, out.eos = material_eos(materials[0]);
+  return out;
+}
 
 }  // namespace sph

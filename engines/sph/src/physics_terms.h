@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "parameters.h"
 #include "vec.h"
 
 namespace sph {
@@ -191,5 +192,21 @@ struct FluidModel {
   // A fixed boundary particle carries density (and so pressure) but does not move.
   void boundary_pair(const Pair<D>& p, PairRates<D>& out) const { boundary_continuity.add(p, out); }
 };
+
+// The pair terms of a run: its first material's dynamic viscosity mu (Pa s) and density rho0 (kg/m^3), and the
+// deck's smoothing length, artificial viscosity, eddy viscosity's wall factor and body force.
+template <int D, unsigned Terms>
+FluidModel<D, Terms> fluid_model(const RunParameters& deck, double mu, double rho0) {
+  FluidModel<D, Terms> model;
+  const double eta2 = 0.01 * deck.h * deck.h;
+  model.morris.mu = mu;
+  model.morris.eta2 = eta2;
+  model.morris.rho0 = rho0;
+  model.morris.eddy_wall = deck.eddy_walls ? 1.0 : 0.0;
+  model.artificial = {deck.alpha, deck.beta, deck.h, eta2, deck.av_walls ? 1.0 : 0.0};
+  if (!deck.body_force.empty())
+    for (int d = 0; d < D; ++d) model.body.g[d] = deck.body_force[d];
+  return model;
+}
 
 }  // namespace sph

@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "deck.h"
+#include "parameters.h"
 #include "vec.h"
 
 namespace sph {

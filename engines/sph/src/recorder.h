@@ -8,7 +8,7 @@
 #include <type_traits>
 #include <vector>
 
-#include "deck.h"
+#include "parameters.h"
 #include "open_boundaries.h"
 #include "output_h5.h"
 #include "probes.h"
@@ -19,7 +19,7 @@ namespace sph {
 template <int D, class Sim>
 class Recorder {
  public:
-  Recorder(const Deck& deck, Sim& sim, OpenBoundaries<D>& open, OutputFile& out)
+  Recorder(const RunParameters& deck, Sim& sim, OpenBoundaries<D>& open, OutputFile& out)
       : sim_(sim), open_(open), out_(out) {
     out.attr("engine", std::string("sph"));
     out.attr("engine_version", std::string(SPH_VERSION));

@@ -3,5 +3,5 @@
 #include "run_loop.h"
 
 namespace sph {
-int run_2d(const Deck& deck) { return run_dimension<2>(deck); }
+int run_2d(const RunParameters& deck) { return run_dimension<2>(deck); }
 }  // namespace sph

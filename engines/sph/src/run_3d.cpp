@@ -3,5 +3,5 @@
 #include "run_loop.h"
 
 namespace sph {
-int run_3d(const Deck& deck) { return run_dimension<3>(deck); }
+int run_3d(const RunParameters& deck) { return run_dimension<3>(deck); }
 }  // namespace sph

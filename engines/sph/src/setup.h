@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "deck.h"
+#include "parameters.h"
 #include "input_h5.h"
 #include "particles.h"
 #include "wall_penalty.h"
@@ -14,7 +14,7 @@ namespace sph {
 
 // The input particles, with room for `extra` more (inflow) in every array.
 template <int D>
-Particles<D> make_particles(const Deck& deck, const ParticleInput& in, std::size_t extra = 0) {
+Particles<D> make_particles(const RunParameters& deck, const ParticleInput& in, std::size_t extra = 0) {
   Particles<D> P;
   P.has_wall_points = !in.wall_point.empty();
   P.reserve(in.n + extra);
@@ -118,7 +118,7 @@ WallMesh<D> make_mesh(const MeshSpec& spec) {
 }
 
 template <int D>
-WallPenalty<D> make_walls(const Deck& deck) {
+WallPenalty<D> make_walls(const RunParameters& deck) {
   if (deck.meshes.empty()) return {};
   std::vector<WallMesh<D>> meshes;
   for (const auto& spec : deck.meshes) meshes.push_back(make_mesh<D>(spec));

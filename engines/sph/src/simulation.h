@@ -16,7 +16,7 @@
 #include "box_policy.h"
 #include "cell_list.h"
 #include "constitutive_rates.h"
-#include "deck.h"
+#include "parameters.h"
 #include "eddy_viscosity.h"
 #include "extra_stress.h"
 #include "integrator.h"
@@ -48,39 +48,23 @@ class Simulation {
 
   // Cells of half the list range (5^D stencil) test fewer far pairs than cells
   // of the full range (3^D), and two layers of them make a block of the list.
-  static constexpr int cell_reach = 2;
-  // Verlet skin: deck.neighbour_skin (default 0.1) times the support 2h: the list holds pairs closer
-  // than (1 + skin) 2h and is rebuilt when a particle has moved skin/2 since the last build.
+  static constexpr int cell_reach = 2;  // the Verlet skin: deck.neighbour_skin (parameters.h)
 
-  Simulation(const Deck& deck, Particles<D> particles, WallPenalty<D> walls = {})
+  Simulation(const RunParameters& deck, Particles<D> particles, WallPenalty<D> walls = {})
       : deck_(deck), P_(std::move(particles)), kernel_(deck.h), walls_(std::move(walls)),
         pairs_(P_, list_, kernel_, model_, materials_, shepard_) {
     const int modes = add_materials<Models>(deck, materials_);
-    const double eta2 = 0.01 * deck.h * deck.h;
-    model_.morris.mu = materials_[0].mu;
-    model_.morris.eta2 = eta2;
-    model_.morris.rho0 = materials_[0].eos.rho0;
-    model_.morris.eddy_wall = deck.eddy_walls ? 1.0 : 0.0;
+    model_ = fluid_model<D, Terms>(deck, materials_[0].mu, materials_[0].eos.rho0);
     smagorinsky_.length2 = deck.smagorinsky_cs * deck.smagorinsky_cs * deck.dx * deck.dx;
-    model_.artificial = {deck.alpha, deck.beta, deck.h, eta2, deck.av_walls ? 1.0 : 0.0};
-    body_force_on_ = deck.terms & term::body_force;
-    walls_on_ = deck.terms & term::wall_penalty;
+    body_force_on_ = deck.terms & term::body_force, walls_on_ = deck.terms & term::wall_penalty;
     hold_inlets_ = deck.inlets_extrapolated();
-    if (!deck.body_force.empty())
-      for (int d = 0; d < D; ++d) model_.body.g[d] = deck.body_force[d];
-    PeriodicBox<D> box;
-    for (std::size_t i = 0; i < deck.periodic_axes.size(); ++i) {
-      const int a = deck.periodic_axes[i];
-      box.periodic[a] = true, box.lo[a] = deck.periodic_lo[i], box.hi[a] = deck.periodic_hi[i];
-    }
+    const PeriodicBox<D> box = periodic_box<D>(deck);
     images_ = Images(box);
     if (deck.lees_edwards.on) images_.set_lees_edwards(deck.lees_edwards), cells_.set_lees_edwards(true);
     for (std::size_t i = 0; i < P_.size(); ++i) images_.wrap(P_.x[i], P_.v[i]);
     walls_together_ = walls_move_together(P_);
     const std::size_t n = P_.size(), capacity = P_.x.capacity();
-    P_.has_stress = Models::any_single_stress;
-    P_.modes = Models::any_modes ? modes : 0;
-    P_.eddy = eddy;
+    P_.has_stress = Models::any_single_stress, P_.modes = Models::any_modes ? modes : 0, P_.eddy = eddy;
     P_.resize(n), P_.set_wall_frames();  // wall frames: of the wall offsets the caller set
     P_.reserve(capacity);
     for (auto* a : {&x_pred_, &x_build_}) a->reserve(capacity);
@@ -264,10 +248,8 @@ class Simulation {
   // min(cfl h/(c0 + v_max), viscous h^2/nu, force sqrt(h/a_max)) (largest c0 and nu over the materials).
   // With the eddy viscosity the viscous criterion takes nu + the largest nu_t of the last evaluation.
   double adaptive_dt() {
-    double dt = adaptive_time_step(maxima(), deck_, materials_, has(term::morris_viscosity));
-    if constexpr (eddy) {
-      dt = std::min(dt, deck_.viscous_factor * deck_.h * deck_.h / (materials_.nu_max() + max_eddy_viscosity()));
-    }
+    const double dt = adaptive_time_step(maxima(), deck_, materials_, has(term::morris_viscosity));
+    if constexpr (eddy) return eddy_time_step(dt, deck_, materials_, max_eddy_viscosity());
     return dt;
   }
   double max_eddy_viscosity() const {  // m^2/s, largest nu_t of the last evaluation (0 without eddy viscosity)
@@ -339,15 +321,7 @@ class Simulation {
     }
     times_.eos += t[2] - t[1], times_.pairs += t[3] - t[2], times_.correct += t[4] - t[3];
     time_ += dt;
-    if constexpr (!std::is_same_v<std::decay_t<Crossed>, NoCrossings>)
-      for (std::ptrdiff_t i = 0; i < n; ++i)
-        if (P_.moves(i)) {
-          Vec<D> x_old = P_.x0[i];
-          images_.wrap(x_old);
-          // the liquid's volume: a cavitating particle holds its mass at the floor's density, the rest is vapour
-          const double rho = std::max(P_.rho[i], materials_.eos(P_.material[i]).floor_rho);
-          crossed(x_old, Vec<D>(dt * (P_.v0[i] + 0.5 * dt * P_.acc[i])), P_.mass[i] / rho);
-        }
+    if constexpr (!std::is_same_v<std::decay_t<Crossed>, NoCrossings>) step_displacements(P_, images_, materials_, dt, crossed);
     return true;
   }
 
@@ -390,7 +364,7 @@ class Simulation {
     ++times_.builds;
   }
 
-  Deck deck_;
+  RunParameters deck_;
   Particles<D> P_;
   WendlandC2<D> kernel_;
   MaterialTable materials_;

@@ -8,7 +8,7 @@
 #include <cstddef>
 #include <string>
 
-#include "deck.h"
+#include "parameters.h"
 #include "material.h"
 #include "parallel.h"
 #include "particles.h"
@@ -63,12 +63,18 @@ StepMaxima sweep_maxima(const Particles<D>& P, const MaterialTable& mats, Update
 // Time step of eq. 13 extended by the viscous (with Morris viscosity) and
 // force criteria, s: min(cfl h/(c0 + v_max), viscous h^2/nu, force sqrt(h/a_max))
 // from the maxima m (largest c0 and nu over the materials).
-inline double adaptive_time_step(const StepMaxima& m, const Deck& deck, const MaterialTable& mats, bool viscous) {
+inline double adaptive_time_step(const StepMaxima& m, const RunParameters& deck, const MaterialTable& mats, bool viscous) {
   const double h = deck.h;
   double dt = deck.cfl * h / (mats.c0_max() + std::sqrt(m.v2));
   if (viscous) dt = std::min(dt, deck.viscous_factor * h * h / mats.nu_max());
   if (m.a2 > 0.0) dt = std::min(dt, deck.force_factor * std::sqrt(h / std::sqrt(m.a2)));
   return dt;
+}
+
+// With the eddy viscosity: dt also within the viscous criterion of nu + nu_t_max, the largest nu_t (m^2/s) of
+// the last evaluation (eddy_viscosity.h).
+inline double eddy_time_step(double dt, const RunParameters& deck, const MaterialTable& mats, double nu_t_max) {
+  return std::min(dt, deck.viscous_factor * deck.h * deck.h / (mats.nu_max() + nu_t_max));
 }
 
 // max |rho/rho0 - 1| over the fluid particles (rho0 of each particle's material).

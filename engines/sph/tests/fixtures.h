@@ -78,8 +78,8 @@ inline Particles<2> shear_cell(int n, double L, double rho0, double gamma_dot, d
 }
 
 // The deck of a shear cell: periodic [0, L)^2 with Lees-Edwards steady shear.
-inline Deck shear_deck(int n, double L, double rho0, double c0, double gamma_dot) {
-  Deck d;
+inline RunParameters shear_deck(int n, double L, double rho0, double c0, double gamma_dot) {
+  RunParameters d;
   d.dimension = 2;
   d.rho0 = rho0, d.c0 = c0, d.gamma = 7.0, d.v_max = 0.5 * gamma_dot * L;
   d.dx = L / n, d.h = 1.3 * d.dx;

@@ -40,8 +40,8 @@ using StressCarrying = fixtures::InertStress;
 
 constexpr unsigned kTerms = term::morris_viscosity | term::artificial_viscosity | term::body_force;
 
-Deck deck() {
-  Deck d;
+RunParameters deck() {
+  RunParameters d;
   d.dimension = 2, d.terms = kTerms;
   d.rho0 = 1000.0, d.c0 = 20.0, d.gamma = 7.0, d.v_max = 2.0, d.viscosity = 1e-4, d.alpha = 0.2, d.beta = 0.1;
   d.h = 1.3e-3, d.dx = 1e-3, d.body_force = {0.0, -9.81};
@@ -81,7 +81,7 @@ long allocations_while_stepping(int threads, long& builds, bool wall_points = fa
 long walled_ptt_allocations(int threads, long& builds) {
   omp_set_num_threads(threads);
   constexpr unsigned terms = term::morris_viscosity | term::body_force;
-  Deck d = deck();
+  RunParameters d = deck();
   d.terms = terms;
   MaterialSpec m;
   m.name = "melt", m.model = "ptt", m.rho0 = 1000.0, m.c0 = 20.0, m.solvent_viscosity = 0.1, m.viscosity = 1e-4;
@@ -94,7 +94,7 @@ long walled_ptt_allocations(int threads, long& builds) {
 // The same for two PTT modes in a Lees-Edwards cell, particles crossing the sheared faces.
 long sheared_ptt_allocations(int threads, long& builds) {
   omp_set_num_threads(threads);
-  Deck d = fixtures::shear_deck(40, 1.0, 1.0, 5.0, 1.0);
+  RunParameters d = fixtures::shear_deck(40, 1.0, 1.0, 5.0, 1.0);
   MaterialSpec m;
   m.name = "melt", m.model = "ptt", m.rho0 = 1.0, m.c0 = 5.0, m.epsilon = 0.1;
   m.mode_lambda = {0.5, 0.05}, m.mode_eta = {0.01, 0.005};

@@ -104,7 +104,7 @@ TEST(column_outlet_options_are_validated) {
   j["outlets"][0]["column_length"] = 0.5;
   j["outlets"][0]["column_loss"] = 2.0;
   CHECK(rejection(j).empty());
-  const Deck d = parse_deck(j, dir.string());
+  const RunParameters d = parse_deck(j, dir.string());
   CHECK(d.outlets[0].column_length == 0.5 && d.outlets[0].column_loss == 2.0);
   j["outlets"][0]["column_length"] = 0.0;
   CHECK(rejection(j).find("outlets[0].column_length' must be > 0") != std::string::npos);

@@ -48,7 +48,7 @@ bool mentions(const std::string& msg, const std::string& part) { return msg.find
 }  // namespace
 
 TEST(good_deck_is_accepted) {
-  const Deck d = parse_deck(good_deck(), deck_dir().string());
+  const RunParameters d = parse_deck(good_deck(), deck_dir().string());
   CHECK(d.dimension == 2);
   CHECK(d.terms == (term::morris_viscosity | term::body_force));
   CHECK(d.gamma == 7.0);
@@ -202,7 +202,7 @@ TEST(inlets_and_outlets) {
   json j = good_deck();
   j["inlets"] = json::parse(R"([{"name": "feed", "center": [0, 0], "normal": [1, 0], "radius": 0.01, "velocity": 0.5}])");
   j["outlets"] = json::parse(R"([{"name": "drain", "center": [0.1, 0], "normal": [1, 0], "radius": 0.01}])");
-  const Deck d = parse_deck(j, deck_dir().string());
+  const RunParameters d = parse_deck(j, deck_dir().string());
   CHECK(d.inlets.size() == 1 && d.outlets.size() == 1 && d.inlets[0].layers == 3 && d.inlets[0].velocity == 0.5);
   j["inlets"][0]["velocity"] = 2.0;  // above v_max
   CHECK(mentions(rejection(j), "exceeds v_max"));
@@ -222,7 +222,7 @@ TEST(inlets_and_outlets) {
 TEST(min_pressure_lies_below_the_rest_pressure) {
   json j = good_deck();
   j["min_pressure"] = -0.99e5;
-  const Deck d = parse_deck(j, deck_dir().string());
+  const RunParameters d = parse_deck(j, deck_dir().string());
   CHECK(d.material_list()[0].min_pressure.value_or(0.0) == -0.99e5);
   j["min_pressure"] = 0.0;  // background_pressure 0: a floor at the rest pressure holds no tension at all
   CHECK(mentions(rejection(j), "'min_pressure' = 0.000000 Pa must lie below the rest pressure"));
@@ -231,7 +231,7 @@ TEST(min_pressure_lies_below_the_rest_pressure) {
 }
 
 TEST(deck_without_materials_is_one_newtonian_material) {
-  const Deck d = parse_deck(good_deck(), deck_dir().string());
+  const RunParameters d = parse_deck(good_deck(), deck_dir().string());
   CHECK(d.materials.empty());
   const auto list = d.material_list();
   CHECK(list.size() == 1);
@@ -245,7 +245,7 @@ TEST(materials_list_is_parsed_and_checked) {
   j["materials"] = json::parse(R"([
     {"name": "water", "model": "newtonian", "rho0": 1000, "c0": 20, "viscosity": 1e-6},
     {"name": "oil", "model": "newtonian", "rho0": 800, "c0": 25, "gamma": 1, "background_pressure": 10, "viscosity": 1e-4}])");
-  const Deck d = parse_deck(j, deck_dir().string());
+  const RunParameters d = parse_deck(j, deck_dir().string());
   CHECK(d.materials.size() == 2);
   CHECK(d.materials[1].name == "oil" && d.materials[1].rho0 == 800.0 && d.materials[1].gamma == 1.0);
   CHECK(d.materials[1].background_pressure == 10.0 && d.materials[1].viscosity == 1e-4);
@@ -281,7 +281,7 @@ TEST(ptt_material_and_lees_edwards_are_parsed_and_checked) {
       "epsilon": 0.1, "solvent_viscosity": 0.5, "modes": [{"lambda": 0.1, "eta": 100}, {"lambda": 0.01, "eta": 10}]}])");
   j["periodic"] = json::parse(R"({"axes": [0, 1], "lo": [0, 0], "hi": [0.01, 0.01]})");
   j["lees_edwards"] = json::parse(R"({"shear_rate": 10})");
-  const Deck d = parse_deck(j, deck_dir().string());
+  const RunParameters d = parse_deck(j, deck_dir().string());
   CHECK(d.materials[0].model == "ptt" && d.materials[0].quadratic_eos);
   CHECK(d.materials[0].mode_lambda.size() == 2 && d.materials[0].mode_eta[1] == 10.0);
   CHECK(d.materials[0].epsilon == 0.1 && d.materials[0].solvent_viscosity == 0.5);
@@ -322,7 +322,7 @@ TEST(a_resumed_runs_start_is_checked) {
   json j = good_deck();
   j["t_start"] = 0.04;
   j["step_start"] = 1200;
-  const Deck d = parse_deck(j, deck_dir().string());
+  const RunParameters d = parse_deck(j, deck_dir().string());
   CHECK(d.t_start == 0.04 && d.step_start == 1200);
   CHECK(parse_deck(good_deck(), deck_dir().string()).t_start == 0.0);
   j["t_start"] = 0.1;  // = t_end: nothing left to run
@@ -342,7 +342,7 @@ TEST(a_resumed_runs_fluid_may_exceed_v_max_but_not_c0) {
   in.positions = {0.0, 0.0, 1e-3, 0.0};
   in.velocities = {1.5, 0.0, 0.0, 0.0};  // m/s: above v_max = 1, below c0 = 20
   in.masses = {1e-3, 1e-3}, in.densities = {1000.0, 1000.0}, in.kind = {0, 0};
-  auto message = [&](const Deck& d) {
+  auto message = [&](const RunParameters& d) {
     try {
       make_particles<2>(d, in);
     } catch (const InputError& e) {

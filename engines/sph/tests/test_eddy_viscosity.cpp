@@ -34,9 +34,9 @@ struct MixingLength {
   }
 };
 
-Deck channel_deck(double cs, int columns = kColumns) {
+RunParameters channel_deck(double cs, int columns = kColumns) {
   const double dx = kGap / kAcross;
-  Deck d;
+  RunParameters d;
   d.dimension = 2, d.terms = kLaminar;
   d.rho0 = kRho, d.c0 = 50.0, d.gamma = 7.0, d.v_max = 5.0, d.viscosity = kNu;
   d.dx = dx, d.h = 1.5 * dx, d.body_force = {kG, 0.0};
@@ -125,7 +125,7 @@ TEST(smagorinsky_channel_balances_the_mixing_length_profile) {
   // "walls": false: the wall pairs keep the laminar nu, so the wall stress on the first row (g H / dx = 10 g per
   // unit mass) falls short by nu_t / (nu + nu_t) = 60 %: a_x about 5 g there; rows beyond the walls' reach
   // (2h = 3 dx) are unchanged.
-  Deck no_walls = channel_deck(kCs);
+  RunParameters no_walls = channel_deck(kCs);
   no_walls.eddy_walls = false;
   Simulation<2, kEddy> inner(no_walls, channel(profile));
   inner.compute_rates(), inner.compute_rates();

@@ -19,8 +19,8 @@ constexpr unsigned kTerms = term::artificial_viscosity | term::body_force;
 
 // A jittered, slightly compressed 2D block of water with random velocities on
 // a floor of boundary particles: pressure, viscosity and gravity all act.
-Deck block_deck() {
-  Deck d;
+RunParameters block_deck() {
+  RunParameters d;
   d.dimension = 2, d.terms = kTerms;
   d.rho0 = 1000.0, d.c0 = 20.0, d.gamma = 7.0, d.v_max = 2.0, d.alpha = 0.2, d.beta = 0.1;
   d.h = 1.3e-3, d.dx = 1e-3, d.body_force = {0.0, -9.81};
@@ -85,7 +85,7 @@ TEST(whole_steps_do_not_depend_on_the_thread_count) {
 // A cavitating particle (below the floor's density) takes the pressure term p / rho^2 at the floor's density:
 // its liquid's, as the volume balances count it. Above the floor the term is p / rho^2 as before.
 TEST(cavitating_particle_takes_its_pressure_term_at_the_floors_density) {
-  Deck d = block_deck();
+  RunParameters d = block_deck();
   d.min_pressure = -2.0e3;  // Pa: rho_floor = rho0 (1 - 7 x 2000 / (1000 x 20^2))^(1/7) = 994.9 kg/m^3
   Simulation<2, kTerms> sim(d, block(4, 4));
   auto& P = sim.particles();

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "check.h"
+#include "deck.h"
 #include "run.h"
 #include "simulation.h"
 #include "test_files.h"
@@ -27,7 +28,7 @@ TEST(two_layer_couette_matches_piecewise_linear_profile) {
   const int columns = 8, rows = 20, layers = 3, rows_1 = 10;  // lower layer: rows 0..9
   const double dx = 1e-3, H = rows * dx, h1 = rows_1 * dx, h2 = H - h1, U = 0.05;
   const double rho_1 = 1000.0, rho_2 = 500.0, nu_1 = 0.01, nu_2 = 0.01;  // mu_1 = 10 Pa s, mu_2 = 5 Pa s
-  Deck d;
+  RunParameters d;
   d.dimension = 2, d.terms = term::morris_viscosity;
   d.h = 1.3 * dx, d.dx = dx, d.v_max = U;
   d.materials.resize(2);

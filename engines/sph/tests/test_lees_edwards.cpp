@@ -25,7 +25,7 @@ TEST(newtonian_lees_edwards_cell_develops_a_linear_profile) {
   // nu = 0.1 m^2/s in a 1 m cell: the slowest mode decays as exp(-4 pi^2 nu t) (t = 6 s: 5e-11).
   const int n = 20;
   const double gamma_dot = 1.0;
-  Deck d = fixtures::shear_deck(n, 1.0, 1.0, 5.0, gamma_dot);
+  RunParameters d = fixtures::shear_deck(n, 1.0, 1.0, 5.0, gamma_dot);
   d.terms = term::morris_viscosity, d.viscosity = 0.1;
   Simulation<2, kNewtonian> sim(d, fixtures::shear_cell(n, 1.0, 1.0, 0.0));  // at rest
   const double dt = 2.5e-3;
@@ -46,7 +46,7 @@ TEST(newtonian_lees_edwards_cell_develops_a_linear_profile) {
 
 TEST(sheared_ptt_steps_do_not_depend_on_the_thread_count) {
   const int n = 48;  // 2304 particles: the rates, predictor and corrector run on the threads
-  Deck d = fixtures::shear_deck(n, 1.0, 1.0, 5.0, 1.0);
+  RunParameters d = fixtures::shear_deck(n, 1.0, 1.0, 5.0, 1.0);
   MaterialSpec m;
   m.name = "melt", m.model = "ptt", m.rho0 = 1.0, m.c0 = 5.0, m.epsilon = 0.2, m.solvent_viscosity = 1e-3;
   m.mode_lambda = {0.5, 0.05}, m.mode_eta = {0.01, 0.005};

@@ -244,7 +244,7 @@ TEST(inlet_and_outlet_options_are_validated) {
   const json good = pipe.deck(dir, 0.1);
   auto rejection = [&](const json& j) { return testpipe::rejection(j, dir); };
   CHECK(rejection(good).empty());
-  const Deck d = parse_deck(good, dir.string());
+  const RunParameters d = parse_deck(good, dir.string());
   CHECK(d.inlets[0].profile == "parabolic" && d.inlets[0].extrapolated && d.outlets[0].pressure == 0.0);
   json j = good;
   j["inlets"][0]["profile"] = "swirl";

@@ -14,8 +14,8 @@ namespace {
 
 constexpr unsigned kTerms = term::morris_viscosity | term::artificial_viscosity;
 
-Deck pair_deck() {
-  Deck d;
+RunParameters pair_deck() {
+  RunParameters d;
   d.dimension = 2;
   d.terms = kTerms;
   d.rho0 = 1000.0, d.c0 = 20.0, d.gamma = 7.0, d.background_pressure = 500.0, d.v_max = 2.0;
@@ -38,7 +38,7 @@ int index_of(const Particles<2>& P, int id) { return P.id[0] == id ? 0 : 1; }
 }  // namespace
 
 TEST(pair_interaction_matches_hand_computation) {
-  const Deck deck = pair_deck();
+  const RunParameters deck = pair_deck();
   Simulation<2, kTerms> sim(deck, two_particles());
   sim.compute_rates();
   const auto& P = sim.particles();
@@ -82,7 +82,7 @@ TEST(pair_interaction_matches_hand_computation) {
 }
 
 TEST(pair_terms_switched_off_cost_nothing_and_change_nothing) {
-  Deck deck = pair_deck();
+  RunParameters deck = pair_deck();
   deck.terms = 0;
   Simulation<2, 0> plain(deck, two_particles());
   plain.compute_rates();
@@ -95,7 +95,7 @@ TEST(pair_terms_switched_off_cost_nothing_and_change_nothing) {
 }
 
 TEST(boundary_particle_gets_density_but_no_motion) {
-  Deck deck = pair_deck();
+  RunParameters deck = pair_deck();
   Particles<2> P = two_particles();
   P.kind[1] = Kind::boundary;
   Simulation<2, kTerms> sim(deck, P);
@@ -127,7 +127,7 @@ TEST(artificial_viscosity_off_the_walls) {
     return P;
   };
   auto acc_of = [&](double alpha, double beta, bool walls, bool second_fluid) {
-    Deck deck = pair_deck();
+    RunParameters deck = pair_deck();
     deck.alpha = alpha, deck.beta = beta, deck.av_walls = walls;
     Simulation<2, kTerms> sim(deck, scene(second_fluid));
     sim.compute_rates();
@@ -152,7 +152,7 @@ TEST(artificial_viscosity_off_the_walls) {
 TEST(periodic_pair_across_the_box_edge) {
   // The same pair, moved so that it straddles the periodic edge x = 0 / x = L:
   // the rates must equal those of the unwrapped pair.
-  Deck deck = pair_deck();
+  RunParameters deck = pair_deck();
   deck.periodic_axes = {0};
   deck.periodic_lo = {0.0};
   deck.periodic_hi = {5e-3};
@@ -173,7 +173,7 @@ TEST(rates_do_not_depend_on_the_thread_count) {
   // A jittered 3D lattice with fluid and boundary particles, every term on:
   // gathering per particle gives bitwise the same rates on 1 and 2 threads.
   constexpr unsigned all = term::all & ~term::wall_penalty;
-  Deck deck;
+  RunParameters deck;
   deck.dimension = 3, deck.terms = all;
   deck.rho0 = 1000.0, deck.c0 = 20.0, deck.v_max = 2.0, deck.viscosity = 1e-4, deck.alpha = 0.1, deck.beta = 0.2;
   deck.h = 1.3e-3, deck.dx = 1e-3, deck.body_force = {0.0, 0.0, -9.81};

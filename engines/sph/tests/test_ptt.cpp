@@ -15,8 +15,8 @@ constexpr unsigned kSheared = term::sheared;
 using PttCell = Simulation<2, kSheared, ModelList<Ptt>>;
 
 // A shear cell of PTT fluid (one mode lambda s, eta Pa s): L = 1 m, rho0 = 1, gamma_dot = 1/s, c0 = 5 m/s.
-Deck ptt_deck(int n, double lambda, double eta, double epsilon) {
-  Deck d = fixtures::shear_deck(n, 1.0, 1.0, 5.0, 1.0);
+RunParameters ptt_deck(int n, double lambda, double eta, double epsilon) {
+  RunParameters d = fixtures::shear_deck(n, 1.0, 1.0, 5.0, 1.0);
   MaterialSpec m;
   m.name = "melt", m.model = "ptt", m.rho0 = 1.0, m.c0 = 5.0;
   m.mode_lambda = {lambda}, m.mode_eta = {eta}, m.epsilon = epsilon;
@@ -71,7 +71,7 @@ TEST(ptt_steady_shear_in_a_3d_cell) {
   // The same closed form in a 3D Lees-Edwards cell (z plainly periodic), 6^3 particles, 10 relaxation times.
   const int n = 6;
   const double L = 1.0, dx = L / n, lambda = 1.0, eta = 0.01, epsilon = 0.1, gamma_dot = 1.0;
-  Deck d = ptt_deck(n, lambda, eta, epsilon);
+  RunParameters d = ptt_deck(n, lambda, eta, epsilon);
   d.dimension = 3, d.h = 1.3 * dx, d.dx = dx;
   d.periodic_axes = {0, 1, 2}, d.periodic_lo = {0.0, 0.0, 0.0}, d.periodic_hi = {L, L, L};
   Particles<3> P;
@@ -101,7 +101,7 @@ TEST(oscillatory_shear_of_ucm_gives_the_maxwell_moduli) {
   // sigma_xy = gamma_A (G' sin + G'' cos), G' = eta lambda omega^2 / (1 + (lambda omega)^2),
   // G'' = eta omega / (1 + (lambda omega)^2). Least squares over the last two periods.
   const double lambda = 1.0, eta = 0.01, amplitude = 0.1, omega = M_PI;
-  Deck d = ptt_deck(10, lambda, eta, 0.0);
+  RunParameters d = ptt_deck(10, lambda, eta, 0.0);
   d.lees_edwards.shear_rate = 0.0, d.lees_edwards.amplitude = amplitude, d.lees_edwards.omega = omega;
   PttCell sim(d, fixtures::shear_cell(10, 1.0, 1.0, amplitude * omega));
   const double dt = 1e-3;

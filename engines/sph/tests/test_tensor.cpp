@@ -18,8 +18,8 @@ constexpr unsigned kTerms = term::morris_viscosity | term::artificial_viscosity 
 using Scalar = Simulation<2, kTerms>;
 using Tensor = Simulation<2, kTerms, ModelList<Newtonian, InertStress>>;
 
-Deck deck() {
-  Deck d;
+RunParameters deck() {
+  RunParameters d;
   d.dimension = 2, d.terms = kTerms;
   d.rho0 = 1000.0, d.c0 = 20.0, d.gamma = 7.0, d.v_max = 2.0, d.viscosity = 1e-3, d.alpha = 0.2, d.beta = 0.1;
   d.h = 1.3e-3, d.dx = 1e-3, d.body_force = {0.0, -9.81};

@@ -23,9 +23,9 @@ constexpr double kGap = 1e-3, kRho = 1000.0, kLambda = 0.1, kEtaP = 8e-4 / 0.9, 
 constexpr unsigned kMorris = term::morris_viscosity | term::body_force;
 constexpr unsigned kTensorOnly = term::body_force;
 
-Deck channel_deck(int across, int columns, unsigned terms, double g) {
+RunParameters channel_deck(int across, int columns, unsigned terms, double g) {
   const double dx = kGap / across;
-  Deck d;
+  RunParameters d;
   d.dimension = 2, d.terms = terms;
   d.rho0 = kRho, d.c0 = 0.03, d.gamma = 7.0, d.v_max = 1e-3;
   d.dx = dx, d.h = 1.5 * dx, d.body_force = {g, 0.0};
@@ -137,7 +137,7 @@ TEST(row_zigzag_is_damped_by_the_morris_solvent) {
 
 TEST(walled_ptt_morris_steps_do_not_depend_on_the_thread_count) {
   const int across = 20, columns = 30;  // 780 particles: the pair loop runs on the threads
-  const Deck d = channel_deck(across, columns, kMorris, 50 * kG);
+  const RunParameters d = channel_deck(across, columns, kMorris, 50 * kG);
   Particles<2> start = channel(across, columns, 2e-5);
   for (std::size_t i = 0; i < start.size(); ++i)
     if (start.moves(i)) start.v[i][1] = 1e-5 * std::sin(0.7 * static_cast<double>(i));

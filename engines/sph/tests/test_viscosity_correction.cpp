@@ -13,8 +13,8 @@ namespace {
 
 constexpr double dx = 1e-3, h_over_dx = 1.3, rho0 = 1000.0, nu = 1e-4;
 
-Deck lattice_deck(int D, bool corrected) {
-  Deck d;
+RunParameters lattice_deck(int D, bool corrected) {
+  RunParameters d;
   d.dimension = D;
   d.terms = term::morris_viscosity;
   d.rho0 = rho0, d.c0 = 1.0, d.v_max = 0.1, d.viscosity = nu;

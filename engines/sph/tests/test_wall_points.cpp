@@ -118,8 +118,8 @@ Profile run_channel(const OffLatticeChannel& c, int wall_points, const std::stri
 // A jittered block of water on boundary particles (fixtures::block) under gravity, with Morris and artificial
 // viscosity: the deck of the tests that step whole blocks with wall points.
 constexpr unsigned kBlockTerms = term::morris_viscosity | term::artificial_viscosity | term::body_force;
-Deck block_deck() {
-  Deck d;
+RunParameters block_deck() {
+  RunParameters d;
   d.dimension = 2, d.terms = kBlockTerms;
   d.rho0 = 1000.0, d.c0 = 20.0, d.gamma = 7.0, d.v_max = 2.0, d.viscosity = 1e-4, d.alpha = 0.2, d.beta = 0.1;
   d.h = 1.3e-3, d.dx = 1e-3, d.body_force = {0.0, -9.81};
@@ -221,7 +221,7 @@ TEST(wall_point_dataset_is_checked) {
 
 TEST(wall_point_steps_do_not_depend_on_the_thread_count) {
   constexpr unsigned terms = kBlockTerms;
-  const Deck d = block_deck();
+  const RunParameters d = block_deck();
   fixtures::Block b;
   b.columns = 24, b.rows = 24, b.seed = 11, b.jitter = 0.1, b.speed = 0.5;
   Particles<2> start = fixtures::block(b);
@@ -342,7 +342,7 @@ TEST(wall_pressure_is_the_fluids_shepard_average_never_below_rest) {
 // particle without a wall point (NaN row) keeps both, as before.
 TEST(wall_particles_with_a_wall_point_hold_their_density) {
   constexpr unsigned terms = kBlockTerms;
-  const Deck d = block_deck();
+  const RunParameters d = block_deck();
   fixtures::Block b;
   b.columns = 12, b.rows = 8, b.seed = 11, b.jitter = 0.1, b.speed = 0.5, b.density_jitter = 0.01;
   Particles<2> start = fixtures::block(b);

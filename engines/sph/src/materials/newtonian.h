@@ -13,7 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "deck.h"
+#include "material_keys.h"
+#include "parameters.h"
 #include "material.h"
 #include "physics_terms.h"
 #include "vec.h"

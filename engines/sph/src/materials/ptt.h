@@ -26,7 +26,8 @@
 #include <string>
 #include <vector>
 
-#include "deck.h"
+#include "material_keys.h"
+#include "parameters.h"
 #include "material.h"
 #include "physics_terms.h"
 #include "vec.h"
