@@ -13,7 +13,7 @@ from orchestrator.cli import main
 from orchestrator.errors import CaseError, OrchestratorError
 from orchestrator.reference.sph_flows import poiseuille_velocity
 from orchestrator.workflows.base import ROW_KEYS
-from orchestrator.kinds.sph_flow.case_parts import CHECK_QUANTITIES
+from orchestrator.kinds.sph_flow.case_run import CHECK_QUANTITIES
 from orchestrator.kinds.sph_flow.checks import CHECKS, check_dam_break, check_poiseuille, evaluate
 from orchestrator.kinds.sph_flow.checks_base import tolerance_of
 from orchestrator.kinds.rheometer.case import CHECK_QUANTITIES as RHEOMETER_QUANTITIES

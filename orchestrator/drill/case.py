@@ -19,7 +19,8 @@ from pydantic import Field, create_model, model_validator
 from orchestrator.case.common import CaseMeta, Frozen, Positive
 from orchestrator.drill.descriptions import DRILL_DESCRIPTIONS
 from orchestrator.drill.geometry import DrillGeometry
-from orchestrator.kinds.sph_flow.case_parts import ArtificialViscosity, Fluid, SphNumerics, SphSimulation
+from orchestrator.kinds.sph_flow.case_parts import ArtificialViscosity, Fluid
+from orchestrator.kinds.sph_flow.case_run import SphNumerics, SphSimulation
 from orchestrator.reference.drill_network import DrillNetwork
 
 #: DrillGeometry's own fields (the network's come from DrillNetwork).

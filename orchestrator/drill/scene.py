@@ -14,7 +14,8 @@ import numpy as np
 from orchestrator.case.common import CaseMeta
 from orchestrator.drill.walls import WallParticles, scene_lattice
 from orchestrator.kinds.sph_flow.case import SphFlowCase
-from orchestrator.kinds.sph_flow.case_parts import Domain, Patch, Physics, SphOutput, WallPenalty
+from orchestrator.kinds.sph_flow.case_parts import Domain, Patch, Physics, WallPenalty
+from orchestrator.kinds.sph_flow.case_run import SphOutput
 from orchestrator.kinds.sph_flow.scene import SphScene
 
 

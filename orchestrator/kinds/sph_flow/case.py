@@ -36,14 +36,11 @@ from orchestrator.kinds.sph_flow.case_parts import (  # noqa: F401  (the parts a
     Patch,
     Physics,
     Probe,
-    SphExpected,
-    SphNumerics,
-    SphOutput,
-    SphSimulation,
     Wall,
     WallPenalty,
     _norm,
 )
+from orchestrator.kinds.sph_flow.case_run import SphExpected, SphNumerics, SphOutput, SphSimulation  # noqa: F401
 
 
 class SphFlowCase(Frozen):
