@@ -25,8 +25,17 @@ from orchestrator.errors import OrchestratorError
 from orchestrator.kinds.base import Adapter
 from orchestrator.kinds.impact.analysis import EVENT_LIMIT
 from orchestrator.kinds.impact.case import RIGID
-from orchestrator.kinds.impact.lammps_output import DUMP, STATUS, dump_columns, read_impact_output
-from orchestrator.kinds.impact.physics import fastest_closing_speeds, poisson_ratio, young_modulus
+from orchestrator.kinds.impact.lammps_output import (
+    DUMP,
+    STATUS,
+    dump_columns,
+    read_impact_output,
+)
+from orchestrator.kinds.impact.physics import (
+    fastest_closing_speeds,
+    poisson_ratio,
+    young_modulus,
+)
 from orchestrator.kinds.impact.yade import domain_radius
 from orchestrator.reference.contact import mindlin_stiffness_coefficient
 from orchestrator.templating import render

@@ -52,7 +52,7 @@ def _record(columns: list[str], rows: np.ndarray) -> dict[str, np.ndarray]:
     """One snapshot, sorted by id: radius, mass (n,), x, v, spin, force, wall_force (n, 3), on_wall (n,) bool."""
     rows = rows[np.argsort(rows[:, columns.index("id")])]
     col = {name: rows[:, k] for k, name in enumerate(columns)}
-    vector = lambda *names: np.column_stack([col[n] for n in names])  # noqa: E731
+    vector = lambda *names: np.column_stack([col[n] for n in names])
     walls = sorted({name.split("[")[0] for name in columns if name.startswith("f_wall_")})
     wall_force = sum((vector(*(f"{w}[{k}]" for k in (2, 3, 4))) for w in walls), np.zeros((len(rows), 3)))
     on_wall = np.zeros(len(rows), bool)
@@ -182,7 +182,7 @@ def read_impact_output(scene, workdir: Path, deviation: str = "") -> Result:
 
 def _fill_series(result: Result, scene, steps: list[int], records: list[dict], contacts: dict) -> None:
     n = scene.n_particles
-    stack = lambda name: np.stack([r[name] for r in records])  # noqa: E731
+    stack = lambda name: np.stack([r[name] for r in records])
     mass, radius = stack("mass"), stack("radius")
     positions, velocities, spins = stack("x"), stack("v"), stack("spin")
     kinetic = 0.5 * np.sum(mass * np.sum(velocities**2, axis=-1), axis=1) + \
@@ -215,25 +215,27 @@ def _instability(scene, result: Result, contacts: dict, lost: bool) -> str:
             radius = radii[key[0]] if key[1] == OTHER_PLANE else min(radii[key[0]], radii[key[2]])
             overlap = c["overlap"][k]
             if not np.isfinite(overlap) or overlap > MAX_OVERLAP_FRACTION * radius:
-                return ("a contact overlap reached %.3g of the sphere radius at t = %.6g s (allowed %.2g)"
-                        % (overlap / radius, step * dt, MAX_OVERLAP_FRACTION))
+                return (f"a contact overlap reached {overlap / radius:.3g} of the sphere radius at t = "
+                        f"{step * dt:.6g} s (allowed {MAX_OVERLAP_FRACTION:.2g})")
     if result.time is not None and len(result.time):
         time = result.time
         total = result.series["kinetic_energy"].values + result.series["potential_energy"].values
         if not np.all(np.isfinite(total)):
-            return "a sphere position or velocity became NaN at t = %.6g s" % time[np.flatnonzero(~np.isfinite(total))[0]]
+            first = int(np.flatnonzero(~np.isfinite(total))[0])
+            return f"a sphere position or velocity became NaN at t = {time[first]:.6g} s"
         scale = energy_scale(scene.case)
         grown = np.flatnonzero(total - total[0] > ENERGY_GROWTH * scale)
         if len(grown):
             k = int(grown[0])
-            return ("the kinetic plus potential energy grew by %.3g J, %.3g %% of what the scene can release, by "
-                    "t = %.6g s" % (total[k] - total[0], 100.0 * (total[k] - total[0]) / scale, time[k]))
+            grew = total[k] - total[0]
+            return (f"the kinetic plus potential energy grew by {grew:.3g} J, {100.0 * grew / scale:.3g} % of what "
+                    f"the scene can release, by t = {time[k]:.6g} s")
         far = np.linalg.norm(result.series["positions"].values - scene.positions[None], axis=2).max(axis=1)
         out = np.flatnonzero(far > domain_radius(scene))
         if len(out):
             k = int(out[0])
-            return ("a sphere left the domain (%.3g m from its start, farther than the scene's energy allows, "
-                    "%.3g m) at t = %.6g s" % (far[k], domain_radius(scene), time[k]))
+            return (f"a sphere left the domain ({far[k]:.3g} m from its start, farther than the scene's energy "
+                    f"allows, {domain_radius(scene):.3g} m) at t = {time[k]:.6g} s")
     if lost:
         return "a sphere left the domain (LAMMPS lost it from its box)"
     return ""
