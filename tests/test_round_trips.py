@@ -56,6 +56,9 @@ def test_liggghts_data_file_round_trip(with_velocities, tmp_path):
     inputs = copy.deepcopy((positions, radii, types, densities, velocities, spins))
     write_data_file(tmp_path / "d.data", box, 3, types, radii, densities, positions, velocities, spins)
     lines = (tmp_path / "d.data").read_text().splitlines()
+    bounds = np.array([line.split()[:2] for line in lines if line.endswith(("lo xhi", "lo yhi", "lo zhi"))],
+                      dtype=float)  # plain numbers: numpy 2's repr of a scalar ('np.float64(...)') is not one
+    assert np.array_equal(bounds, box)
     start = lines.index("Atoms") + 2
     atoms = np.array([line.split() for line in lines[start:start + n]], dtype=float)
     assert np.array_equal(atoms[:, 0], np.arange(1, n + 1)) and np.array_equal(atoms[:, 1], types)

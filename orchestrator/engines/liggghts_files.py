@@ -36,7 +36,7 @@ def write_data_file(path: Path, box: np.ndarray, n_types: int, types: np.ndarray
     """A read_data file of granular atoms (ids from 1 in the scene's order); box (3, 2) m; SI units."""
     out = ["LIGGGHTS data file written by orchestrator (SI units)", "", f"{len(radii)} atoms",
            f"{n_types} atom types", ""]
-    out += [f"{box[k, 0]!r} {box[k, 1]!r} {axis}lo {axis}hi" for k, axis in enumerate("xyz")]
+    out += [f"{float(box[k, 0])!r} {float(box[k, 1])!r} {axis}lo {axis}hi" for k, axis in enumerate("xyz")]
     out += ["", "Atoms", ""]
     out += [f"{i + 1} {int(t)} {2.0 * float(r)!r} {float(rho)!r} {float(p[0])!r} {float(p[1])!r} {float(p[2])!r}"
             for i, (t, r, rho, p) in enumerate(zip(types, radii, densities, positions))]
