@@ -2,7 +2,8 @@
 (Uhlmann et al. 2015, eqs. 1-10) maps onto each engine's parameters.
 
 yade_law: Yade 2023's Hertz-Mindlin law (Law2_ScGeom_MindlinPhys_Mindlin) and its damping;
-liggghts_law: LIGGGHTS-PUBLIC 3.8's ``model hertz tangential history`` and its damping.
+liggghts_law: LIGGGHTS-PUBLIC 3.8's ``model hertz tangential history`` and its damping;
+lammps_law: LAMMPS's ``pair_style granular`` (hertz/material, coeff_restitution damping, mindlin/force).
 """
 
 from __future__ import annotations
