@@ -24,11 +24,9 @@ from hypothesis import strategies as st
 
 from orchestrator.case import load_case
 from orchestrator.cli import main
+from paths import REPO, CASES, DATA
 
-ROOT = Path(__file__).parent.parent
-CASES = ROOT / "cases"
 VER = CASES / "verification"
-DATA = Path(__file__).parent / "data"
 DRAG, DROP = CASES / "drag_finishing_uhlmann2015.toml", VER / "uhlmann2015_sphere_drop.toml"
 PLANE, DAM = VER / "chung_ooi_test2_sphere_plane.toml", CASES / "sph" / "dam_break_2d.toml"
 TANK, POIS, PEN = VER / "sph_hydrostatic_tank.toml", VER / "sph_poiseuille_morris1997.toml", VER / "sph_penalty_column.toml"
@@ -251,7 +249,7 @@ BAD_INPUTS = [
     (_run(DAM, "numerics.h_over_dx=0.1"), 2, "numerics.h_over_dx"), (_run(DAM, "numerics.h_over_dx=50"), 2, "numerics.h_over_dx"),
     # item 6: mesh files
     (_run(CHANNEL, 'walls.2.file="/etc/passwd"'), 2, "walls[2].file", "not a mesh file"),
-    (_run(CHANNEL, f'walls.2.file="{ROOT / "README.md"}"'), 2, "walls[2].file", "'.md'"),
+    (_run(CHANNEL, f'walls.2.file="{REPO / "README.md"}"'), 2, "walls[2].file", "'.md'"),
     (_run(CHANNEL, 'walls.2.file="/tmp"'), 2, "walls[2].file", "not a regular file"),
     (_run(CHANNEL, 'walls.2.file="/dev/null"'), 2, "not a regular file"),
     (_run(CHANNEL, 'walls.2.file="nowhere.stl"'), 2, "walls[2].file", "not found"),

@@ -14,8 +14,9 @@ import pytest
 from orchestrator.kinds.impact.calibration import drop_model, fit_restitution, observations_from_csv
 from orchestrator.case import load_case
 from orchestrator.run import run_case
+from paths import VERIFICATION
 
-DROP = Path(__file__).parent.parent / "cases" / "verification" / "uhlmann2015_sphere_drop.toml"
+DROP = VERIFICATION / "uhlmann2015_sphere_drop.toml"
 
 
 def cli(*args):
@@ -119,6 +120,6 @@ def test_an_sph_case_is_not_a_drop(tmp_path, capsys):
 
 def test_a_case_that_is_not_a_drop_is_refused(tmp_path):
     write_trace(tmp_path / "trace.csv", 0.62)
-    case = Path(__file__).parent.parent / "cases" / "verification" / "chung_ooi_test1_sphere_sphere.toml"
+    case = VERIFICATION / "chung_ooi_test1_sphere_sphere.toml"
     proc = cli("calibrate", "restitution", "--csv", tmp_path / "trace.csv", "--case", case)
     assert proc.returncode == 2 and "is not a sphere drop" in proc.stderr and "Traceback" not in proc.stderr

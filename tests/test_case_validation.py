@@ -14,7 +14,6 @@ import os
 import subprocess
 import sys
 import tomllib
-from pathlib import Path
 
 import pytest
 import tomli_w
@@ -22,11 +21,10 @@ import tomli_w
 from orchestrator.engines import engine_names
 from orchestrator.case import load_case
 from orchestrator.errors import CaseError
+from paths import CASES, TINY_BOWL
 
-HERE = Path(__file__).parent
-TINY = HERE / "data" / "tiny_bowl.toml"
-PAPER = HERE.parent / "cases" / "drag_finishing_uhlmann2015.toml"
-TINY_TEXT = TINY.read_text(encoding="utf-8")
+PAPER = CASES / "drag_finishing_uhlmann2015.toml"
+TINY_TEXT = TINY_BOWL.read_text(encoding="utf-8")
 # Every bad case is tiny_bowl.toml with one change; the expected words are
 # computed from the fixture, so the test follows edits of the fixture's values.
 BASE = tomllib.loads(TINY_TEXT)
@@ -210,7 +208,7 @@ def test_bad_inputs_are_distinct():
 
 
 def test_valid_case_loads():
-    loaded = load_case(TINY)
+    loaded = load_case(TINY_BOWL)
     case = loaded.model
     assert loaded.name == "tiny_bowl" and loaded.kind == "drag_finishing"
     assert case.media.count == MEDIA["count"]
@@ -222,8 +220,8 @@ def test_valid_case_loads():
 
 
 def test_set_changes_the_count():
-    assert load_case(TINY, overrides=["media.count=50"]).model.media.count == 50
-    assert load_case(TINY, overrides=["media.count=50"]).hash != load_case(TINY).hash
+    assert load_case(TINY_BOWL, overrides=["media.count=50"]).model.media.count == 50
+    assert load_case(TINY_BOWL, overrides=["media.count=50"]).hash != load_case(TINY_BOWL).hash
 
 
 def test_preset_applies(tmp_path):
@@ -253,7 +251,7 @@ def test_paper_case_presets_apply():
 
 
 def test_case_model_is_immutable():
-    case = load_case(TINY).model
+    case = load_case(TINY_BOWL).model
     with pytest.raises(Exception) as info:
         case.media.count = 1
     assert "frozen" in str(info.value).lower()
@@ -266,4 +264,4 @@ def test_case_model_is_immutable():
 
 def test_load_case_raises_case_error():
     with pytest.raises(CaseError, match=r"media\.count = 0"):
-        load_case(TINY, overrides=["media.count=0"])
+        load_case(TINY_BOWL, overrides=["media.count=0"])

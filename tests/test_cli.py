@@ -7,8 +7,8 @@ import sys
 from pathlib import Path
 
 import pytest
+from paths import TINY_BOWL
 
-TINY = Path(__file__).parent / "data" / "tiny_bowl.toml"
 
 
 def cli(*args, env=None, cwd=None):
@@ -17,7 +17,7 @@ def cli(*args, env=None, cwd=None):
 
 
 def test_missing_engine_is_named_with_what_to_do(tmp_path):
-    proc = cli("run", str(TINY), "--out", str(tmp_path / "r"), env={"ORCHESTRATOR_YADE": "/nonexistent/yade"})
+    proc = cli("run", str(TINY_BOWL), "--out", str(tmp_path / "r"), env={"ORCHESTRATOR_YADE": "/nonexistent/yade"})
     assert proc.returncode == 3
     assert proc.stderr.startswith("error: Yade is not installed") and "apt-get install yade" in proc.stderr
     assert "Traceback" not in proc.stderr
@@ -34,7 +34,7 @@ def test_existing_run_is_not_overwritten_without_force(tmp_path):
     run_dir = tmp_path / "r"
     run_dir.mkdir()
     (run_dir / "run.h5").write_bytes(b"x")
-    proc = cli("run", str(TINY), "--out", str(run_dir))
+    proc = cli("run", str(TINY_BOWL), "--out", str(run_dir))
     assert proc.returncode == 2 and "--force" in proc.stderr
     assert (run_dir / "run.h5").read_bytes() == b"x"
 

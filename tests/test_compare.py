@@ -24,10 +24,9 @@ from orchestrator.case import load_case
 from orchestrator.workflows.compare import Comparison, EngineRun, parse_engines, text_tables
 from orchestrator.errors import OrchestratorError
 from orchestrator.run import OVERHEAD_PHASES, PhaseClock, RunSummary, run_case
+from paths import VERIFICATION, TINY_BOWL
 
-ROOT = Path(__file__).parent.parent
-IMPACT = ROOT / "cases" / "verification" / "chung_ooi_test2_sphere_plane.toml"  # the cheapest scene: 1 sphere
-TINY = Path(__file__).parent / "data" / "tiny_bowl.toml"
+IMPACT = VERIFICATION / "chung_ooi_test2_sphere_plane.toml"  # the cheapest scene: 1 sphere
 PHASE_KEYS = [f"overhead_{name}_s" for name in OVERHEAD_PHASES]
 yade_installed = pytest.mark.yade
 
@@ -95,7 +94,7 @@ def test_spread_speed_and_overhead_rows():
 
 
 def test_drag_finishing_forces_are_placed_against_the_reference_bands():
-    case = load_case(TINY).model  # reference: -1.99 +- 0.63 N
+    case = load_case(TINY_BOWL).model  # reference: -1.99 +- 0.63 N
     comparison = Comparison(case, None, Path("/nowhere"), [
         EngineRun("a", "ok", "", summary("a", {"fn_mean": -1.81, "fn_std": 0.25, "ft_mean": -0.3, "ft_std": 0.5})),
         EngineRun("b", "ok", "", summary("b", {"fn_mean": -2.9, "fn_std": 0.4, "fn_sem": 0.05})),
@@ -224,7 +223,7 @@ def test_engine_rows_carry_speed_and_overhead(impact_comparison):
 def test_tiny_bowl_compare_and_its_overhead(tmp_path):
     """The drag-finishing path on the tiny bowl (Yade; the reference is skipped: it runs impacts only)."""
     out = tmp_path / "tiny"
-    proc = cli("compare", str(TINY), "--engines", "yade,reference", "--set", "process.duration=0.05", "--out",
+    proc = cli("compare", str(TINY_BOWL), "--engines", "yade,reference", "--set", "process.duration=0.05", "--out",
                str(out), "--json", "--no-progress")
     assert proc.returncode == 1, proc.stderr  # the reference was skipped
     doc = strict_json(proc.stdout)

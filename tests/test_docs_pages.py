@@ -11,12 +11,12 @@ import pytest
 
 from orchestrator import docs_tables
 from orchestrator.kinds import get_kind, kind_names
+from paths import REPO
 
-ROOT = Path(__file__).resolve().parent.parent
-DOCS = ROOT / "docs"
-README = ROOT / "README.md"
-SPH_README = ROOT / "engines" / "sph" / "README.md"
-SPH_SOURCES = ROOT / "engines" / "sph" / "src"
+DOCS = REPO / "docs"
+README = REPO / "README.md"
+SPH_README = REPO / "engines" / "sph" / "README.md"
+SPH_SOURCES = REPO / "engines" / "sph" / "src"
 
 #: Longest README, lines; longest cell of its results table, characters; longest docs page, lines.
 README_LINES, RESULT_CELL, PAGE_LINES = 150, 200, 400
@@ -116,7 +116,7 @@ def test_the_readme_is_short_and_its_results_table_scannable():
         assert all(len(cell) <= RESULT_CELL for cell in row), f"a results cell over {RESULT_CELL} characters: {row}"
         links = re.findall(r"\]\((docs/[^)#]+)", " ".join(row))
         assert links, f"a results row without a link to its docs page: {row}"
-        assert all((ROOT / link).is_file() for link in links), links
+        assert all((REPO / link).is_file() for link in links), links
 
 
 def test_docs_pages_are_short():
@@ -127,7 +127,7 @@ def test_docs_pages_are_short():
 def _text_files(tree: Path):
     paths = [tree] if tree.is_file() else sorted(tree.rglob("*"))
     for path in paths:
-        if not path.is_file() or SKIPPED_FOLDERS & set(path.relative_to(ROOT).parts):
+        if not path.is_file() or SKIPPED_FOLDERS & set(path.relative_to(REPO).parts):
             continue
         data = path.read_bytes()
         if b"\0" in data[:8192]:
@@ -139,8 +139,8 @@ def _text_files(tree: Path):
 
 
 def test_no_history_in_code_cases_or_docs():
-    found = [f"{path.relative_to(ROOT)}:{n}: {line.strip()[:100]}"
-             for tree in HISTORY_TREES for path, text in _text_files(ROOT / tree)
+    found = [f"{path.relative_to(REPO)}:{n}: {line.strip()[:100]}"
+             for tree in HISTORY_TREES for path, text in _text_files(REPO / tree)
              for n, line in enumerate(text.splitlines(), 1) if HISTORY.search(line)]
     assert not found, "dates, issue numbers or seed labels (cite papers by author and year):\n" + "\n".join(found)
 
@@ -182,6 +182,6 @@ def test_the_sph_readme_lists_every_deck_key_the_parser_reads():
 def test_the_sph_readme_names_only_files_that_exist():
     text = SPH_README.read_text()
     named = set(re.findall(r"`((?:src|tests|bench)/[A-Za-z0-9_./*-]+)`", text))
-    missing = [name for name in sorted(named) if not list(SPH_README.parent.glob(name)) and not list(ROOT.glob(name))]
+    missing = [name for name in sorted(named) if not list(SPH_README.parent.glob(name)) and not list(REPO.glob(name))]
     assert not missing, f"engines/sph/README.md names files that do not exist: {missing}"
     assert "DESIGN.md" not in text

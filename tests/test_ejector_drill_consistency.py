@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import math
 import time
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -17,8 +16,8 @@ from orchestrator.case.loader import load_case
 from orchestrator.cli import main
 from orchestrator.drill.case import MIN_SPACINGS_ACROSS
 from orchestrator.drill.geometry import most_passages, widest_passage
+from paths import CASES
 
-CASES = Path(__file__).resolve().parent.parent / "cases"
 DRILL, FEED = CASES / "ejector_drill_canini.toml", CASES / "ejector_feed_canini.toml"
 
 #: (case file, preset, --set overrides, words the error holds). The case file's drill: groove_depth 1 mm, so the

@@ -5,7 +5,6 @@ surface and nearest), the network's numbers the boundaries carry, the start stat
 
 import math
 from functools import lru_cache
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -21,8 +20,9 @@ from orchestrator.kinds.ejector_feed.network import feed_boundary, gap_pressure_
 from orchestrator.kinds.ejector_feed.walls import feed_solid_masks, feed_wall_meshes
 from orchestrator.reference.drill_network import LITRE_PER_MIN, solve
 from test_ejector_drill_walls import _closest, _winding
+from paths import CASES
 
-CASE = Path(__file__).resolve().parent.parent / "cases" / "ejector_feed_canini.toml"
+CASE = CASES / "ejector_feed_canini.toml"
 #: The cut meshes' polygons: the tubes' 96-gon lies 10 mm x (1 - cos(pi / 96)) = 5 um inside the circle, the nozzles'
 #: 32-gon 0.5 mm x (1 - cos(pi / 32)) = 2.4 um inside theirs.
 MESH_TOLERANCE = 10e-6

@@ -3,7 +3,6 @@ against their closed-form volumes, the balance arithmetic of eq. 2 and the compa
 synthetic series, and a tiny run on the sph executable."""
 
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -16,8 +15,9 @@ from orchestrator.kinds.ejector_drill.comparison import comparison_rows, network
 from orchestrator.kinds.ejector_drill.build import prefill_margin, wall_meshes
 from orchestrator.drill.probe import end_particles, probe_scene
 from orchestrator.reference.drill_network import LITRE_PER_MIN, solve
+from paths import CASES
 
-CASE = Path(__file__).resolve().parent.parent / "cases" / "ejector_drill_canini.toml"
+CASE = CASES / "ejector_drill_canini.toml"
 PRESETS = ("flow_exit", "flow_exit_quick", "flow_exit_filled", "flow_exit_filled_quick", "drill_head",
            "drill_head_quick")
 

@@ -4,7 +4,6 @@ the light columns and the back pressure that keeps the SPH's acoustic noise abov
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -17,8 +16,9 @@ from orchestrator.kinds.ejector_drill.flows import less_back_pressure
 from orchestrator.kinds.sph_flow.sph import TEMPLATE, deck_context
 from orchestrator.reference.drill_network import LITRE_PER_MIN, solve
 from orchestrator.templating import render
+from paths import CASES
 
-CASE = Path(__file__).resolve().parent.parent / "cases" / "ejector_drill_canini.toml"
+CASE = CASES / "ejector_drill_canini.toml"
 
 
 def _deck(case) -> dict:

@@ -6,7 +6,6 @@ initial densities are rho0 less the empty sites' kernel share."""
 
 import math
 from functools import lru_cache
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -18,8 +17,9 @@ from orchestrator.kinds.ejector_drill.build import inlet_buffer_points, prefill_
 from orchestrator.kinds.ejector_drill.layout import drill_layout
 from orchestrator.kinds.ejector_drill.walls import drill_boundary_particles, solid_masks
 from orchestrator.reference.sph import kernel_value
+from paths import CASES
 
-CASE = Path(__file__).resolve().parent.parent / "cases" / "ejector_drill_canini.toml"
+CASE = CASES / "ejector_drill_canini.toml"
 #: The meshes' sides: the 96-gon of the solids of revolution lies 15 mm x (1 - cos(pi / 96)) = 8 um inside the
 #: circle at the bore, the holes' 24-gon 2 mm x (1 - cos(pi / 24)) = 17 um inside theirs.
 MESH_TOLERANCE = 20e-6

@@ -11,8 +11,9 @@ from pathlib import Path
 import pytest
 
 from orchestrator.kinds import kind_names
+from paths import REPO
 
-PACKAGE = Path(__file__).resolve().parent.parent / "orchestrator"
+PACKAGE = REPO / "orchestrator"
 GENERIC = ["run.py", "runh5.py", "workflows", "study", "cli", "case", "scene"]
 #: Modules that still name a kind, with the reason; clear a line when its module is generic.
 KNOWN: dict[str, str] = {}

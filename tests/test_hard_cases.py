@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import subprocess
 import sys
-from pathlib import Path
 
 import pytest
 
@@ -16,8 +15,9 @@ from orchestrator.case import load_case
 from orchestrator.errors import EngineUnstable
 from orchestrator.run import run_case
 from orchestrator.runh5 import read_run
+from paths import CASES
 
-HARD = Path(__file__).parent.parent / "cases" / "hard"
+HARD = CASES / "hard"
 ENGINES = [
     "reference",
     pytest.param("yade", marks=[pytest.mark.yade, pytest.mark.yade]),

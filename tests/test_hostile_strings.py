@@ -27,13 +27,11 @@ from orchestrator.case import load_case
 from orchestrator.errors import OrchestratorError
 from orchestrator.kinds import build_scene
 from orchestrator.templating import render
+from paths import REPO, DATA, TINY_BOWL
 
-HERE = Path(__file__).parent
-ROOT = HERE.parent
-TINY = HERE / "data" / "tiny_bowl.toml"
-DROP = ROOT / "cases" / "verification" / "uhlmann2015_sphere_drop.toml"
-CHANNEL = HERE / "data" / "sph_channel_3d.toml"
-DAM_BREAK = ROOT / "cases" / "sph" / "dam_break_2d.toml"
+DROP = REPO / "cases" / "verification" / "uhlmann2015_sphere_drop.toml"
+CHANNEL = DATA / "sph_channel_3d.toml"
+DAM_BREAK = REPO / "cases" / "sph" / "dam_break_2d.toml"
 
 #: Appended to a name: what would end a comment, a string or a line, run a shell or expand a variable.
 HOSTILE = "\nshell touch pwned\n# \"' ${x} $(touch pwned) `id` \\ \\n & #\r\u2028é&"
@@ -145,7 +143,7 @@ def _decks(case_path: Path, engine: str, tmp_path: Path) -> tuple[str, str, dict
     return decks[0], decks[1], names
 
 
-@pytest.mark.parametrize("case_path", [TINY, DROP], ids=["drag_finishing", "impact"])
+@pytest.mark.parametrize("case_path", [TINY_BOWL, DROP], ids=["drag_finishing", "impact"])
 def test_liggghts_deck_means_the_same_with_hostile_names(case_path, tmp_path):
     benign, hostile, _ = _decks(case_path, "liggghts", tmp_path)
     assert "pwned" in hostile and "pwned" not in benign  # the names did reach the deck, in comments
@@ -153,7 +151,7 @@ def test_liggghts_deck_means_the_same_with_hostile_names(case_path, tmp_path):
     assert not any("pwned" in line for line in liggghts_commands(hostile))
 
 
-@pytest.mark.parametrize("case_path", [TINY, DROP], ids=["drag_finishing", "impact"])
+@pytest.mark.parametrize("case_path", [TINY_BOWL, DROP], ids=["drag_finishing", "impact"])
 def test_yade_script_means_the_same_with_hostile_names(case_path, tmp_path):
     benign, hostile, names = _decks(case_path, "yade", tmp_path)
     assert python_meaning(hostile, names) == python_meaning(benign, names)
@@ -184,7 +182,7 @@ def _render_all(case_path: Path, tmp_path: Path, overrides=(), tag="") -> dict[s
     return decks
 
 
-@pytest.mark.parametrize("case_path", [TINY, DROP, CHANNEL], ids=["drag_finishing", "impact", "sph"])
+@pytest.mark.parametrize("case_path", [TINY_BOWL, DROP, CHANNEL], ids=["drag_finishing", "impact", "sph"])
 def test_a_hostile_description_changes_no_deck(case_path, tmp_path):
     plain = _render_all(case_path, tmp_path, tag="a")
     hostile = _render_all(case_path, tmp_path, [f"case.description={json.dumps(HOSTILE)}"], tag="b")
@@ -193,8 +191,8 @@ def test_a_hostile_description_changes_no_deck(case_path, tmp_path):
 
 def test_a_hostile_reference_label_changes_no_deck(tmp_path):
     label = f"reference=[{{label={json.dumps(HOSTILE_LINE)}, fn_mean=-1.8, fn_std=0.25}}]"
-    assert load_case(TINY, overrides=[label]).model.reference[0].label == HOSTILE_LINE
-    assert _render_all(TINY, tmp_path, [label], tag="b") == _render_all(TINY, tmp_path, tag="a")
+    assert load_case(TINY_BOWL, overrides=[label]).model.reference[0].label == HOSTILE_LINE
+    assert _render_all(TINY_BOWL, tmp_path, [label], tag="b") == _render_all(TINY_BOWL, tmp_path, tag="a")
 
 
 def test_a_hostile_mesh_file_name_changes_no_deck(tmp_path):
@@ -202,14 +200,14 @@ def test_a_hostile_mesh_file_name_changes_no_deck(tmp_path):
     orchestrator and reaches the engines as rod.stl / arrays, so the decks are those of a plain name."""
     from orchestrator.kinds.drag_finishing.scene import rod_mesh
 
-    case = load_case(TINY).model
+    case = load_case(TINY_BOWL).model
     rod = rod_mesh(case.workpiece.radius, case.workpiece.length, case.workpiece.segments)
     folder = tmp_path / "meshes"
     folder.mkdir()
     plain, hostile = folder / "rod.stl", folder / ("rod $(touch pwned) ${x} \"q\" 'q' #&\\ \nshell x.stl")
     rod.export(plain)
     shutil.copy(plain, hostile)
-    decks = [_render_all(TINY, tmp_path, [f"workpiece.mesh={json.dumps(str(path))}"], tag=str(k))
+    decks = [_render_all(TINY_BOWL, tmp_path, [f"workpiece.mesh={json.dumps(str(path))}"], tag=str(k))
              for k, path in enumerate((plain, hostile))]
     assert decks[1] == decks[0]
 
@@ -219,7 +217,7 @@ def test_a_hostile_sph_mesh_file_name_changes_no_deck(tmp_path):
     folder.mkdir()
     text = CHANNEL.read_text()
     name = "mesh $(touch pwned) ${x} \"q\" 'q' #&\\ \nshell x.stl"
-    shutil.copy(HERE / "data" / "sph_obstacle_mm.stl", folder / name)
+    shutil.copy(DATA / "sph_obstacle_mm.stl", folder / name)
     assert 'file = "sph_obstacle_mm.stl"' in text
     (folder / "case.toml").write_text(text.replace('file = "sph_obstacle_mm.stl"', f"file = {json.dumps(name)}"))
     assert _render_all(folder / "case.toml", tmp_path) == _render_all(CHANNEL, tmp_path)
@@ -227,8 +225,8 @@ def test_a_hostile_sph_mesh_file_name_changes_no_deck(tmp_path):
 
 # ---- validation ----
 NAME_KEYS = [
-    (TINY, "media.material", "{h}"), (TINY, "bowl.material", "{h}"), (TINY, "workpiece.material", "{h}"),
-    (TINY, "contacts[0].pair[1]", "contacts.0.pair=['ceramic', {h}]"),
+    (TINY_BOWL, "media.material", "{h}"), (TINY_BOWL, "bowl.material", "{h}"), (TINY_BOWL, "workpiece.material", "{h}"),
+    (TINY_BOWL, "contacts[0].pair[1]", "contacts.0.pair=['ceramic', {h}]"),
     (DROP, "spheres[0].material", "{h}"), (DROP, "plane.material", "{h}"),
     (CHANNEL, "blocks[0].name", "{h}"), (CHANNEL, "walls[0].name", "{h}"), (CHANNEL, "inlets[0].name", "{h}"),
     (CHANNEL, "outlets[0].name", "{h}"), (CHANNEL, "output.probes[0].name", "{h}"),
@@ -256,7 +254,7 @@ def test_hostile_names_are_refused_naming_key_and_rule(case_path, key, template,
 
 @pytest.mark.parametrize("name", HOSTILE_NAMES[:8] + ["1steel"], ids=range(9))
 def test_a_hostile_material_key_is_refused(name, tmp_path):
-    text = TINY.read_text()
+    text = TINY_BOWL.read_text()
     assert "[materials.ceramic]" in text
     (tmp_path / "case.toml").write_text(text.replace("[materials.ceramic]", f"[materials.{json.dumps(name)}]"))
     with pytest.raises(OrchestratorError, match=r"materials = .*the material name .* is not allowed; allowed: a "
@@ -266,13 +264,13 @@ def test_a_hostile_material_key_is_refused(name, tmp_path):
 
 def test_a_label_over_two_lines_is_refused():
     with pytest.raises(OrchestratorError, match=r"reference\[0\]\.label = .*allowed: one line of printable text"):
-        load_case(TINY, overrides=['reference=[{label="a\\nshell touch pwned", fn_mean=-1.8, fn_std=0.25}]'])
+        load_case(TINY_BOWL, overrides=['reference=[{label="a\\nshell touch pwned", fn_mean=-1.8, fn_std=0.25}]'])
 
 
 def test_every_shipped_name_is_still_a_name():
     from orchestrator.case.common import check_name
 
-    for path in sorted((ROOT / "cases").rglob("*.toml")) + sorted((HERE / "data").glob("*.toml")):
+    for path in sorted((REPO / "cases").rglob("*.toml")) + sorted((DATA).glob("*.toml")):
         if "studies" in path.parts:
             continue
         for name in _names(load_case(path).model):

@@ -22,9 +22,8 @@ from orchestrator.errors import CaseError
 from orchestrator.kinds import build_scene
 from orchestrator.kinds.impact.physics import critical_timestep
 from orchestrator.workflows.verify import get_suite, scene_files
+from paths import VERIFICATION
 
-ROOT = Path(__file__).parent.parent
-VERIFICATION = ROOT / "cases" / "verification"
 TEST2 = VERIFICATION / "chung_ooi_test2_sphere_plane.toml"
 DROP = VERIFICATION / "uhlmann2015_sphere_drop.toml"
 BASE = tomllib.loads(TEST2.read_text())

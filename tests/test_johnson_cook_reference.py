@@ -8,7 +8,6 @@ from __future__ import annotations
 import dataclasses
 import math
 import re
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -18,8 +17,9 @@ from scipy.optimize import brentq
 from orchestrator.errors import OrchestratorError
 from orchestrator.reference import johnson_cook as jc
 from orchestrator.reference import solid_eos as eos
+from paths import REPO
 
-CPP_TEST = Path(__file__).resolve().parents[1] / "engines/sph/tests/test_johnson_cook.cpp"
+CPP_TEST = REPO / "engines/sph/tests/test_johnson_cook.cpp"
 STRENGTH, FAILURE = jc.AL6061_T6_STRENGTH, jc.AL6061_T6_FAILURE
 SHEAR, BULK = 68.9e9 / (2 * 1.33), 68.9e9 / (3 * 0.34)  # Pa, E = 68.9 GPa, nu = 0.33
 RHO, HEAT_CAPACITY, T0 = 2700.0, 896.0, 293.0  # kg/m^3, J/(kg K), K

@@ -38,15 +38,15 @@ from orchestrator.kinds.impact.lammps_output import split_pair_forces, step_cont
 from orchestrator.reference import closed_form, contact
 from orchestrator.runh5 import read_run
 from orchestrator.templating import render
+from paths import VERIFICATION
+from paths import GOLDEN as GOLDEN_DIR
 
-HERE = Path(__file__).parent
-CASES = HERE.parent / "cases" / "verification"
 GOLDEN = {"lammps_impact_sphere_drop.in": "uhlmann2015_sphere_drop",
           "lammps_impact_sphere_sphere.in": "chung_ooi_test1_sphere_sphere"}
 
 
 def scene_of(name: str):
-    return build_scene(load_case(CASES / f"{name}.toml").model)
+    return build_scene(load_case(VERIFICATION / f"{name}.toml").model)
 
 
 # ---- the mapping (LAMMPS's formulas as written in its GRANULAR sources, no engine needed) ----
@@ -124,7 +124,7 @@ def test_engine_damping_passes_the_restitutions_through():
 @pytest.fixture
 def low_restitution(tmp_path) -> Path:
     """Chung & Ooi's test 3 at e_n = 0.1: the exact alpha, 2.78, lies beyond coeff_restitution's sqrt(5)."""
-    text = (CASES / "chung_ooi_test3_restitution_020.toml").read_text()
+    text = (VERIFICATION / "chung_ooi_test3_restitution_020.toml").read_text()
     case = tmp_path / "low.toml"
     case.write_text(text.replace("restitution = 0.2", "restitution = 0.1"))
     return case
@@ -132,7 +132,7 @@ def low_restitution(tmp_path) -> Path:
 
 def test_a_damping_beyond_reach_is_refused_and_the_suite_is_not(low_restitution):
     assert "alpha = 2.78" in refusal(build_scene(load_case(low_restitution).model))
-    for case in sorted(CASES.glob("chung_ooi_*.toml")) + [CASES / "uhlmann2015_sphere_drop.toml"]:
+    for case in sorted(VERIFICATION.glob("chung_ooi_*.toml")) + [VERIFICATION / "uhlmann2015_sphere_drop.toml"]:
         assert refusal(build_scene(load_case(case).model)) == ""
 
 
@@ -150,11 +150,11 @@ def test_a_refused_scene_is_one_error_line_and_exit_2(low_restitution, tmp_path)
 # ---- the deck and the data file ----
 @pytest.mark.parametrize("golden", sorted(GOLDEN))
 def test_rendered_deck_matches_golden(golden):
-    assert_matches_golden(render(TEMPLATE, impact_context(scene_of(GOLDEN[golden]))), HERE / "golden" / golden)
+    assert_matches_golden(render(TEMPLATE, impact_context(scene_of(GOLDEN[golden]))), GOLDEN_DIR / golden)
 
 
 def test_deck_sets_every_type_pair_and_one_wall_per_sphere_type():
-    case = load_case(CASES / "uhlmann2015_sphere_drop.toml").model
+    case = load_case(VERIFICATION / "uhlmann2015_sphere_drop.toml").model
     spheres = [case.spheres[0].model_copy(update={"material": name, "position": (0.02 * k, 0.0, 0.01327)})
                for k, name in enumerate(("ceramic", "steel", "ceramic"))]
     contacts = list(case.contacts) + [case.contacts[0].model_copy(update={"pair": ("ceramic", "ceramic")}),
@@ -254,7 +254,7 @@ def replay_oblique_impact(lammps_slip: bool, lever_arm_radius: bool, dt: float) 
 def test_the_10deg_spin_gap_is_lammps_slip_rule_and_lever_arm():
     """Converged in the step (1.4 ns): the reference's rules land within 0.4 % of the closed form (197.86 rad/s);
     LAMMPS's slip rule takes 2.8 % of the spin away, its lever arm R a further 0.44 %."""
-    expected = expected_values(load_case(CASES / "chung_ooi_test4_oblique_10deg.toml").model)["rebound_spin"]
+    expected = expected_values(load_case(VERIFICATION / "chung_ooi_test4_oblique_10deg.toml").model)["rebound_spin"]
     dt = 1.4e-9
     reference = replay_oblique_impact(False, False, dt)[1]
     slip_rule = replay_oblique_impact(True, False, dt)[1]
@@ -267,11 +267,11 @@ def test_the_10deg_spin_gap_is_lammps_slip_rule_and_lever_arm():
 # ---- real runs ----
 def _run(tmp_path, name: str) -> tuple[dict, object]:
     out = tmp_path / name
-    proc = subprocess.run([sys.executable, "-m", "orchestrator", "run", str(CASES / f"{name}.toml"), "--engine",
+    proc = subprocess.run([sys.executable, "-m", "orchestrator", "run", str(VERIFICATION / f"{name}.toml"), "--engine",
                            "lammps", "--out", str(out), "--no-progress"], check=False, capture_output=True, text=True,
                           timeout=600)
     assert proc.returncode == 0, proc.stderr
-    return read_run(out), load_case(CASES / f"{name}.toml").model
+    return read_run(out), load_case(VERIFICATION / f"{name}.toml").model
 
 
 @pytest.mark.lammps

@@ -3,13 +3,13 @@ watched as the LIGGGHTS and Yade runs are (tests/test_no_listeners.py samples th
 
 from __future__ import annotations
 
-from pathlib import Path
 
 import pytest
 
 from test_no_listeners import _run_and_watch
+from paths import VERIFICATION
 
-CASE = Path(__file__).parent.parent / "cases" / "verification" / "sph_couette_morris1997.toml"
+CASE = VERIFICATION / "sph_couette_morris1997.toml"
 
 
 @pytest.mark.lammps

@@ -7,7 +7,6 @@ from __future__ import annotations
 import math
 import subprocess
 import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -20,12 +19,12 @@ from orchestrator.kinds.sph_flow.lammps_output import (planned_steps, probe_pres
 from orchestrator.runner import LOG_NAME
 from orchestrator.templating import render
 from orchestrator.kinds.sph_flow.lammps import TEMPLATE
+from paths import VERIFICATION
 
-CASES = Path(__file__).parent.parent / "cases" / "verification"
 
 
 def scene_of(name: str, *overrides: str):
-    return build_scene(load_case(CASES / f"{name}.toml", overrides=list(overrides)).model)
+    return build_scene(load_case(VERIFICATION / f"{name}.toml", overrides=list(overrides)).model)
 
 
 @pytest.mark.parametrize("name, reason", [
@@ -44,7 +43,7 @@ def test_the_channel_tank_and_dam_break_are_accepted(name):
 
 
 def test_a_refused_scene_is_one_error_line_and_exit_2(tmp_path):
-    proc = subprocess.run([sys.executable, "-m", "orchestrator", "run", str(CASES / "sph_penalty_column.toml"),
+    proc = subprocess.run([sys.executable, "-m", "orchestrator", "run", str(VERIFICATION / "sph_penalty_column.toml"),
                            "--engine", "lammps", "--out", str(tmp_path / "run"), "--no-progress"],
                           capture_output=True, text=True, timeout=300, env={"ORCHESTRATOR_LAMMPS": sys.executable,
                                                                            "PATH": "/usr/bin:/bin"})
@@ -152,7 +151,7 @@ def test_couette_on_lammps_against_the_series(tmp_path):
     from orchestrator.runh5 import read_run
     from orchestrator.workflows.verify import run_scene
 
-    checked = run_scene(CASES / "sph_couette_morris1997.toml", "lammps", tmp_path / "run", preset="quick")
+    checked = run_scene(VERIFICATION / "sph_couette_morris1997.toml", "lammps", tmp_path / "run", preset="quick")
     assert checked.status == "ok", checked.message
     rows = {row["quantity"].split("(")[0] + ("_end" if "0.5" in row["quantity"] else ""): row for row in checked.rows}
     assert rows["u_profile_end"]["rel_error"] < 0.05

@@ -18,8 +18,9 @@ import ast
 from pathlib import Path
 
 import pytest
+from paths import REPO
 
-PACKAGE = Path(__file__).resolve().parent.parent / "orchestrator"
+PACKAGE = REPO / "orchestrator"
 
 UTILITIES, REFERENCE, ENGINES, REGISTRY, CASES, SHARED, KINDS, ONE_RUN, WORKFLOWS, CLI = range(10)
 #: The layer of each folder of orchestrator/: every module below it, at any depth.

@@ -20,11 +20,9 @@ from orchestrator.kinds.impact.liggghts_output import read_impact_output
 from orchestrator.case import load_case
 from orchestrator.kinds import build_scene
 from orchestrator.kinds.drag_finishing.scene import bed_weight
+from paths import VERIFICATION, DATA, TINY_BOWL
 
-HERE = Path(__file__).parent
-IMPACTS = HERE / "data" / "liggghts_impact_output"
-CASES = HERE.parent / "cases" / "verification"
-TINY = HERE / "data" / "tiny_bowl.toml"
+IMPACTS = DATA / "liggghts_impact_output"
 
 
 def _workdir(stored: Path, tmp_path: Path) -> Path:
@@ -36,7 +34,7 @@ def _workdir(stored: Path, tmp_path: Path) -> Path:
 
 
 def _impact(name, tmp_path):
-    loaded = load_case(CASES / f"{name}.toml")
+    loaded = load_case(VERIFICATION / f"{name}.toml")
     scene = build_scene(loaded.model)
     return loaded.model, scene, read_impact_output(scene, _workdir(IMPACTS / name, tmp_path))
 
@@ -88,9 +86,9 @@ def test_a_run_without_final_status_is_failed_and_keeps_its_data(tmp_path):
 # ---- drag finishing ----
 @pytest.fixture(scope="module")
 def tiny(tmp_path_factory):
-    case = load_case(TINY).model
+    case = load_case(TINY_BOWL).model
     scene = build_scene(case)
-    workdir = _workdir(HERE / "data" / "liggghts_tiny_output", tmp_path_factory.mktemp("tiny"))
+    workdir = _workdir(DATA / "liggghts_tiny_output", tmp_path_factory.mktemp("tiny"))
     return case, scene, workdir, read_drag_output(scene, workdir)
 
 

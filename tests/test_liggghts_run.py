@@ -23,15 +23,14 @@ from orchestrator.runh5 import read_run
 from orchestrator.kinds import build_scene
 from orchestrator.kinds.drag_finishing.scene import bed_weight
 from test_rod_impacts import assert_engine_impacts
+from paths import VERIFICATION, TINY_BOWL
 
-HERE = Path(__file__).parent
-TINY = HERE / "data" / "tiny_bowl.toml"
 
 pytestmark = pytest.mark.liggghts
 
 
 def _run_tiny(out: Path, *extra) -> tuple[dict, dict]:
-    proc = subprocess.run([sys.executable, "-m", "orchestrator", "run", str(TINY), "--engine", "liggghts",
+    proc = subprocess.run([sys.executable, "-m", "orchestrator", "run", str(TINY_BOWL), "--engine", "liggghts",
                            "--out", str(out), "--json", "--no-progress", *extra],
                           capture_output=True, text=True, timeout=600)
     assert proc.returncode == 0, proc.stderr
@@ -45,7 +44,7 @@ def tiny_run(tmp_path_factory):
 
 @pytest.fixture(scope="module")
 def tiny_weight():
-    return bed_weight(build_scene(load_case(TINY).model))
+    return bed_weight(build_scene(load_case(TINY_BOWL).model))
 
 
 def test_summary_and_version(tiny_run):
@@ -63,12 +62,12 @@ def test_bowl_carries_the_bed_weight_at_rest(tiny_run, tiny_weight):
     assert run["attrs"]["settled"]
     assert series["bowl_force"][last_settle, 2] == pytest.approx(-tiny_weight, rel=0.01)
     assert abs(series["bowl_force"][last_settle, 0]) < 0.01 * tiny_weight
-    assert series["unbalanced_force"][last_settle] < load_case(TINY).model.settling.unbalanced_force
+    assert series["unbalanced_force"][last_settle] < load_case(TINY_BOWL).model.settling.unbalanced_force
 
 
 def test_rod_reaches_submersion_depth_and_the_media_resist(tiny_run):
     _, run = tiny_run
-    case = load_case(TINY).model
+    case = load_case(TINY_BOWL).model
     series = run["series"]
     process = series["phase"] == 3
     tip = series["rod_tip_z"][process]
@@ -107,7 +106,7 @@ def test_two_mpi_ranks_measure_the_same(tiny_run, tiny_weight, tmp_path):
 
 def test_impact_on_two_wall_copies_meets_its_closed_forms(tmp_path):
     """e_n = 0.2 with the exact alpha needs more damping than LIGGGHTS 3.8 takes on one wall: two copies."""
-    loaded = load_case(HERE.parent / "cases" / "verification" / "chung_ooi_test3_restitution_020.toml")
+    loaded = load_case(VERIFICATION / "chung_ooi_test3_restitution_020.toml")
     summary = run_case(loaded, engine="liggghts", out_dir=tmp_path / "run", progress=False)
     assert summary.status == "ok"
     assert "plane1" in (tmp_path / "run" / "impact.in").read_text()
@@ -118,7 +117,7 @@ def test_impact_on_two_wall_copies_meets_its_closed_forms(tmp_path):
 
 def test_timeout_keeps_status_and_partial_data(tmp_path):
     out = tmp_path / "slow"
-    proc = subprocess.run([sys.executable, "-m", "orchestrator", "run", str(TINY), "--engine", "liggghts", "--out",
+    proc = subprocess.run([sys.executable, "-m", "orchestrator", "run", str(TINY_BOWL), "--engine", "liggghts", "--out",
                            str(out), "--timeout", "5", "--set", "process.duration=100", "--no-progress"],
                           capture_output=True, text=True, timeout=300)
     assert proc.returncode != 0 and "Traceback" not in proc.stderr and "--timeout" in proc.stderr
@@ -137,7 +136,7 @@ def test_sphere_drop_peaks_agree_across_engines(tmp_path):
     0.1-0.25 % above; 0.4-0.5 % apart)."""
     if not get_engine("yade").available():
         pytest.skip("Yade is not installed (apt-get install yade)")
-    loaded = load_case(HERE.parent / "cases" / "verification" / "uhlmann2015_sphere_drop.toml")
+    loaded = load_case(VERIFICATION / "uhlmann2015_sphere_drop.toml")
     peaks = {}
     for engine in ("liggghts", "yade", "reference"):
         summary = run_case(loaded, engine=engine, out_dir=tmp_path / engine, progress=False)

@@ -23,15 +23,14 @@ from orchestrator.errors import OrchestratorError
 from orchestrator.kinds import build_scene
 
 from golden import assert_matches_golden
+from paths import VERIFICATION, TINY_BOWL
+from paths import GOLDEN as GOLDEN_DIR
 
-HERE = Path(__file__).parent
-CASES = HERE.parent / "cases" / "verification"
-TINY = HERE / "data" / "tiny_bowl.toml"
 GOLDEN = {
-    "liggghts_impact_sphere_drop.in": (CASES / "uhlmann2015_sphere_drop.toml", ()),
-    "liggghts_impact_restitution_020.in": (CASES / "chung_ooi_test3_restitution_020.toml", ()),
-    "liggghts_tiny_bowl.in": (TINY, ()),
-    "liggghts_tiny_bowl_stiffen.in": (TINY, ("settling.stiffness_scale=0.0001",)),
+    "liggghts_impact_sphere_drop.in": (VERIFICATION / "uhlmann2015_sphere_drop.toml", ()),
+    "liggghts_impact_restitution_020.in": (VERIFICATION / "chung_ooi_test3_restitution_020.toml", ()),
+    "liggghts_tiny_bowl.in": (TINY_BOWL, ()),
+    "liggghts_tiny_bowl_stiffen.in": (TINY_BOWL, ("settling.stiffness_scale=0.0001",)),
 }
 
 
@@ -46,7 +45,7 @@ def test_rendered_deck_matches_golden(golden, tmp_path):
     scene = build_scene(load_case(case_file, overrides=list(overrides)).model)
     liggghts_adapter(scene).write_input(scene, tmp_path)
     rendered = (tmp_path / ("impact.in" if "impact" in golden else "drag_finishing.in")).read_text()
-    assert_matches_golden(rendered, HERE / "golden" / golden)
+    assert_matches_golden(rendered, GOLDEN_DIR / golden)
     assert "{{" not in rendered and "{%" not in rendered
 
 
@@ -58,7 +57,7 @@ def _data_atoms(path: Path) -> np.ndarray:
 
 
 def test_the_cloud_and_meshes_reach_liggghts_unchanged(tmp_path):
-    scene = build_scene(load_case(TINY).model)
+    scene = build_scene(load_case(TINY_BOWL).model)
     liggghts_adapter(scene).write_input(scene, tmp_path)
     atoms = _data_atoms(tmp_path / "balls.data")  # id type diameter density x y z
     np.testing.assert_array_equal(atoms[:, 0], np.arange(1, scene.n_particles + 1))
@@ -71,7 +70,7 @@ def test_the_cloud_and_meshes_reach_liggghts_unchanged(tmp_path):
 
 
 def test_impact_spheres_carry_velocity_and_spin(tmp_path):
-    scene = build_scene(load_case(CASES / "chung_ooi_test4_oblique_30deg.toml").model)
+    scene = build_scene(load_case(VERIFICATION / "chung_ooi_test4_oblique_30deg.toml").model)
     liggghts_adapter(scene).write_input(scene, tmp_path)
     text = (tmp_path / "spheres.data").read_text().splitlines()
     velocities = np.array(text[text.index("Velocities") + 2].split()[1:], dtype=float)
@@ -81,7 +80,7 @@ def test_impact_spheres_carry_velocity_and_spin(tmp_path):
 
 
 def test_two_spheres_damped_beyond_liggghts_limit_are_refused():
-    case = load_case(CASES / "chung_ooi_test1_sphere_sphere.toml",
+    case = load_case(VERIFICATION / "chung_ooi_test1_sphere_sphere.toml",
                      overrides=["contacts=[{pair=['glass', 'glass'], restitution=0.2, friction=0.0}]",
                                 "model.damping='exact'"]).model
     with pytest.raises(OrchestratorError, match=r"contacts \(glass, glass\).*beta = 0\.731.*at most 0\.667"):
@@ -158,6 +157,6 @@ def test_mpi_on_an_engine_without_it_is_refused(tmp_path):
     from orchestrator.run import run_case
 
     with pytest.raises(OrchestratorError, match="--mpi 2: the reference engine does not run under MPI"):
-        run_case(load_case(CASES / "chung_ooi_test2_sphere_plane.toml"), engine="reference", out_dir=tmp_path,
+        run_case(load_case(VERIFICATION / "chung_ooi_test2_sphere_plane.toml"), engine="reference", out_dir=tmp_path,
                  progress=False, mpi_ranks=2)
     assert not (tmp_path / "run.h5").exists()

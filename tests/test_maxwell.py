@@ -4,15 +4,15 @@ from __future__ import annotations
 
 import json
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 from orchestrator.reference.maxwell import TABLE_III, CrossLaw, Mode, fit_maxwell, loss_modulus, storage_modulus
 from orchestrator.kinds.rheometer.calibration import read_moduli, synthetic_moduli
+from paths import CASES
 
-CSV = Path(__file__).parent.parent / "cases" / "rheometry" / "mf20_synthetic_moduli.csv"
+CSV = CASES / "rheometry" / "mf20_synthetic_moduli.csv"
 OMEGA = np.logspace(-2, 3, 26)  # rad/s, as the shipped CSV
 
 

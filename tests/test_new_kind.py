@@ -24,8 +24,8 @@ from orchestrator.cli import main
 from orchestrator.errors import CaseError, OrchestratorError
 from orchestrator.kinds import _LOADED, _REGISTRY, engines_for_kind, kind_names
 from orchestrator.run import run_case
+from paths import REPO, CASES
 
-REPO = Path(__file__).resolve().parent.parent
 #: The one line a kind adds to orchestrator/kinds/__init__.py (here with the toy's package name).
 REGISTRY_LINE = 'register("toy_fall", "toykind")'
 
@@ -295,7 +295,7 @@ def test_the_toy_is_its_folder_and_one_registry_line():
         assert {k: v for k, v in _REGISTRY.items() if before.get(k) != v} == {"toy_fall": "toykind"}
     finally:
         _REGISTRY.pop("toy_fall", None)
-    shared = [*(REPO / "orchestrator").rglob("*.py"), *(REPO / "cases").rglob("*.toml"), REPO / "pyproject.toml"]
+    shared = [*(REPO / "orchestrator").rglob("*.py"), *(CASES).rglob("*.toml"), REPO / "pyproject.toml"]
     assert not [p for p in shared if p.is_file() and re.search(r"toy_fall|toykind", p.read_text())]
 
 

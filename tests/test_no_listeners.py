@@ -21,9 +21,9 @@ import pytest
 from orchestrator.engines import get_engine
 
 from orchestrator.engines.liggghts import network_namespace
+from paths import VERIFICATION
 
-HERE = Path(__file__).parent
-CASE = HERE.parent / "cases" / "verification" / "chung_ooi_test1_sphere_sphere.toml"
+CASE = VERIFICATION / "chung_ooi_test1_sphere_sphere.toml"
 LISTEN = "0A"
 
 

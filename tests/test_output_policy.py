@@ -22,11 +22,11 @@ from orchestrator.errors import OrchestratorError
 from orchestrator.humanize import stamped_dir
 from orchestrator.processes import probe_bound, run_probe, session_members
 from orchestrator.runner import execute
+from paths import CASES, DATA
 
-ROOT = Path(__file__).parent.parent
-DAM = ROOT / "cases" / "sph" / "dam_break_2d.toml"
-UCM = ROOT / "cases" / "rheometry" / "ucm_one_mode.toml"
-MODULI = ROOT / "cases" / "rheometry" / "mf20_synthetic_moduli.csv"
+DAM = CASES / "sph" / "dam_break_2d.toml"
+UCM = CASES / "rheometry" / "ucm_one_mode.toml"
+MODULI = CASES / "rheometry" / "mf20_synthetic_moduli.csv"
 
 
 def snapshot(folder: Path) -> dict:
@@ -310,7 +310,7 @@ STL_FACET = "solid t\nfacet normal 0 0 1\nouter loop\nvertex {a}\nvertex {b}\nve
 def test_meshes_are_checked_before_any_scene_is_built(capsys, tmp_path, vertices, words):
     mesh = tmp_path / "m.stl"
     mesh.write_text(STL_FACET.format(a=vertices[0], b=vertices[1], c=vertices[2]))
-    channel = Path(__file__).parent / "data" / "sph_channel_3d.toml"
+    channel = DATA / "sph_channel_3d.toml"
     err = refused(capsys, ["run", str(channel), "--set", f'walls.2.file="{mesh}"', "--out", str(tmp_path / "r")])
     assert "walls[2].file" in err and words in err
     assert not (tmp_path / "r").exists()

@@ -13,9 +13,9 @@ from pathlib import Path
 import pytest
 
 from orchestrator.kinds import get_kind, kind_names
+from paths import REPO
 
-ROOT = Path(__file__).resolve().parent.parent
-PACKAGE = ROOT / "orchestrator"
+PACKAGE = REPO / "orchestrator"
 #: What the build reads: the package, the folders it maps into the package, and the project files.
 BUILD_INPUTS = ("pyproject.toml", "setup.py", "README.md", "orchestrator", "templates", "cases/verification")
 #: Folders outside orchestrator/ that ship inside it (package-dir in pyproject.toml): source -> place in the wheel.
@@ -34,10 +34,10 @@ def wheel_names(tmp_path_factory) -> set[str]:
     """The file names inside a wheel built from a copy of the tree."""
     source = tmp_path_factory.mktemp("tree")
     for name in BUILD_INPUTS:
-        if (ROOT / name).is_dir():
-            shutil.copytree(ROOT / name, source / name, ignore=IGNORED)
+        if (REPO / name).is_dir():
+            shutil.copytree(REPO / name, source / name, ignore=IGNORED)
         else:
-            shutil.copy2(ROOT / name, source / name)
+            shutil.copy2(REPO / name, source / name)
     dist = tmp_path_factory.mktemp("dist")
     done = subprocess.run([sys.executable, "-m", "pip", "wheel", "--no-deps", "--no-build-isolation", "--no-index",
                            "-q", "-w", str(dist), str(source)], capture_output=True, text=True, timeout=120)
@@ -49,20 +49,20 @@ def wheel_names(tmp_path_factory) -> set[str]:
 
 
 def test_every_module_and_package_of_the_tree_is_in_the_wheel(wheel_names):
-    modules = [p.relative_to(ROOT).as_posix() for p in tree_files(PACKAGE) if p.suffix == ".py"]
+    modules = [p.relative_to(REPO).as_posix() for p in tree_files(PACKAGE) if p.suffix == ".py"]
     assert len(modules) > 100
     missing = [name for name in modules if name not in wheel_names]
     assert not missing, f"modules missing from the wheel (package discovery in setup.py): {missing}"
-    packages = {p.parent.relative_to(ROOT).as_posix() for p in PACKAGE.rglob("__init__.py")}
+    packages = {p.parent.relative_to(REPO).as_posix() for p in PACKAGE.rglob("__init__.py")}
     assert {"orchestrator/dem", "orchestrator/kinds/impact", "orchestrator/kinds/drag_finishing"} <= packages
 
 
 def test_every_data_file_of_the_tree_is_in_the_wheel(wheel_names):
     """Every file under orchestrator/ that is not Python (kind templates, data), and the mapped folders' files."""
-    expected = [p.relative_to(ROOT).as_posix() for p in tree_files(PACKAGE) if p.suffix != ".py"]
+    expected = [p.relative_to(REPO).as_posix() for p in tree_files(PACKAGE) if p.suffix != ".py"]
     assert any(name.endswith(".j2") for name in expected)
     for source, target in MAPPED.items():
-        expected += [f"{target}/{p.relative_to(ROOT / source).as_posix()}" for p in tree_files(ROOT / source)
+        expected += [f"{target}/{p.relative_to(REPO / source).as_posix()}" for p in tree_files(REPO / source)
                      if p.suffix in (".j2", ".toml")]
     assert "orchestrator/verification_cases/uhlmann2015_sphere_drop.toml" in expected
     missing = [name for name in expected if name not in wheel_names]
@@ -76,7 +76,7 @@ def test_every_kind_template_is_in_the_wheel(wheel_names):
         kind = get_kind(name)
         for engine in kind.engines():
             for template in kind.adapter(engine).templates:
-                templates[f"{name}/{engine}"] = Path(template).resolve().relative_to(ROOT).as_posix()
+                templates[f"{name}/{engine}"] = Path(template).resolve().relative_to(REPO).as_posix()
     assert {"impact/yade", "impact/liggghts", "drag_finishing/yade", "sph_flow/sph"} <= set(templates)
     missing = {adapter: path for adapter, path in templates.items() if path not in wheel_names}
     assert not missing, f"kind templates missing from the wheel: {missing}"

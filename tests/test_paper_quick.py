@@ -5,14 +5,14 @@ Run with: .venv/bin/python -m pytest -m slow tests/test_paper_quick.py
 
 import subprocess
 import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 from orchestrator.runh5 import read_run
+from paths import CASES
 
-CASE = Path(__file__).parent.parent / "cases" / "drag_finishing_uhlmann2015.toml"
+CASE = CASES / "drag_finishing_uhlmann2015.toml"
 
 pytestmark = [
     pytest.mark.slow,

@@ -17,9 +17,9 @@ import re
 import warnings
 from functools import lru_cache
 from pathlib import Path
+from paths import REPO
 
-ROOT = Path(__file__).resolve().parent.parent
-PACKAGE = ROOT / "orchestrator"
+PACKAGE = REPO / "orchestrator"
 #: First folders of a path from the repository's root, and of a path inside the package written without it.
 ROOT_FOLDERS = ("orchestrator", "engines", "cases", "docs", "tests", "templates")
 PACKAGE_FOLDERS = ("kinds", "reference", "dem", "drill", "workflows", "study", "cli", "case", "scene")
@@ -38,21 +38,21 @@ KNOWN_BROKEN: dict[tuple[str, str], str] = {}
 
 def named_texts():
     """(file relative to the root, text) of every place checked: whole docs, templates' comments, docstrings."""
-    docs = [*ROOT.glob("*.md"), *ROOT.glob("docs/**/*.md"), *ROOT.glob("engines/**/*.md")]
+    docs = [*REPO.glob("*.md"), *REPO.glob("docs/**/*.md"), *REPO.glob("engines/**/*.md")]
     for path in sorted(p for p in docs if not {"build", "_deps"} & set(p.parts)):
-        yield path.relative_to(ROOT).as_posix(), path.read_text(encoding="utf-8")
-    for path in sorted([*PACKAGE.glob("**/*.j2"), *ROOT.glob("templates/**/*.j2")]):
+        yield path.relative_to(REPO).as_posix(), path.read_text(encoding="utf-8")
+    for path in sorted([*PACKAGE.glob("**/*.j2"), *REPO.glob("templates/**/*.j2")]):
         text = path.read_text(encoding="utf-8")
         comments = [line for line in text.splitlines() if line.lstrip().startswith("#")]
         comments += re.findall(r"\{#.*?#\}", text, re.S)
-        yield path.relative_to(ROOT).as_posix(), "\n".join(comments)
-    for path in sorted([*PACKAGE.rglob("*.py"), *ROOT.glob("tests/**/*.py")]):
+        yield path.relative_to(REPO).as_posix(), "\n".join(comments)
+    for path in sorted([*PACKAGE.rglob("*.py"), *REPO.glob("tests/**/*.py")]):
         if "__pycache__" in path.parts:
             continue
         tree = ast.parse(path.read_text(encoding="utf-8"))
         nodes = (n for n in ast.walk(tree) if isinstance(n, (ast.Module, ast.ClassDef, ast.FunctionDef,
                                                                ast.AsyncFunctionDef)))
-        yield path.relative_to(ROOT).as_posix(), "\n".join(filter(None, map(ast.get_docstring, nodes)))
+        yield path.relative_to(REPO).as_posix(), "\n".join(filter(None, map(ast.get_docstring, nodes)))
 
 
 @lru_cache(maxsize=None)
@@ -88,9 +88,9 @@ def module_exists(dotted: str) -> bool:
     parts = dotted.split(".")
     for mapped, folder in MAPPED.items():
         if dotted == mapped or dotted.startswith(mapped + "."):
-            return (ROOT / folder).is_dir()
+            return (REPO / folder).is_dir()
     for k in range(len(parts), 1, -1):
-        base = ROOT.joinpath(*parts[:k])
+        base = REPO.joinpath(*parts[:k])
         for module in (base.with_suffix(".py"), base / "__init__.py"):
             if module.is_file():
                 return attributes_exist(module, parts[k:])
@@ -107,13 +107,13 @@ def _expanded(reference: str) -> list[str]:
             for p in _expanded(pattern[:match.start()] + choice + pattern[match.end():])]
 
 
-def path_exists(reference: str, named_in: Path = ROOT) -> bool:
+def path_exists(reference: str, named_in: Path = REPO) -> bool:
     """A path exists: from the repository's root, from orchestrator/, from a kind's folder or from the folder of the
     file that names it (named_in); as written, as a module without .py, or as a module followed by attributes
     (a/b.Name). Every alternative of {a,b} must exist."""
     if reference.startswith(BUILT):
         return True
-    bases = (ROOT, PACKAGE, PACKAGE / "kinds" / "*", named_in.parent)
+    bases = (REPO, PACKAGE, PACKAGE / "kinds" / "*", named_in.parent)
     return all(any(_exists(base, pattern) for base in bases) for pattern in _expanded(reference))
 
 
@@ -130,7 +130,7 @@ def broken_references() -> set[tuple[str, str]]:
     """(file, reference) for every named path or module that does not exist."""
     broken = set()
     for name, text in named_texts():
-        broken |= {(name, m.group(1)) for m in PATH.finditer(text) if not path_exists(m.group(1), ROOT / name)}
+        broken |= {(name, m.group(1)) for m in PATH.finditer(text) if not path_exists(m.group(1), REPO / name)}
         broken |= {(name, m.group(0)) for m in DOTTED.finditer(text)
                    if m.group(0) not in PLACEHOLDERS and not module_exists(m.group(0))}
     return broken

@@ -8,7 +8,6 @@ import shutil
 import subprocess
 import sys
 import tomllib
-from pathlib import Path
 
 import pytest
 import tomli_w
@@ -17,12 +16,11 @@ from orchestrator.kinds.impact.yade import read_impact_output
 from orchestrator.case import load_case
 from orchestrator.runh5 import read_run
 from orchestrator.kinds import build_scene
+from paths import CASES, VERIFICATION, DATA
 
-ROOT = Path(__file__).parent.parent
-CASES = ROOT / "cases" / "verification"
-TEST1 = CASES / "chung_ooi_test1_sphere_sphere.toml"
-TEST2 = CASES / "chung_ooi_test2_sphere_plane.toml"
-STORED_YADE = Path(__file__).parent / "data" / "yade_impact_output"
+TEST1 = VERIFICATION / "chung_ooi_test1_sphere_sphere.toml"
+TEST2 = VERIFICATION / "chung_ooi_test2_sphere_plane.toml"
+STORED_YADE = DATA / "yade_impact_output"
 
 
 def cli(*args):
@@ -65,7 +63,7 @@ def test_sphere_sphere_force_series_is_the_law_at_the_recorded_states(test1_run)
 
 
 def test_the_drag_finishing_case_is_refused_with_the_engine_to_use(tmp_path):
-    proc = cli("run", ROOT / "cases" / "drag_finishing_uhlmann2015.toml", "--engine", "reference", "--out",
+    proc = cli("run", CASES / "drag_finishing_uhlmann2015.toml", "--engine", "reference", "--out",
                tmp_path / "r")
     assert proc.returncode == 2 and proc.stderr.startswith("error:") and "Traceback" not in proc.stderr
     for words in ("cannot run drag_finishing_uhlmann2015", "too big", "1422 balls", "--engine yade"):

@@ -26,8 +26,8 @@ import numpy as np
 import pytest
 
 from orchestrator.runh5 import read_run
+from paths import TINY_BOWL
 
-TINY = Path(__file__).parent / "data" / "tiny_bowl.toml"
 SETTINGS = ["--set", "process.duration=0.2", "--set", "output.checkpoint_interval=0.05", "--no-progress"]
 ENGINES = [
     pytest.param("liggghts", marks=pytest.mark.liggghts),
@@ -70,9 +70,9 @@ def _checkpoint_step(path: Path) -> int:
 def test_a_stopped_run_resumes_to_the_uninterrupted_result(tmp_path, engine):
     whole, stopped = tmp_path / "whole", tmp_path / "stopped"
     settings = ["--engine", engine, *SETTINGS]
-    reference = _orchestrator("run", str(TINY), "--out", str(whole), *settings)
+    reference = _orchestrator("run", str(TINY_BOWL), "--out", str(whole), *settings)
 
-    run = _orchestrator("run", str(TINY), "--out", str(stopped), *settings, start_new_session=True)
+    run = _orchestrator("run", str(TINY_BOWL), "--out", str(stopped), *settings, start_new_session=True)
     checkpoint = stopped / "output" / CHECKPOINT[engine]
     deadline = time.monotonic() + 600
     while not checkpoint.is_file():
@@ -127,7 +127,7 @@ def test_resume_refuses_what_it_cannot_continue(tmp_path, capsys):
 
     assert main(["run", "--resume", str(tmp_path / "nothing")]) == 2
     assert "not a run directory of orchestrator" in capsys.readouterr().err
-    assert main(["run", str(TINY), "--resume", str(tmp_path)]) == 2
+    assert main(["run", str(TINY_BOWL), "--resume", str(tmp_path)]) == 2
     assert "CASE cannot go with it" in capsys.readouterr().err
     assert main(["run"]) == 2
     assert "needs a CASE file" in capsys.readouterr().err

@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import json
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -23,6 +22,7 @@ from orchestrator.kinds.drag_finishing.intensity import turn_z
 from orchestrator.kinds.drag_finishing.liggghts_deck import process_chunks
 from orchestrator.kinds.drag_finishing.plots_impacts import plot_impact_speeds
 from orchestrator.kinds.drag_finishing.scene import rod_mesh
+from paths import CASES, TINY_BOWL
 
 R_ROD, R_PATH, OMEGA, R_BALL, TIP = 0.005, 0.02, 0.5, 3.27e-3, 0.02
 
@@ -158,7 +158,7 @@ def test_an_impact_window_on_a_rod_that_is_no_prism_is_refused(tmp_path, capsys)
     sphere = trimesh.creation.icosphere(subdivisions=2, radius=0.002)
     sphere.apply_translation([0.0, 0.0, 0.002])
     sphere.export(tmp_path / "ball.stl")
-    tiny = Path(__file__).parent / "data" / "tiny_bowl.toml"
+    tiny = TINY_BOWL
     code = main(["run", str(tiny), "--engine", "liggghts", "--out", str(tmp_path / "run"),
                  "--set", f"workpiece.mesh={json.dumps(str(tmp_path / 'ball.stl'))}"])
     err = capsys.readouterr().err
@@ -170,7 +170,7 @@ def test_an_impact_window_on_a_rod_that_is_no_prism_is_refused(tmp_path, capsys)
 def test_an_empty_window_turns_the_test_off():
     from orchestrator.case import load_case
 
-    paper = Path(__file__).parents[1] / "cases" / "drag_finishing_uhlmann2015.toml"
+    paper = CASES / "drag_finishing_uhlmann2015.toml"
     assert load_case(paper).model.output.impact_window == (0.5, 2.0)
     assert load_case(paper, overrides=["output.impact_window=[]"]).model.output.impact_window is None
     short = load_case(paper, overrides=["process.duration=1.2", "output.network_times=[1.0]"]).model

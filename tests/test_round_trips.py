@@ -4,7 +4,6 @@ canonical inputs, written, read back, compared number for number, and the input 
 from __future__ import annotations
 
 import copy
-from pathlib import Path
 
 import h5py
 import numpy as np
@@ -17,10 +16,10 @@ from orchestrator.engines.liggghts_files import write_data_file, write_stl_ascii
 from orchestrator.kinds import build_scene
 from orchestrator.kinds.sph_flow.sph import write_particles
 from orchestrator.runh5 import read_run, write_run
+from paths import VERIFICATION, DATA, TINY_BOWL
 
-HERE = Path(__file__).resolve().parent
-CASES = [HERE / "data" / "tiny_bowl.toml", HERE.parent / "cases" / "verification" / "chung_ooi_test2_sphere_plane.toml",
-         HERE.parent / "cases" / "verification" / "sph_poiseuille_morris1997.toml", HERE / "data" / "sph_channel_3d.toml"]
+CASES = [TINY_BOWL, VERIFICATION / "chung_ooi_test2_sphere_plane.toml", VERIFICATION / "sph_poiseuille_morris1997.toml",
+         DATA / "sph_channel_3d.toml"]
 RNG = np.random.default_rng(11)
 
 

@@ -6,7 +6,6 @@ In-process tests use the reference DEM engine (pure Python, always installed); t
 
 from __future__ import annotations
 
-import json
 import os
 import signal
 import subprocess
@@ -20,10 +19,10 @@ import pytest
 from orchestrator import signals
 from orchestrator.cli import main
 from orchestrator.rundir import LOCK, MARKER, RunDirectory
+from paths import CASES, VERIFICATION
 
-ROOT = Path(__file__).resolve().parent.parent
-SPHERE_PLANE = ROOT / "cases" / "verification" / "chung_ooi_test2_sphere_plane.toml"
-DAM_BREAK = ROOT / "cases" / "sph" / "dam_break_2d.toml"
+SPHERE_PLANE = VERIFICATION / "chung_ooi_test2_sphere_plane.toml"
+DAM_BREAK = CASES / "sph" / "dam_break_2d.toml"
 needs_sph = pytest.mark.sph
 
 

@@ -7,9 +7,9 @@ from __future__ import annotations
 
 import ast
 import warnings
-from pathlib import Path
+from paths import REPO
 
-PACKAGE = Path(__file__).resolve().parent.parent / "orchestrator"
+PACKAGE = REPO / "orchestrator"
 MAX_MODULE_LINES = 400
 MAX_FUNCTION_LINES = 80
 #: (module, qualified function name) -> its length in lines when listed.

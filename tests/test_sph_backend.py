@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import json
 import shutil
-from pathlib import Path
 
 import h5py
 import numpy as np
@@ -26,11 +25,9 @@ from orchestrator.cli import main
 from orchestrator.kinds import build_scene
 
 from golden import assert_matches_golden
+from paths import REPO, DATA, GOLDEN
 
-HERE = Path(__file__).parent
-ROOT = HERE.parent
-DATA = HERE / "data"
-DAM_BREAK = ROOT / "cases" / "sph" / "dam_break_2d.toml"
+DAM_BREAK = REPO / "cases" / "sph" / "dam_break_2d.toml"
 CHANNEL = DATA / "sph_channel_3d.toml"
 REFERENCE_2D = DATA / "sph_reference_2d.toml"
 
@@ -48,7 +45,7 @@ def test_rendered_deck_matches_golden(case_path, golden, tmp_path):
     scene = build_scene(load_case(case_path).model)
     _bound_adapter().write_input(scene, tmp_path)
     rendered = (tmp_path / "deck.json").read_text()
-    assert_matches_golden(rendered, HERE / "golden" / golden)
+    assert_matches_golden(rendered, GOLDEN / golden)
     deck = json.loads(rendered)  # valid JSON
     assert deck["c0"] == pytest.approx(scene.case.fluid.c0) and deck["h"] == pytest.approx(scene.h)
 
@@ -288,7 +285,7 @@ def test_missing_executable_says_how_to_build_it(monkeypatch, capsys, tmp_path):
 
 
 def test_engine_and_kind_must_match(capsys, tmp_path):
-    drop = ROOT / "cases" / "verification" / "uhlmann2015_sphere_drop.toml"
+    drop = REPO / "cases" / "verification" / "uhlmann2015_sphere_drop.toml"
     code = main(["run", str(drop), "--set", "case.engine='sph'", "--out", str(tmp_path / "r")])
     assert code == 2 and "case.engine = 'sph' does not run impact cases" in capsys.readouterr().err
     code = main(["run", str(drop), "--engine", "sph", "--out", str(tmp_path / "r")])

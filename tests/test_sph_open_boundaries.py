@@ -2,7 +2,6 @@
 blocks, and the pipe / annulus checks (checks_open) on synthetic runs against the exact laminar solutions."""
 
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -15,10 +14,10 @@ from orchestrator.kinds.sph_flow.checks_open import annulus_velocity
 from orchestrator.kinds.sph_flow.scene import build_sph_flow as build_scene
 from orchestrator.kinds.sph_flow.sph import deck_context
 from orchestrator.reference.hydraulics import annulus_laminar_flow
+from paths import VERIFICATION
 
-CASES = Path(__file__).resolve().parent.parent / "cases" / "verification"
-PIPE = CASES / "sph_pipe_hagen_poiseuille.toml"
-ANNULUS = CASES / "sph_annulus_laminar.toml"
+PIPE = VERIFICATION / "sph_pipe_hagen_poiseuille.toml"
+ANNULUS = VERIFICATION / "sph_annulus_laminar.toml"
 
 
 @pytest.mark.parametrize("r_inner", [0.0, 0.003])
@@ -52,7 +51,7 @@ def test_the_cases_reach_the_deck_and_build_cylinders():
     dx = case.numerics.dx
     per_layer = np.count_nonzero(fluid) / round(17.5e-3 / dx)
     assert per_layer == pytest.approx(math.pi * (8e-3**2 - 3e-3**2) / dx**2, rel=0.02)
-    plug = load_case(CASES.parent.parent / "tests" / "data" / "sph_channel_3d.toml").model
+    plug = load_case(VERIFICATION.parent.parent / "tests" / "data" / "sph_channel_3d.toml").model
     plug_inlet = json.loads(deck_context(build_scene(plug))["inlets"][0])
     assert "profile" not in plug_inlet and "pressure" not in plug_inlet  # a plug inlet's deck is as before
 
@@ -105,7 +104,7 @@ def test_cylinder_walls_give_each_boundary_site_its_nearest_point_of_the_true_wa
     write_particles(scene, tmp_path / "p.h5")
     with h5py.File(tmp_path / "p.h5") as h5:
         np.testing.assert_array_equal(h5["wall_point"][:], wall)
-    channel = build_scene(load_case(CASES.parent.parent / "tests" / "data" / "sph_channel_3d.toml").model)
+    channel = build_scene(load_case(VERIFICATION.parent.parent / "tests" / "data" / "sph_channel_3d.toml").model)
     assert channel.wall_point is None
     write_particles(channel, tmp_path / "c.h5")
     with h5py.File(tmp_path / "c.h5") as h5:

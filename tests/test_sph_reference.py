@@ -26,8 +26,8 @@ from orchestrator.case import load_case
 from orchestrator.reference import sph as ref
 from orchestrator.reference.sph_walls import PenaltyWalls, penalty_force
 from orchestrator.kinds import build_scene
+from paths import DATA
 
-DATA = Path(__file__).parent / "data"
 STEPS = 20
 #: Agreement required after 20 steps: positions relative to the largest displacement, densities relative.
 TOLERANCE = 1e-9

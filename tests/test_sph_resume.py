@@ -21,8 +21,9 @@ from orchestrator.errors import OrchestratorError
 from orchestrator.kinds.sph_flow.resume import (RESUME_DECK, RESUME_PARTICLES, merge_parts, part_files,
                                                 write_resume_input)
 from orchestrator.runh5 import read_run
+from paths import VERIFICATION
 
-PIPE = Path(__file__).resolve().parents[1] / "cases" / "verification" / "sph_pipe_hagen_poiseuille.toml"
+PIPE = VERIFICATION / "sph_pipe_hagen_poiseuille.toml"
 STOP = 0.4623  # s: off the 0.05 s output grid, as a timeout's stop is
 
 

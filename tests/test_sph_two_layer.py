@@ -5,7 +5,6 @@ two-layer checks on synthetic runs (the verify scenes themselves run in test_ver
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
 import h5py
 import numpy as np
@@ -26,11 +25,11 @@ from orchestrator.reference.sph_flows import (
     two_layer_couette_velocity,
     two_layer_poiseuille_velocity,
 )
+from paths import VERIFICATION
 
-CASES = Path(__file__).resolve().parent.parent / "cases" / "verification"
-POISEUILLE = CASES / "sph_two_layer_poiseuille.toml"
-COUETTE = CASES / "sph_two_layer_couette.toml"
-CHANNEL_1 = CASES / "sph_poiseuille_morris1997.toml"
+POISEUILLE = VERIFICATION / "sph_two_layer_poiseuille.toml"
+COUETTE = VERIFICATION / "sph_two_layer_couette.toml"
+CHANNEL_1 = VERIFICATION / "sph_poiseuille_morris1997.toml"
 
 
 # ------------------------------------------------------------------------------------------ analytic profiles

@@ -12,8 +12,8 @@ import pytest
 from orchestrator.engines import engine_names
 
 from orchestrator.study import Study, grid, zipped
+from paths import VERIFICATION, TINY_BOWL
 
-TINY = Path(__file__).parent / "data" / "tiny_bowl.toml"
 needs_yade = pytest.mark.yade
 
 
@@ -22,7 +22,7 @@ def study_file(tmp_path, seeds=(7, 8), name="s.toml", extra=""):
     path.write_text(f"""
 [study]
 name = "t"
-case = "{TINY}"
+case = "{TINY_BOWL}"
 engines = ["yade"]
 {extra}
 [sweep]
@@ -113,7 +113,7 @@ BAD = {
 def test_bad_study_files(tmp_path, name):
     text, words = BAD[name]
     path = tmp_path / "bad.toml"
-    path.write_text(text.replace("CASE", str(TINY)))
+    path.write_text(text.replace("CASE", str(TINY_BOWL)))
     proc = subprocess.run([sys.executable, "-m", "orchestrator", "study", str(path), "--out", str(tmp_path / "o")],
                           capture_output=True, text=True, timeout=120)
     assert proc.returncode != 0
@@ -202,7 +202,7 @@ def test_report_from_an_index(tmp_path):
     assert "data:image/png;base64," in html
 
 
-SPHERE_PLANE = Path(__file__).parent.parent / "cases" / "verification" / "chung_ooi_test2_sphere_plane.toml"
+SPHERE_PLANE = VERIFICATION / "chung_ooi_test2_sphere_plane.toml"
 
 
 def test_a_change_to_the_code_that_fills_the_input_reruns_the_run(tmp_path, monkeypatch):
@@ -246,7 +246,7 @@ def test_the_mpi_rank_count_is_part_of_the_identity(monkeypatch):
     from orchestrator.identity import run_identity
     from orchestrator.kinds import build_scene
 
-    loaded = load_case(TINY)
+    loaded = load_case(TINY_BOWL)
     scene = build_scene(loaded.model)
     one = run_identity(loaded, "liggghts", "3.8.0", bind("drag_finishing", "liggghts", mpi_ranks=1), scene)
     two = run_identity(loaded, "liggghts", "3.8.0", bind("drag_finishing", "liggghts", mpi_ranks=2), scene)

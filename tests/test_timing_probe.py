@@ -8,6 +8,7 @@ import sys
 from pathlib import Path
 
 from orchestrator.run import _run_probe
+from paths import CASES
 
 
 class FakeBackend:
@@ -43,7 +44,7 @@ def test_the_drill_probe_deck_dir_is_absolute(tmp_path, monkeypatch):
     from orchestrator.case import load_case
     from orchestrator.kinds import bind, build_scene
 
-    case = load_case(Path(__file__).parents[1] / "cases" / "ejector_drill_canini.toml", preset="flow_exit_quick").model
+    case = load_case(CASES / "ejector_drill_canini.toml", preset="flow_exit_quick").model
     scene = build_scene(case)
     monkeypatch.chdir(tmp_path)
     (tmp_path / "run" / "probe").mkdir(parents=True)
@@ -68,7 +69,7 @@ def test_a_filled_start_probes_its_end_state_only(tmp_path):
     from orchestrator.kinds import build_scene
     from orchestrator.drill.probe import write_probe
 
-    case = load_case(Path(__file__).parents[1] / "cases" / "ejector_drill_canini.toml",
+    case = load_case(CASES / "ejector_drill_canini.toml",
                      preset="flow_exit_filled_quick").model
     info = write_probe(build_scene(case), tmp_path, 1, 10)
     assert (tmp_path / "deck.json").is_file() and not (tmp_path / "start").exists()
@@ -110,7 +111,7 @@ def test_the_probe_command_line_names_bad_input(tmp_path, capsys):
 
     from orchestrator.drill.probe import main
 
-    case = str(Path(__file__).parents[1] / "cases" / "ejector_drill_canini.toml")
+    case = str(CASES / "ejector_drill_canini.toml")
     assert main([str(tmp_path / "nosuch.toml")]) == 2
     assert "case file not found" in capsys.readouterr().err
     assert main([case, "--preset", "nope", "--dir", str(tmp_path / "p")]) == 2

@@ -14,8 +14,8 @@ import pytest
 
 from orchestrator.workflows.base import ROW_KEYS
 from orchestrator.workflows.verify import get_suite, scene_files
+from paths import VERIFICATION
 
-CASES = Path(__file__).parent.parent / "cases" / "verification"
 
 
 def cli(*args, env=None):
@@ -26,7 +26,7 @@ def cli(*args, env=None):
 def checks_per_engine() -> int:
     import tomllib
 
-    return sum(len(tomllib.loads(path.read_text()).get("expected", [])) for path in scene_files(get_suite("dem"), CASES))
+    return sum(len(tomllib.loads(path.read_text()).get("expected", [])) for path in scene_files(get_suite("dem"), VERIFICATION))
 
 
 def assert_png_has_content(path: Path) -> None:
@@ -44,7 +44,7 @@ def test_verify_on_the_reference_passes_and_prints_json_rows(tmp_path):
     assert len(rows) == checks_per_engine()
     assert all(list(row) == list(ROW_KEYS) for row in rows)
     assert all(row["passed"] and row["engine"] == "reference" for row in rows)
-    assert {row["scene"] for row in rows} == {path.stem for path in scene_files(get_suite("dem"), CASES)}
+    assert {row["scene"] for row in rows} == {path.stem for path in scene_files(get_suite("dem"), VERIFICATION)}
     assert all(row["rel_error"] <= row["tolerance"] for row in rows)
     assert_png_has_content(tmp_path / "verify_dem.png")
 
@@ -52,7 +52,7 @@ def test_verify_on_the_reference_passes_and_prints_json_rows(tmp_path):
 def test_a_failing_check_makes_verify_exit_non_zero(tmp_path):
     scenes = tmp_path / "scenes"
     scenes.mkdir()
-    text = (CASES / "chung_ooi_test2_sphere_plane.toml").read_text()
+    text = (VERIFICATION / "chung_ooi_test2_sphere_plane.toml").read_text()
     (scenes / "wrong.toml").write_text(text.replace('closed_form = "hertz_max_force"', "value = 12000.0"))
     proc = cli("verify", "dem", "--engine", "reference", "--cases", scenes, "--out", tmp_path / "out")
     assert proc.returncode == 1, proc.stderr
@@ -66,7 +66,7 @@ def test_a_failing_check_makes_verify_exit_non_zero(tmp_path):
 def test_an_unstable_scene_fails_its_checks_with_the_reason(tmp_path):
     scenes = tmp_path / "scenes"
     scenes.mkdir()
-    shutil.copy(CASES / "chung_ooi_test1_sphere_sphere.toml", scenes)
+    shutil.copy(VERIFICATION / "chung_ooi_test1_sphere_sphere.toml", scenes)
     proc = cli("verify", "dem", "--engine", "reference", "--cases", scenes, "--out", tmp_path / "out", "--set",
                "numerics.timestep=2e-5")
     assert proc.returncode == 1
@@ -122,7 +122,7 @@ def test_timestep_sweep_gives_error_and_time_per_factor(tmp_path):
     scenes = tmp_path / "scenes"
     scenes.mkdir()
     for name in ("chung_ooi_test2_sphere_plane.toml", "chung_ooi_test3_restitution_020.toml"):
-        shutil.copy(CASES / name, scenes)
+        shutil.copy(VERIFICATION / name, scenes)
     proc = cli("verify", "dem", "--engine", "reference", "--cases", scenes, "--out", tmp_path / "out",
                "--timestep-factors", "0.05", "0.5", "--json")
     assert proc.returncode == 0, proc.stderr

@@ -3,7 +3,6 @@
 
 import json
 import shutil
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -20,6 +19,7 @@ from orchestrator.kinds.rheometer.case import CHECK_QUANTITIES as RHEOMETER_QUAN
 from orchestrator.kinds.rheometer.checks import CHECKS as RHEOMETER_CHECKS
 from orchestrator.workflows.verify import get_suite, run_verification, scene_runs
 from orchestrator.workflows.verify import scene_files as suite_files
+from paths import VERIFICATION
 
 
 def scene_files(directory):
@@ -29,7 +29,6 @@ def scene_files(directory):
 def unit_of(quantity):
     return get_suite("sph").unit_of(quantity)
 
-CASES = Path(__file__).resolve().parent.parent / "cases" / "verification"
 needs_sph = pytest.mark.sph
 
 
@@ -53,7 +52,7 @@ def _channel_frames(case, perturb=0.0):
 
 
 def test_every_sph_scene_has_checks_and_units():
-    files = scene_files(CASES)
+    files = scene_files(VERIFICATION)
     assert {f.stem for f in files} == {"sph_poiseuille_morris1997", "sph_couette_morris1997", "sph_hydrostatic_tank",
                                        "sph_dam_break_2d", "sph_penalty_column", "sph_penalty_incline",
                                        "sph_two_layer_poiseuille", "sph_two_layer_couette",
@@ -68,17 +67,17 @@ def test_every_sph_scene_has_checks_and_units():
     assert set(RHEOMETER_CHECKS) == set(RHEOMETER_QUANTITIES)
     assert unit_of("storage_modulus(omega=0.1 rad/s)") == "Pa" and unit_of("centreline_velocity(t=1 s)") == "m/s"
     # a rheometer scene with a [sweep] runs once per frequency
-    assert [name for name, _ in scene_runs(CASES / "sph_saos_one_mode.toml")] == [
+    assert [name for name, _ in scene_runs(VERIFICATION / "sph_saos_one_mode.toml")] == [
         "sph_saos_one_mode/omega_0.1", "sph_saos_one_mode/omega_1", "sph_saos_one_mode/omega_10"]
     assert unit_of("u_profile(t=0.1 s)") == "m/s" and unit_of("surge_front_Z[koshizuka_oka_1996]") == "-"
-    bare = load_case(CASES / "sph_poiseuille_morris1997.toml", overrides=["expected=[]"]).model
+    bare = load_case(VERIFICATION / "sph_poiseuille_morris1997.toml", overrides=["expected=[]"]).model
     with pytest.raises(OrchestratorError, match="sph_poiseuille_morris1997 has no \\[\\[expected\\]\\] rows"):
         evaluate(bare, {})
 
 
 def test_the_expected_rows_choose_the_checks_and_their_tolerances():
     """Checks are data: a quantity left out of [[expected]] is not reported, a tolerance comes from the row."""
-    path = CASES / "sph_hydrostatic_tank.toml"
+    path = VERIFICATION / "sph_hydrostatic_tank.toml"
     case = load_case(path).model
     assert tolerance_of(case, "pressure_profile") == 0.02 and tolerance_of(case, "particle_pressure") == 0.05
     only = load_case(path, overrides=['expected=[{check="hydrostatic", quantity="spurious_speed", tolerance=0.5}]'])
@@ -90,7 +89,7 @@ def test_the_expected_rows_choose_the_checks_and_their_tolerances():
 
 
 def test_profile_check_passes_the_series_and_fails_a_3_percent_error():
-    case = load_case(CASES / "sph_poiseuille_morris1997.toml").model
+    case = load_case(VERIFICATION / "sph_poiseuille_morris1997.toml").model
     rows, plot = check_poiseuille(case, _run_with_frames(_channel_frames(case)))
     assert len(rows) == 5 and all(r["passed"] for r in rows) and max(r["rel_error"] for r in rows) < 1e-12
     assert rows[-1]["expected"] == pytest.approx(2.5e-5 * (1 - (1 / 80) ** 2 * 4), rel=1e-3)  # rows at L/2 +- dx/2
@@ -103,7 +102,7 @@ def test_profile_check_passes_the_series_and_fails_a_3_percent_error():
 def test_dam_break_check_compares_over_the_measured_range():
     from orchestrator.reference.dam_break_data import KOSHIZUKA_OKA
 
-    case = load_case(CASES / "sph_dam_break_2d.toml").model
+    case = load_case(VERIFICATION / "sph_dam_break_2d.toml").model
     a, dx = 0.146, case.numerics.dx
     scale = np.sqrt(2 * 9.81 / a)
     frames = []
@@ -132,7 +131,7 @@ def _key(row) -> tuple[str, str]:
 
 @needs_sph
 def test_every_scene_at_its_quick_preset_passes(tmp_path):
-    runs = run_verification("sph", engines=["sph"], out_dir=tmp_path, cases_dir=CASES, workers=2, preset="quick")
+    runs = run_verification("sph", engines=["sph"], out_dir=tmp_path, cases_dir=VERIFICATION, workers=2, preset="quick")
     rows = [row for run in runs for row in run.rows]
     failed = [f"{r['scene']} {r['quantity']}: {r['value']} vs {r['expected']} ({r['rel_error']}) {r['note']}"
               for r in rows if not r["passed"] and _key(r) not in KNOWN_FAILURES]
@@ -164,7 +163,7 @@ def test_every_scene_at_its_quick_preset_passes(tmp_path):
 def test_cli_verify_sph_json_and_plot(tmp_path, capsys):
     cases = tmp_path / "cases"
     cases.mkdir()
-    shutil.copy(CASES / "sph_penalty_incline.toml", cases)
+    shutil.copy(VERIFICATION / "sph_penalty_incline.toml", cases)
     code = main(["verify", "sph", "--cases", str(cases), "--out", str(tmp_path / "out"), "--json"])
     rows = json.loads(capsys.readouterr().out)
     assert code == 0
@@ -194,8 +193,8 @@ def test_cli_verify_timeout_reaches_every_run(tmp_path, monkeypatch):
     for extra in (["--timeout", "7200"], []):
         main(["verify", "sph", "--out", str(tmp_path / "out"), *extra])
     assert seen == [7200.0, "default"]
-    suite = load_case(CASES / "sph_annulus_laminar.toml").model
+    suite = load_case(VERIFICATION / "sph_annulus_laminar.toml").model
     assert suite.numerics.dx == 0.0005 and suite.simulation.duration == 1.2
-    coarse = load_case(CASES / "coarse" / "sph_annulus_laminar_coarse.toml").model
+    coarse = load_case(VERIFICATION / "coarse" / "sph_annulus_laminar_coarse.toml").model
     assert coarse.numerics.dx == 0.001 and coarse.case.name == "sph_annulus_laminar_coarse"
-    assert [f.stem for f in scene_files(CASES / "coarse")] == ["sph_annulus_laminar_coarse"]
+    assert [f.stem for f in scene_files(VERIFICATION / "coarse")] == ["sph_annulus_laminar_coarse"]

@@ -18,16 +18,16 @@ from orchestrator.case import load_case
 from orchestrator.reference import closed_form
 from orchestrator.run import run_case
 from test_reference_closed_form import EQ10_REBOUND_WITHOUT_TENSION
+from paths import VERIFICATION
 
 pytestmark = [
     pytest.mark.yade,
     pytest.mark.yade,
 ]
 
-CASES = Path(__file__).parent.parent / "cases" / "verification"
-NORMAL = CASES / "chung_ooi_test3_restitution_020.toml"
-DROP = CASES / "uhlmann2015_sphere_drop.toml"
-OBLIQUE_10 = CASES / "chung_ooi_test4_oblique_10deg.toml"
+NORMAL = VERIFICATION / "chung_ooi_test3_restitution_020.toml"
+DROP = VERIFICATION / "uhlmann2015_sphere_drop.toml"
+OBLIQUE_10 = VERIFICATION / "chung_ooi_test4_oblique_10deg.toml"
 FINE = "numerics.timestep_factor=0.01"
 RESTITUTIONS = (0.2, 0.68, 0.95)
 
@@ -54,10 +54,10 @@ RUNS = {
     "mixed-yade": (OBLIQUE_10, "yade", ["numerics.timestep_factor=0.005"]),
     "mixed-reference-elastic": (OBLIQUE_10, "reference", ["numerics.timestep_factor=0.005", "expected=[]",
                                                           'model.coulomb_limit="elastic"']),
-    "tilted-facet": (CASES / "chung_ooi_test2_sphere_plane.toml", "yade",
+    "tilted-facet": (VERIFICATION / "chung_ooi_test2_sphere_plane.toml", "yade",
                      ["plane.normal=[0.0, 0.6, 0.8]", "spheres.0.position=[0.0, 0.06, 0.08]",
                       "spheres.0.velocity=[0.0, -0.12, -0.16]"]),
-    "axis-wall": (CASES / "chung_ooi_test2_sphere_plane.toml", "yade", []),
+    "axis-wall": (VERIFICATION / "chung_ooi_test2_sphere_plane.toml", "yade", []),
 }
 
 

@@ -9,7 +9,6 @@ UPDATE_GOLDEN=1 pytest tests/test_yade_impact_template.py
 
 import math
 import shutil
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -24,12 +23,11 @@ from orchestrator.reference import closed_form, contact
 from orchestrator.kinds import build_scene
 
 from golden import assert_matches_golden
+from paths import VERIFICATION, DATA, GOLDEN
 
-HERE = Path(__file__).parent
-CASES = HERE.parent / "cases" / "verification"
-DROP = CASES / "uhlmann2015_sphere_drop.toml"
-GOLDEN = HERE / "golden" / "yade_impact_sphere_drop.py"
-STORED = HERE / "data" / "yade_impact_output"  # Yade 2023.02a on chung_ooi_test2_sphere_plane.toml
+DROP = VERIFICATION / "uhlmann2015_sphere_drop.toml"
+GOLDEN_SCRIPT = GOLDEN / "yade_impact_sphere_drop.py"
+STORED = DATA / "yade_impact_output"  # Yade 2023.02a on chung_ooi_test2_sphere_plane.toml
 
 
 def bound_adapter():
@@ -40,7 +38,7 @@ def bound_adapter():
 def test_rendered_script_matches_golden(tmp_path):
     bound_adapter().write_input(build_scene(load_case(DROP).model), tmp_path)
     rendered = (tmp_path / "impact.py").read_text()
-    assert_matches_golden(rendered, GOLDEN)
+    assert_matches_golden(rendered, GOLDEN_SCRIPT)
     compile(rendered, "impact.py", "exec")
 
 
@@ -60,7 +58,7 @@ def test_tilted_plane_becomes_one_large_facet(tmp_path):
 
 
 def test_scene_arrays_round_trip(tmp_path):
-    scene = build_scene(load_case(CASES / "chung_ooi_test1_sphere_sphere.toml").model)
+    scene = build_scene(load_case(VERIFICATION / "chung_ooi_test1_sphere_sphere.toml").model)
     bound_adapter().write_input(scene, tmp_path)
     data = np.load(tmp_path / "scene.npz")
     np.testing.assert_array_equal(data["positions"], scene.positions)
@@ -92,7 +90,7 @@ def test_render_context_of_the_sphere_drop():
 
 
 def test_rigid_wall_is_a_million_times_stiffer_than_the_sphere():
-    context = impact_context(build_scene(load_case(CASES / "chung_ooi_test2_sphere_plane.toml").model))
+    context = impact_context(build_scene(load_case(VERIFICATION / "chung_ooi_test2_sphere_plane.toml").model))
     materials = {m["name"]: float(m["young"]) for m in context["materials"]}
     assert materials["rigid"] == 1e6 * materials["aluminium_alloy"]
     assert context["plane"]["axis"] == 2 and context["plane"]["sense"] == 1
@@ -110,7 +108,7 @@ def test_thornton_fit_is_what_yade_2023_computes():
 
 
 def test_parser_reads_a_stored_yade_output(tmp_path):
-    scene = build_scene(load_case(CASES / "chung_ooi_test2_sphere_plane.toml").model)
+    scene = build_scene(load_case(VERIFICATION / "chung_ooi_test2_sphere_plane.toml").model)
     shutil.copytree(STORED, tmp_path / "output")
     result = read_impact_output(scene, tmp_path)
     assert result.status == "ok" and result.attrs["n_steps"] == 187
@@ -121,7 +119,7 @@ def test_parser_reads_a_stored_yade_output(tmp_path):
 
 
 def test_parser_drops_a_cut_off_row_and_reports_a_missing_status(tmp_path):
-    scene = build_scene(load_case(CASES / "chung_ooi_test2_sphere_plane.toml").model)
+    scene = build_scene(load_case(VERIFICATION / "chung_ooi_test2_sphere_plane.toml").model)
     shutil.copytree(STORED, tmp_path / "output")
     (tmp_path / "output" / "status.json").unlink()
     body = (tmp_path / "output" / "series.bin").read_bytes()

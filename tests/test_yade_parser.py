@@ -2,7 +2,6 @@
 from a real Yade run of tests/data/tiny_bowl.toml); no engine needed."""
 
 import shutil
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -11,14 +10,14 @@ from orchestrator.kinds import measure
 from orchestrator.kinds.drag_finishing.yade import read_drag_finishing_output, read_series_csv
 from orchestrator.case import load_case
 from orchestrator.kinds import build_scene
+from paths import DATA, TINY_BOWL
 
-HERE = Path(__file__).parent
-STORED = HERE / "data" / "yade_tiny_output"
+STORED = DATA / "yade_tiny_output"
 
 
 @pytest.fixture(scope="module")
 def case():
-    return load_case(HERE / "data" / "tiny_bowl.toml").model
+    return load_case(TINY_BOWL).model
 
 
 @pytest.fixture(scope="module")

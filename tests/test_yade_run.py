@@ -6,7 +6,6 @@ Skipped, with the reason, when Yade is not installed.
 import json
 import subprocess
 import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -18,9 +17,8 @@ from orchestrator.kinds import build_scene
 from orchestrator.kinds.drag_finishing.scene import bed_weight
 from orchestrator.case import load_case
 from test_rod_impacts import assert_engine_impacts
+from paths import TINY_BOWL
 
-HERE = Path(__file__).parent
-TINY = HERE / "data" / "tiny_bowl.toml"
 
 pytestmark = pytest.mark.yade
 
@@ -29,7 +27,7 @@ pytestmark = pytest.mark.yade
 def tiny_run(tmp_path_factory):
     out = tmp_path_factory.mktemp("run") / "tiny"
     proc = subprocess.run(
-        [sys.executable, "-m", "orchestrator", "run", str(TINY), "--out", str(out), "--json", "--no-progress"],
+        [sys.executable, "-m", "orchestrator", "run", str(TINY_BOWL), "--out", str(out), "--json", "--no-progress"],
         capture_output=True, text=True, timeout=600,
     )
     assert proc.returncode == 0, proc.stderr
@@ -51,14 +49,14 @@ def test_bowl_carries_the_bed_weight_at_rest(tiny_run):
     series = run["series"]
     last_settle = np.flatnonzero(series["phase"] == 0)[-1]
     assert run["attrs"]["settled"]
-    weight = bed_weight(build_scene(load_case(TINY).model))
+    weight = bed_weight(build_scene(load_case(TINY_BOWL).model))
     assert series["bowl_force"][last_settle, 2] == pytest.approx(-weight, rel=0.01)
     assert abs(series["bowl_force"][last_settle, 0]) < 0.01 * weight
 
 
 def test_rod_reaches_submersion_depth_and_moves(tiny_run):
     _, run = tiny_run
-    case = load_case(TINY).model
+    case = load_case(TINY_BOWL).model
     series = run["series"]
     process = series["phase"] == 3
     tip = series["rod_tip_z"][process]
@@ -88,7 +86,7 @@ def test_contact_starts_on_the_rod(tiny_run):
 def test_timeout_keeps_status_and_partial_data(tmp_path):
     out = tmp_path / "slow"
     proc = subprocess.run(
-        [sys.executable, "-m", "orchestrator", "run", str(TINY), "--out", str(out), "--timeout", "6",
+        [sys.executable, "-m", "orchestrator", "run", str(TINY_BOWL), "--out", str(out), "--timeout", "6",
          "--set", "process.duration=100", "--no-progress"],
         capture_output=True, text=True, timeout=300,
     )
@@ -109,14 +107,14 @@ def test_soft_settling_then_stiffening_keeps_the_bed_at_rest(tmp_path):
     rod still carry the bed's weight within 1 %, the bed is at rest, and the process runs at E/10's step."""
     out = tmp_path / "stiffened"
     proc = subprocess.run(
-        [sys.executable, "-m", "orchestrator", "run", str(TINY), "--out", str(out), "--json", "--no-progress",
+        [sys.executable, "-m", "orchestrator", "run", str(TINY_BOWL), "--out", str(out), "--json", "--no-progress",
          "--set", "numerics.stiffness_scale=0.1", "--set", "settling.stiffness_scale=0.001",
          "--set", "process.duration=0.05", "--set", "output.network_times=[0.05]"],
         capture_output=True, text=True, timeout=600,
     )
     assert proc.returncode == 0, proc.stderr
     run = read_run(out)
-    model = load_case(TINY, overrides=["numerics.stiffness_scale=0.1"]).model
+    model = load_case(TINY_BOWL, overrides=["numerics.stiffness_scale=0.1"]).model
     scene = build_scene(model)
     assert run["attrs"]["dt"] == pytest.approx(scene.timestep, rel=1e-12)  # the process step: E/10's
     log = (out / "engine.log").read_text()

@@ -4,8 +4,6 @@ Numbers are compared within a relative 1e-9 (tests/golden.py): their last digits
 Regenerate after an intended change with: UPDATE_GOLDEN=1 pytest tests/test_yade_template.py
 """
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 
@@ -16,14 +14,15 @@ from orchestrator.case import load_case
 from orchestrator.kinds import build_scene
 
 from golden import assert_matches_golden
+from paths import GOLDEN as GOLDEN_DIR
+from paths import TINY_BOWL
 
-HERE = Path(__file__).parent
-GOLDEN = HERE / "golden" / "yade_tiny_bowl.py"
+GOLDEN = GOLDEN_DIR / "yade_tiny_bowl.py"
 
 
 @pytest.fixture(scope="module")
 def tiny_scene():
-    return build_scene(load_case(HERE / "data" / "tiny_bowl.toml").model)
+    return build_scene(load_case(TINY_BOWL).model)
 
 
 def test_rendered_script_matches_golden(tiny_scene, tmp_path):
@@ -43,9 +42,9 @@ def test_scene_inputs_round_trip(tiny_scene, tmp_path):
 
 
 def test_same_seed_same_cloud(tiny_scene):
-    again = build_scene(load_case(HERE / "data" / "tiny_bowl.toml").model)
+    again = build_scene(load_case(TINY_BOWL).model)
     np.testing.assert_array_equal(again.positions, tiny_scene.positions)
-    other = build_scene(load_case(HERE / "data" / "tiny_bowl.toml", overrides=["case.seed=8"]).model)
+    other = build_scene(load_case(TINY_BOWL, overrides=["case.seed=8"]).model)
     assert not np.array_equal(other.positions, tiny_scene.positions)
 
 
