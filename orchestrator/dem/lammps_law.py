@@ -6,7 +6,7 @@ sphere-wall (``fix wall/gran/region granular``, one fix per sphere type), runs
     hertz/material E_f e* nu_f  damping coeff_restitution  tangential mindlin/force k_t x_gammat mu  limit_damping
 
 read in LAMMPS's gran_sub_mod_normal.cpp, gran_sub_mod_damping.cpp, gran_sub_mod_tangential.cpp and
-granular_model.cpp, and checked on the installed build by tests/test_lammps_impact.py:
+granular_model.cpp, and checked on the installed build by tests/kinds/impact/test_lammps_impact.py:
 
 - normal force 4/3 E* a delta with a = sqrt(R* delta): eq. 2's k_n0 delta^(3/2). ``hertz/material`` turns
   its E_f, nu_f into E* = E_f / (2 (1 - nu_f^2)) both for a pair given explicitly and for a wall (it takes

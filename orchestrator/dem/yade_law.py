@@ -1,7 +1,7 @@
 """The paper's contact law (Uhlmann et al. 2015, eqs. 1-10) on Yade 2023.
 
 What Yade 2023.02a runs (Law2_ScGeom_MindlinPhys_Mindlin, checked on the
-installed build by tests/test_yade_impact.py):
+installed build by tests/kinds/impact/test_yade_impact.py):
 
 - normal force k_n0 delta^(3/2), k_n0 = 4/3 E_eq sqrt(R_eq), never pulling
   (the sum with the dash-pot is clipped at zero);

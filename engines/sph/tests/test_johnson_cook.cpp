@@ -2,7 +2,7 @@
 // II, closed forms of homogeneous deformation, the Mie-Grueneisen EOS's
 // reference slope and Hugoniot, Hutchings' eq. 20 for the paper's crater, and
 // the numpy reference (orchestrator/reference/johnson_cook.py, solid_eos.py) to
-// 1e-9 on fixed inputs. tests/test_johnson_cook_reference.py recomputes the
+// 1e-9 on fixed inputs. tests/reference/test_johnson_cook_reference.py recomputes the
 // constants below from the reference and compares them with this file's text.
 #include <cmath>
 #include <cstdio>

@@ -4,7 +4,7 @@ the fluid's rest pressure, or free). SI units.
 
 The defaults are the pair that keeps an open channel steady (Tafuni et al. 2018: velocity imposed at the inlet with
 the pressure extrapolated from the fluid, pressure imposed at the outlet). With a free outlet and a summation inlet a
-plane channel fed by a plug between no-slip plates (tests/test_sph_open_defaults.py) gained up to 3 % in mean density
+plane channel fed by a plug between no-slip plates (tests/kinds/sph_flow/test_sph_open_defaults.py) gained up to 3 % in mean density
 and 8-10 % where the plug meets the plates; three of four such runs (2D, 3D) stopped unstable within 1.2-1.9
 flow-through times."""
 

@@ -1,6 +1,6 @@
 """The paper's drag-finishing setup, quick preset (about 6 minutes on one core): slow, deselected by default.
 
-Run with: .venv/bin/python -m pytest -m slow tests/test_paper_quick.py
+Run with: .venv/bin/python -m pytest -m slow tests/kinds/drag_finishing/test_paper_quick.py
 """
 
 import subprocess

@@ -4,7 +4,7 @@ stored Yade output.
 
 Numbers in the golden file are compared within a relative 1e-9 (tests/golden.py).
 Regenerate the golden file after an intended template change with:
-UPDATE_GOLDEN=1 pytest tests/test_yade_impact_template.py
+UPDATE_GOLDEN=1 pytest tests/kinds/impact/test_yade_impact_template.py
 """
 
 import math

@@ -4,7 +4,7 @@ outputs (no engine needed), bad case values, and real tiny runs through
 
 Numbers in the golden decks are compared within a relative 1e-9 (tests/golden.py).
 Regenerate the golden decks after an intended template change with:
-UPDATE_GOLDEN=1 pytest tests/test_sph_backend.py
+UPDATE_GOLDEN=1 pytest tests/engines/test_sph_backend.py
 """
 
 from __future__ import annotations

@@ -85,7 +85,7 @@ def test_rod_is_turned_back_to_the_snapshot_time(synthetic_run):
 
 def test_analyze_writes_both_pngs(synthetic_run, capsys):
     outputs = analyze_run(synthetic_run)
-    assert {"forces", "network"} <= set(outputs)  # and the contact-chain pictures (tests/test_contact_chains.py)
+    assert {"forces", "network"} <= set(outputs)  # and the contact-chain pictures (tests/kinds/drag_finishing/test_contact_chains.py)
     for path in outputs.values():
         _assert_not_blank(_image(path))
     assert "paper, simulated" in capsys.readouterr().out

@@ -2,7 +2,7 @@
 tiny bowl (with and without stiffening); the files the decks read; the profile's command line. No engine needed.
 
 Numbers are compared within a relative 1e-9 (tests/golden.py): their last digits follow the CPU's BLAS kernel.
-Regenerate after an intended change with: UPDATE_GOLDEN=1 pytest tests/test_liggghts_template.py
+Regenerate after an intended change with: UPDATE_GOLDEN=1 pytest tests/kinds/drag_finishing/test_liggghts_template.py
 """
 
 import os

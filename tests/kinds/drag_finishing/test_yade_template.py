@@ -1,7 +1,7 @@
 """Golden file: the Yade script rendered for the tiny case. A template change is a visible diff.
 
 Numbers are compared within a relative 1e-9 (tests/golden.py): their last digits follow the CPU's BLAS kernel.
-Regenerate after an intended change with: UPDATE_GOLDEN=1 pytest tests/test_yade_template.py
+Regenerate after an intended change with: UPDATE_GOLDEN=1 pytest tests/kinds/drag_finishing/test_yade_template.py
 """
 
 import numpy as np
