@@ -23,6 +23,7 @@
 #include "kernel.h"
 #include "material.h"
 #include "neighbour_list.h"
+#include "pair_chunk.h"
 #include "particles.h"
 #include "physics_terms.h"
 #include "viscosity_correction.h"
@@ -133,7 +134,8 @@ class PairLoop {
   //   C. the sums into a and the scatter to b, pair after pair in list order.
   // Every accumulator receives the same contributions in the same order as
   // a single fused loop would give it (bitwise the same results).
-  struct Chunk;
+  using Chunk = PairChunk<D>;
+  using Owner = PairOwner;
   template <bool AMoves, bool BMoves>
   inline __attribute__((always_inline)) void pair_row(Chunk& c, int a, const std::uint32_t* e,
                                                       const std::uint32_t* end) const {
@@ -152,60 +154,24 @@ class PairLoop {
     }
   }
 
-  static constexpr int chunk = 128;
-  // Pass B's inputs and outputs for one chunk (f_a, f_b: the terms along
-  // r_ab of a and of b, m/s^2).
-  struct Chunk {
-    int b[chunk], code[chunk];
-    double r[D][chunk], r2[chunk], vr[chunk];
-    double m[chunk], rho[chunk], vol[chunk], p_rho2[chunk], c[chunk], mu[chunk], corr[chunk];
-    double drho_a[chunk], drho_b[chunk], f_a[D][chunk], f_b[D][chunk], visc_a[chunk], visc_b[chunk];
-    double vg[D][chunk], F[chunk];  // eddy: the velocity difference of eq. SM1 (no-slip against a fixed particle), F
-  };
-
-  // Owner a's values for pass B (corr: its factor k_a of eq. VC1 when corrected).
-  struct Owner {
-    double m, rho, vol, p_rho2, inv_rho, c, inv_h, grad_factor, corr;
-  };
-  // Pass B over pairs [0, n) of a chunk: kernel factor, eq. 7 for both sides,
-  // eq. 9 (+ eqs. 11-12) along r_ab, eq. 10's factors.
-  template <bool AMoves, bool BMoves>
-  static inline __attribute__((always_inline)) void coefficients(Chunk& k, int n, const Owner& o, const Model& model) {
-    for (int j = 0; j < n; ++j) {
-      const double u = 1.0 - 0.5 * (std::sqrt(k.r2[j]) * o.inv_h);
-      const double t = 0.5 * (u + std::abs(u));      // exactly max(u, 0), without a branch
-      const double F = o.grad_factor * (t * t * t);  // grad_a W_ab = F r_ab (eq. 8)
-      const double Fvr = F * k.vr[j];                // v_ab . grad_a W_ab (= v_ba . grad_b W_ba)
-      // Eq. 7 for fluid (drho_a = rho_a sum m_b/rho_b v_ab . grad W), the summation rate otherwise.
-      k.drho_a[j] = (AMoves ? o.rho * k.vol[j] : k.m[j]) * Fvr;
-      k.drho_b[j] = (BMoves ? k.rho[j] * o.vol : o.m) * Fvr;
-      if constexpr (AMoves || BMoves) {
-        double radial = -(o.p_rho2 + k.p_rho2[j]) * F;  // eq. 9, along r_ab
-        if constexpr (has(term::artificial_viscosity)) {  // eqs. 11-12 (times 0 or 1 against a fixed particle)
-          double pi = model.artificial.pi(k.r2[j], k.vr[j], o.rho, k.rho[j], o.c, k.c[j]);
-          if constexpr (!(AMoves && BMoves)) pi *= model.artificial.wall;
-          radial -= pi * F;
-        }
-        const double radial_a = k.m[j] * radial, radial_b = o.m * radial;
-        for (int d = 0; d < D; ++d) k.f_a[d][j] = radial_a * k.r[d][j], k.f_b[d][j] = radial_b * k.r[d][j];
-        if constexpr (has(term::morris_viscosity)) {
-          // Eq. 10: 2 mu_ab (r_ab . grad W)/(r_ab^2 + 0.01 h^2) m/(rho_a rho_b).
-          double s;
-          if constexpr (pair_mu) s = model.morris.factor(k.mu[j], F, k.r2[j]);
-          else s = model.morris.factor(F, k.r2[j]);
-          if constexpr (eddy) k.F[j] = F;
-          if constexpr (corrected)  // eq. VC1: each side its own factor
-            k.visc_a[j] = o.corr * (s * k.vol[j] * o.inv_rho), k.visc_b[j] = k.corr[j] * (s * o.vol / k.rho[j]);
-          else
-            k.visc_a[j] = s * k.vol[j] * o.inv_rho, k.visc_b[j] = s * o.vol / k.rho[j];
-        }
-      }
-    }
-  }
+  static constexpr int chunk = Chunk::size;
   template <bool AMoves, bool BMoves>
   inline __attribute__((always_inline)) void scalar_chunk(Chunk& k, int a, const std::uint32_t* e,
                                                           const std::uint32_t* stop, Vec<D>& acc_a,
                                                           double& drho_a) const {
+    const int n = gather_chunk<AMoves, BMoves>(k, a, e, stop);
+    // B. per-pair coefficients (AVX2 where the CPU has it: no FMA, so every
+    // lane rounds as the scalar code does and results do not depend on the CPU).
+    const Owner o{P_.mass[a], P_.rho[a], P_.vol[a], P_.p_rho2[a], 1.0 / P_.rho[a],
+                  has(term::artificial_viscosity) ? P_.c[a] : 0.0, kernel_.inv_h, kernel_.grad_factor,
+                  corrected ? correction_.factors()[a] : 1.0};
+    pair_coefficients<PairLoop, AMoves, BMoves>(k, n, o, model_);
+    sum_chunk<AMoves, BMoves>(k, a, n, acc_a, drho_a);
+  }
+  // A. gather the entries [e, stop) of owner a into chunk k and keep the pairs within 2h; returns their number.
+  template <bool AMoves, bool BMoves>
+  inline __attribute__((always_inline)) int gather_chunk(Chunk& k, int a, const std::uint32_t* e,
+                                                         const std::uint32_t* stop) const {
     using List = NeighbourList<D>;
     const bool gather_mass = !uniform_mass_;
     const Vec<D>* const x = P_.x.data();
@@ -218,7 +184,6 @@ class PairLoop {
     const double* const nu_t = P_.nu_t.data();
     Vec<D> vns_a = Vec<D>::Zero();
     if constexpr (has(term::morris_viscosity)) vns_a = P_.v_noslip[a];
-    // A. gather and keep the pairs within 2h.
     int n = 0;
     for (; e != stop; ++e) {
       const int b = static_cast<int>(*e >> List::shift_bits);
@@ -244,13 +209,17 @@ class PairLoop {
       n += r2 < support2;
     }
     (void)jumps;
-    // B. per-pair coefficients (AVX2 where the CPU has it: no FMA, so every
-    // lane rounds as the scalar code does and results do not depend on the CPU).
-    const Owner o{P_.mass[a], P_.rho[a], P_.vol[a], P_.p_rho2[a], 1.0 / P_.rho[a],
-                  has(term::artificial_viscosity) ? P_.c[a] : 0.0, kernel_.inv_h, kernel_.grad_factor,
-                  corrected ? correction_.factors()[a] : 1.0};
-    coefficients<AMoves, BMoves>(k, n, o, model_);
-    // C. sums into a, scatter to b, in list order.
+    return n;
+  }
+  // C. the chunk's n pairs: sums into a (acc_a, drho_a), scatter to b, in list order.
+  template <bool AMoves, bool BMoves>
+  inline __attribute__((always_inline)) void sum_chunk(const Chunk& k, int a, int n, Vec<D>& acc_a,
+                                                       double& drho_a) const {
+    const Vec<D>* const v = P_.v.data();
+    const Vec<D>* const jumps = list_.jumps();
+    const Vec<D> va = v[a];
+    Vec<D> vns_a = Vec<D>::Zero();
+    if constexpr (has(term::morris_viscosity)) vns_a = P_.v_noslip[a];
     Vec<D>* const acc = P_.acc.data();
     double* const drho = P_.drho.data();
     const Vec<D>* const v_noslip = P_.v_noslip.data();
@@ -284,11 +253,12 @@ class PairLoop {
       }
     }
     if constexpr (eddy && AMoves) grad_v[a] += G_a;
-    (void)grad_v, (void)G_a, (void)vol_a, (void)nu_t;
+    (void)grad_v, (void)G_a, (void)vol_a, (void)jumps, (void)va, (void)vns_a;
   }
 
   template <bool AMoves, bool BMoves>
   inline __attribute__((always_inline)) void pair_terms(int a, const std::uint32_t* e, const std::uint32_t* end) const {
+    static_assert(tensor, "the tensor path's pair loop (pair_row)");
     using List = NeighbourList<D>;
     if (e == end) return;
     Vec<D>* const acc = P_.acc.data();
@@ -300,7 +270,6 @@ class PairLoop {
     const double* const rho = P_.rho.data();
     const double* const c = P_.c.data();
     const double* const vol = P_.vol.data();
-    const double* const p_rho2 = P_.p_rho2.data();
     const std::uint8_t* const mat = P_.material.data();
     const Mat<D>* const sigma_rho2 = P_.sigma_rho2.data();
     Mat<D>* const grad_v = P_.grad_v.data();
@@ -310,13 +279,12 @@ class PairLoop {
     const double inv_h = kernel_.inv_h, grad_factor = kernel_.grad_factor;
     const Model model = model_;
     const Vec<D> xa = x[a], va = v[a];
-    const double m_a = mass[a], rho_a = rho[a], vol_a = vol[a], p_rho2_a = p_rho2[a];
+    const double m_a = mass[a], rho_a = rho[a], vol_a = vol[a];
     const double inv_rho_a = 1.0 / rho_a, c_a = has(term::artificial_viscosity) ? c[a] : 0.0;
     const double* const mu_row = materials_.pair_mu_table() + mat[a] * materials_.size();
-    Vec<D> vns_a = Vec<D>::Zero();
-    if constexpr (has(term::morris_viscosity) || tensor) vns_a = v_noslip[a];
-    Mat<D> S_a = Mat<D>::Zero(), G_a = Mat<D>::Zero(), M_a = Mat<D>::Zero();
-    if constexpr (tensor) S_a = sigma_rho2[a];
+    const Vec<D> vns_a = v_noslip[a];
+    const Mat<D> S_a = sigma_rho2[a];
+    Mat<D> G_a = Mat<D>::Zero(), M_a = Mat<D>::Zero();
     Vec<D> acc_a = Vec<D>::Zero();
     double drho_a = 0.0;
     for (; e != end; ++e) {
@@ -336,56 +304,61 @@ class PairLoop {
       else drho_a += m_b * Fvr;
       if constexpr (BMoves) drho[b] += rho_b * vol_a * Fvr;
       else drho[b] += m_a * Fvr;
-      if constexpr (tensor) {
-        // Eq. T2 for both particles: -F V v_ab (x) r_ab and -F V r_ab (x) r_ab; a fixed
-        // boundary particle enters with its no-slip velocity (boundary_particles.h).
-        Vec<D> v_ab_grad = v_ab;
-        if constexpr (AMoves && !BMoves) v_ab_grad = va - v_noslip[b] - jump;
-        if constexpr (!AMoves && BMoves) v_ab_grad = vns_a - v[b] - jump;
-        const Mat<D> vr_outer = v_ab_grad * r.transpose(), rr_outer = r * r.transpose();
-        G_a.noalias() -= (F * vol[b]) * vr_outer, M_a.noalias() -= (F * vol[b]) * rr_outer;
-        grad_v[b].noalias() -= (F * vol_a) * vr_outer, shape[b].noalias() -= (F * vol_a) * rr_outer;
-      }
+      // Eq. T2 for both particles: -F V v_ab (x) r_ab and -F V r_ab (x) r_ab; a fixed
+      // boundary particle enters with its no-slip velocity (boundary_particles.h).
+      Vec<D> v_ab_grad = v_ab;
+      if constexpr (AMoves && !BMoves) v_ab_grad = va - v_noslip[b] - jump;
+      if constexpr (!AMoves && BMoves) v_ab_grad = vns_a - v[b] - jump;
+      const Mat<D> vr_outer = v_ab_grad * r.transpose(), rr_outer = r * r.transpose();
+      G_a.noalias() -= (F * vol[b]) * vr_outer, M_a.noalias() -= (F * vol[b]) * rr_outer;
+      grad_v[b].noalias() -= (F * vol_a) * vr_outer, shape[b].noalias() -= (F * vol_a) * rr_outer;
       if constexpr (AMoves || BMoves) {
-        double radial = 0.0;
-        if constexpr (tensor) {
-          // Eq. T1: symmetric in a and b; grad_b W_ba = -F r_ab.
-          const Vec<D> f = (S_a + sigma_rho2[b]) * (F * r);
-          if constexpr (AMoves) acc_a.noalias() += m_b * f;
-          if constexpr (BMoves) acc[b].noalias() -= m_a * f;
-        } else {
-          radial = -(p_rho2_a + p_rho2[b]) * F;  // eq. 9, along r_ab
-        }
+        // Eq. T1: symmetric in a and b; grad_b W_ba = -F r_ab.
+        const Vec<D> f = (S_a + sigma_rho2[b]) * (F * r);
+        if constexpr (AMoves) acc_a.noalias() += m_b * f;
+        if constexpr (BMoves) acc[b].noalias() -= m_a * f;
         // Eqs. 11-12: symmetric in a and b, along r_ab.
         if constexpr (has(term::artificial_viscosity)) {  // times 0 or 1 against a fixed particle
+          double radial = 0.0;
           double pi = model.artificial.pi(r2, v_ab.dot(r), rho_a, rho_b, c_a, c[b]);
           if constexpr (!(AMoves && BMoves)) pi *= model.artificial.wall;
           radial -= pi * F;
-        }
-        if constexpr (!tensor || has(term::artificial_viscosity)) {
           if constexpr (AMoves) acc_a.noalias() += (m_b * radial) * r;
           if constexpr (BMoves) acc[b].noalias() -= (m_a * radial) * r;
         }
-        if constexpr (has(term::morris_viscosity)) {
-          // Eq. 10: 2 mu_ab (r_ab . grad W)/(r_ab^2 + 0.01 h^2) m/(rho_a rho_b) times the
-          // velocity difference, each side against the other's no-slip velocity.
-          double s;
-          if constexpr (has(term::several_materials)) s = model.morris.factor(mu_row[mat[b]], F, r2);
-          else s = model.morris.factor(F, r2);
-          if constexpr (has(term::sheared)) {
-            if constexpr (AMoves) acc_a.noalias() += (s * vol[b] * inv_rho_a) * (va - v_noslip[b] - jump);
-            if constexpr (BMoves) acc[b].noalias() += (s * vol_a / rho_b) * (v[b] + jump - vns_a);
-          } else {
-            if constexpr (AMoves) acc_a.noalias() += (s * vol[b] * inv_rho_a) * (va - v_noslip[b]);
-            if constexpr (BMoves) acc[b].noalias() += (s * vol_a / rho_b) * (v[b] - vns_a);
-          }
-        }
+        if constexpr (has(term::morris_viscosity))
+          morris_pair<AMoves, BMoves>(model, b, F, r2, jump, va, vns_a, vol_a, inv_rho_a, mu_row, acc_a);
       }
     }
     acc[a] += acc_a;
     drho[a] += drho_a;
-    if constexpr (tensor) grad_v[a] += G_a, shape[a] += M_a;
+    grad_v[a] += G_a, shape[a] += M_a;
     (void)mu_row, (void)jumps;
+  }
+  // Eq. 10 on the tensor path for owner a and neighbour b: 2 mu_ab (r_ab . grad W)/(r_ab^2 + 0.01 h^2)
+  // m/(rho_a rho_b) times the velocity difference, each side against the other's no-slip velocity (va, vns_a:
+  // a's velocity and no-slip velocity; jump: b's image's Lees-Edwards jump; mu_row: a's row of mu_ab).
+  template <bool AMoves, bool BMoves>
+  inline __attribute__((always_inline)) void morris_pair(const Model& model, int b, double F, double r2,
+                                                         const Vec<D>& jump, const Vec<D>& va, const Vec<D>& vns_a,
+                                                         double vol_a, double inv_rho_a, const double* mu_row,
+                                                         Vec<D>& acc_a) const {
+    const Vec<D>* const v = P_.v.data();
+    const Vec<D>* const v_noslip = P_.v_noslip.data();
+    const double* const vol = P_.vol.data();
+    const double rho_b = P_.rho[b];
+    Vec<D>* const acc = P_.acc.data();
+    double s;
+    if constexpr (has(term::several_materials)) s = model.morris.factor(mu_row[P_.material[b]], F, r2);
+    else s = model.morris.factor(F, r2);
+    if constexpr (has(term::sheared)) {
+      if constexpr (AMoves) acc_a.noalias() += (s * vol[b] * inv_rho_a) * (va - v_noslip[b] - jump);
+      if constexpr (BMoves) acc[b].noalias() += (s * vol_a / rho_b) * (v[b] + jump - vns_a);
+    } else {
+      if constexpr (AMoves) acc_a.noalias() += (s * vol[b] * inv_rho_a) * (va - v_noslip[b]);
+      if constexpr (BMoves) acc[b].noalias() += (s * vol_a / rho_b) * (v[b] - vns_a);
+    }
+    (void)jump, (void)mu_row;
   }
 
   Particles<D>& P_;
