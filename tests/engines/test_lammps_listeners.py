@@ -1,5 +1,5 @@
 """No LAMMPS run listens on the network: the quick Couette scene on one rank and on two under MPICH's launcher,
-watched as the LIGGGHTS and Yade runs are (tests/core/test_no_listeners.py samples the run's listening sockets)."""
+watched as the LIGGGHTS and Yade runs are (tests/engines/test_no_listeners.py samples the run's listening sockets)."""
 
 from __future__ import annotations
 

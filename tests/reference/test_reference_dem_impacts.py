@@ -12,7 +12,7 @@ import pytest
 
 from orchestrator.reference import closed_form, contact, oblique
 from orchestrator.reference.dem import Material, Plane, simulate
-from test_reference_closed_form import EQ10_REBOUND_WITHOUT_TENSION
+from expected import EQ10_REBOUND_WITHOUT_TENSION
 
 GLASS = Material(48e9, 0.2, 2800.0)
 ALUMINIUM = Material(70e9, 0.3, 2699.0)

@@ -17,7 +17,7 @@ from orchestrator.dem.yade_law import yade_native_alpha
 from orchestrator.case import load_case
 from orchestrator.reference import closed_form
 from orchestrator.run import run_case
-from test_reference_closed_form import EQ10_REBOUND_WITHOUT_TENSION
+from expected import EQ10_REBOUND_WITHOUT_TENSION
 from paths import VERIFICATION
 
 pytestmark = [
