@@ -1,7 +1,9 @@
 """The sph executable's multi-mode PTT fluid against the numpy reference (orchestrator.reference.sph_ptt).
 
 A tiny periodic 2D scene of two PTT modes with a solvent viscosity (deck and particle file written here by
-hand) runs 20 steps in both; positions, velocities, densities and the mode stresses agree to 1e-9.
+hand) runs 20 steps in both; positions, velocities, densities and the mode stresses agree to 1e-9. Also with the
+mean extra stress subtracted in the momentum equation (the executable's Lees-Edwards cell at rest,
+lees_edwards.subtract_mean_stress).
 """
 
 from __future__ import annotations
@@ -24,7 +26,7 @@ LENGTH = 1.0  # m, box side
 EXECUTABLE = Path(os.environ.get("ORCHESTRATOR_SPH") or Path(__file__).parents[1] / "engines/sph/build/sph")
 
 
-def _scene() -> tuple[ref.PttState, ref.PttFluid]:
+def _scene(subtract_mean_stress: bool = False) -> tuple[ref.PttState, ref.PttFluid]:
     rng = np.random.default_rng(4)
     dx = LENGTH / N
     a, b = np.meshgrid(np.arange(N), np.arange(N), indexing="ij")
@@ -32,7 +34,7 @@ def _scene() -> tuple[ref.PttState, ref.PttFluid]:
     v = rng.uniform(-0.2, 0.2, (N * N, 2))  # m/s
     rho = 1.0 + rng.uniform(-0.005, 0.005, N * N)
     fluid = ref.PttFluid(rho0=1.0, c0=5.0, lambdas=(0.05, 0.01), etas=(0.01, 0.004), epsilon=0.3, eta_s=0.002,
-                         h=1.3 * dx, box=(LENGTH, LENGTH))
+                         h=1.3 * dx, box=(LENGTH, LENGTH), subtract_mean_stress=subtract_mean_stress)
     state = ref.PttState(x=x, v=v, m=np.full(N * N, dx * dx), rho=rho, tau=np.zeros((N * N, 2, 2, 2)),
                          tau_solvent=np.zeros((N * N, 2, 2)))
     return state, fluid
@@ -50,6 +52,8 @@ def _run_executable(state: ref.PttState, fluid: ref.PttFluid, workdir: Path) -> 
                            "epsilon": fluid.epsilon, "solvent_viscosity": fluid.eta_s,
                            "modes": [{"lambda": lam, "eta": eta} for lam, eta in zip(fluid.lambdas, fluid.etas)]}],
             "dt": DT, "t_end": STEPS * DT, "threads": 1,
+            **({"lees_edwards": {"shear_rate": 0.0, "subtract_mean_stress": True}} if fluid.subtract_mean_stress
+               else {}),
             "output": {"file": "out.h5", "frame_interval": STEPS * DT, "progress_interval": 100}}
     (workdir / "deck.json").write_text(json.dumps(deck))
     done = subprocess.run([str(EXECUTABLE), "deck.json"], cwd=workdir, capture_output=True, text=True, timeout=120)
@@ -61,10 +65,11 @@ def _run_executable(state: ref.PttState, fluid: ref.PttFluid, workdir: Path) -> 
 
 
 @pytest.mark.sph
-def test_executable_ptt_agrees_with_the_reference(tmp_path):
+@pytest.mark.parametrize("subtract_mean_stress", [False, True], ids=["plain", "mean_stress_subtracted"])
+def test_executable_ptt_agrees_with_the_reference(tmp_path, subtract_mean_stress):
     if not EXECUTABLE.exists():
         pytest.skip(f"{EXECUTABLE} is not built")
-    start, fluid = _scene()
+    start, fluid = _scene(subtract_mean_stress)
     frame = _run_executable(start, fluid, tmp_path)
     mine = ref.simulate(start, fluid, DT, STEPS)
     ids = frame["ids"]
@@ -93,3 +98,18 @@ def test_reference_mode_rate_matches_steady_simple_shear():
     L = np.array([[[0.0, gamma_dot], [0.0, 0.0]]])
     assert np.abs(ref.ptt_mode_rates(L, tau, fluid)).max() < 1e-12
     assert np.abs(ref.ptt_mode_rates(np.swapaxes(L, 1, 2), tau, fluid)).max() > 0.1  # a transposed L is wrong
+
+
+def test_the_mean_stress_subtraction_changes_only_the_momentum_equation():
+    """tau_B is the volume mean of the extra stress; subtracting it changes the accelerations (a disordered box turns
+    a uniform stress into forces), not the density or stress rates."""
+    start, plain = _scene()
+    _, subtracted = _scene(True)
+    rng = np.random.default_rng(5)
+    state = ref.rates(ref.PttState(**{**start.__dict__, "tau": rng.normal(0.0, 1.0, start.tau.shape)}), plain)
+    vol = state.m / state.rho
+    mean = ref.mean_extra_stress(state)
+    assert np.allclose(mean, np.einsum("n,nij->ij", vol, state.tau.sum(axis=1) + state.tau_solvent) / vol.sum())
+    a, b = ref.rates(state, plain), ref.rates(state, subtracted)
+    assert np.array_equal(a.drho, b.drho) and np.array_equal(a.dtau, b.dtau)
+    assert np.abs(a.acc - b.acc).max() > 1e-3 * np.abs(a.acc).max()

@@ -7,7 +7,9 @@ velocity gradient L_a = G_a M_a^-1 (eq. T2), per mode the linear PTT rate
 d tau/dt = L tau + tau L^T + (eta (L + L^T) - f tau) / lambda, f = 1 + (lambda eps / eta) tr tau (eq. R1),
 the solvent stress 2 eta_s D of the previous evaluation, and Monaghan's predictor-corrector with one rate
 evaluation per step (eqs. P1-P4). Every particle is fluid; every axis is periodic (box at least 4h long,
-so each pair has one image within the support 2h). SI units throughout.
+so each pair has one image within the support 2h). With subtract_mean_stress the momentum equation takes
+sigma - tau_B, tau_B the volume mean of the extra stress at the start of the step (the deck's
+lees_edwards.subtract_mean_stress; a uniform stress moves nothing in a periodic box). SI units throughout.
 """
 
 from __future__ import annotations
@@ -33,6 +35,7 @@ class PttFluid:
     box: tuple[float, ...]
     gamma: float = 7.0
     quadratic: bool = False
+    subtract_mean_stress: bool = False
 
 
 @dataclass(frozen=True)
@@ -80,16 +83,28 @@ def _pairs(x: np.ndarray, fluid: PttFluid):
     return a[keep], b[keep], r[keep]
 
 
-def rates(state: PttState, fluid: PttFluid) -> PttState:
-    """The rates of eqs. 7, T1, T2, R1 at this state; also the new solvent stress (for the next evaluation)."""
+def mean_extra_stress(state: PttState) -> np.ndarray:
+    """Volume mean (weights m / rho) of the extra stress sum_i tau_i + tau_solvent, (D, D) Pa."""
+    vol = state.m / state.rho
+    extra = state.tau.sum(axis=1) + state.tau_solvent
+    return np.tensordot(vol, extra, axes=(0, 0)) / vol.sum()
+
+
+def rates(state: PttState, fluid: PttFluid, background: np.ndarray | None = None) -> PttState:
+    """The rates of eqs. 7, T1, T2, R1 at this state; also the new solvent stress (for the next evaluation).
+    background: tau_B (D, D) Pa subtracted from every particle's stress in eq. T1 (with subtract_mean_stress; by
+    default this state's mean)."""
     n, dim = state.x.shape
+    if background is None:
+        background = mean_extra_stress(state) if fluid.subtract_mean_stress else np.zeros((dim, dim))
     h = fluid.h
     alpha = 7.0 / (4.0 * math.pi * h * h) if dim == 2 else 21.0 / (16.0 * math.pi * h ** 3)
     a, b, r = _pairs(state.x, fluid)
     t = np.maximum(1.0 - 0.5 * np.sqrt(np.einsum("ij,ij->i", r, r)) / h, 0.0)
     F = -5.0 * alpha / (h * h) * t ** 3
     vol = state.m / state.rho
-    sigma = state.tau.sum(axis=1) + state.tau_solvent - pressure(state.rho, fluid)[:, None, None] * np.eye(dim)
+    sigma = (state.tau.sum(axis=1) + state.tau_solvent - background
+             - pressure(state.rho, fluid)[:, None, None] * np.eye(dim))
     S = sigma / state.rho[:, None, None] ** 2
     v_ab = state.v[a] - state.v[b]
     Fvr = F * np.einsum("ij,ij->i", v_ab, r)
@@ -118,7 +133,8 @@ def step(state: PttState, fluid: PttFluid, dt: float) -> PttState:
     half = 0.5 * dt
     predicted = replace(state, x=state.x + half * state.v, v=state.v + half * state.acc,
                         rho=state.rho + half * state.drho, tau=state.tau + half * state.dtau)
-    mid = rates(predicted, fluid)
+    background = mean_extra_stress(state) if fluid.subtract_mean_stress else None
+    mid = rates(predicted, fluid, background)
     return PttState(x=state.x + dt * (state.v + half * mid.acc), v=state.v + dt * mid.acc,
                     m=state.m, rho=state.rho + dt * mid.drho, tau=state.tau + dt * mid.dtau,
                     tau_solvent=mid.tau_solvent, acc=mid.acc, drho=mid.drho, dtau=mid.dtau)

@@ -49,6 +49,7 @@ using Configurations = std::tuple<                           //
     Configuration<config::P, 0>,                                              // PTT viscoelastic fluid (Nutto et al.)
     Configuration<config::P, config::av>,                                     //   with artificial viscosity
     Configuration<config::P, config::sheared>,                                // PTT Lees-Edwards cell (rheometer)
+    Configuration<config::P, config::morris | config::sheared>,               //   with a Morris solvent (steady shear)
     Configuration<config::P, config::morris>>;  // PTT whose solvent viscosity is the Morris term (walled channels)
 
 }  // namespace sph

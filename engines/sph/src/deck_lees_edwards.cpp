@@ -15,9 +15,13 @@ using namespace deck_json;
 void parse_lees_edwards(const json& j, RunParameters& d) {
   const std::string path = "lees_edwards";
   if (!j.is_object()) fail("'lees_edwards' must be a JSON object: {\"shear_rate\": 1/s} or {\"amplitude\": -, \"omega\": rad/s}");
-  check_keys(j, path, {"shear_rate", "amplitude", "omega"});
+  check_keys(j, path, {"shear_rate", "amplitude", "omega", "subtract_mean_stress"});
   LeesEdwardsSpec& le = d.lees_edwards;
   le.on = true;
+  if (j.contains("subtract_mean_stress")) {
+    if (!j["subtract_mean_stress"].is_boolean()) fail("'lees_edwards.subtract_mean_stress' must be true or false");
+    le.subtract_mean_stress = j["subtract_mean_stress"].get<bool>();
+  }
   const bool steady = j.contains("shear_rate"), oscillatory = j.contains("amplitude") || j.contains("omega");
   if (steady == oscillatory)
     fail("'lees_edwards' takes either 'shear_rate' (steady shear, 1/s) or 'amplitude' and 'omega' (oscillatory "

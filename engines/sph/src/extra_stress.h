@@ -24,13 +24,14 @@ Mat<D> extra_stress(const Particles<D>& P, std::size_t i) {
   return tau;
 }
 
-// sigma / rho^2 = (-p I + tau) / rho^2 of particle i, Pa m^6/kg^2 (eq. T1), with its pressure p of this evaluation.
+// sigma / rho^2 = (-p I + tau - tau_B) / rho^2 of particle i, Pa m^6/kg^2 (eq. T1), with its pressure p of this
+// evaluation; tau_B Pa is a uniform background extra stress (zero unless the cell subtracts its mean, simulation.h).
 template <class Models, int D>
-Mat<D> stress_over_rho2(const Particles<D>& P, std::size_t i) {
+Mat<D> stress_over_rho2(const Particles<D>& P, std::size_t i, const Mat<D>& background) {
   if constexpr (Models::any_modes)
-    return (extra_stress<Models>(P, i) - P.p[i] * Mat<D>::Identity()) / (P.rho[i] * P.rho[i]);
+    return (extra_stress<Models>(P, i) - background - P.p[i] * Mat<D>::Identity()) / (P.rho[i] * P.rho[i]);
   else
-    return (P.tau[i] - P.p[i] * Mat<D>::Identity()) / (P.rho[i] * P.rho[i]);
+    return (P.tau[i] - background - P.p[i] * Mat<D>::Identity()) / (P.rho[i] * P.rho[i]);
 }
 
 // Volume average of the fluid's extra stress, Pa (sigma_xy of a Lees-Edwards cell is its (0, 1) entry).

@@ -103,6 +103,7 @@ struct LeesEdwardsSpec {
   bool on = false;
   double shear_rate = 0;          // 1/s (steady)
   double amplitude = 0, omega = 0;  // strain amplitude, angular frequency rad/s (oscillatory)
+  bool subtract_mean_stress = false;  // momentum takes sigma - <tau>, the cell's mean extra stress (simulation.h)
 };
 
 // Every setting of a run (what the deck parser returns).
