@@ -29,6 +29,14 @@ def test_ptt_material_and_lees_edwards_reach_the_deck():
     assert json.loads(deck_context(build_scene(oscillating))["lees_edwards"]) == {"amplitude": 5e-4, "omega": 6.0}
 
 
+def test_a_sheared_ptt_cell_takes_a_morris_solvent_and_the_mean_stress_subtraction():
+    case = load_case(CELL, overrides=["physics.terms=['morris_viscosity']", "materials.0.solvent_viscosity=0.1",
+                                      "lees_edwards={shear_rate=1.0, subtract_mean_stress=true}"]).model
+    context = deck_context(build_scene(case))
+    assert json.loads(context["physics"]) == ["morris_viscosity"]
+    assert json.loads(context["lees_edwards"]) == {"shear_rate": 1.0, "subtract_mean_stress": True}
+
+
 BAD = [
     (["materials.0.modes=[]"], "materials[0].modes (melt) is missing"),
     (["materials.0.modes=[{relaxation_time=1.0}]"], "materials[0].modes[0].viscosity: required key is missing"),
@@ -39,7 +47,7 @@ BAD = [
     (["numerics.dt=nan"], "numerics.dt"),
     (["materials.0.model='newtonian'"], "materials[0].modes (melt) is a key of a ptt material"),
     (["physics.terms=['morris_viscosity']"], "must be > 0 with 'morris_viscosity'"),
-    (["physics.terms=['morris_viscosity']", "materials.0.solvent_viscosity=0.1"], "in a lees_edwards cell"),
+    (["lees_edwards={shear_rate=1.0, subtract_mean_stress=2}"], "lees_edwards.subtract_mean_stress"),
     (["lees_edwards={amplitude=5e-4}"], "lees_edwards.omega is missing"),
     (["lees_edwards={shear_rate=1.0, omega=2.0}"], "either shear_rate"),
     (["domain.periodic=[0]"], "domain.periodic must list axes 0 and 1"),

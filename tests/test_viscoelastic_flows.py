@@ -12,6 +12,7 @@ from orchestrator.reference.maxwell import TABLE_III, Mode, loss_modulus, storag
 from orchestrator.reference.sph_flows import poiseuille_velocity
 from orchestrator.reference.sph_ptt import PttFluid, ptt_mode_rates
 from orchestrator.reference.viscoelastic_flows import (
+    ptt_startup_shear,
     maxwell_saos_stress,
     oldroyd_b_poiseuille_steady_velocity,
     ptt_f_in_shear,
@@ -258,3 +259,55 @@ def test_saos_startup_is_the_tensor_law_integrated(epsilon, gamma_a, tolerance):
     settled = gamma_a * (storage_modulus(omega, modes) * np.sin(omega * times)
                          + loss_modulus(omega, modes) * np.cos(omega * times))
     assert np.max(np.abs(closed - settled)[times < 4.0]) > 0.1 * amplitude
+
+
+@pytest.mark.parametrize("epsilon", [0.01, 0.1, 0.5])
+def test_the_cubic_root_holds_over_seven_decades_of_wi(epsilon):
+    """f from Cardano and two Newton steps solves f^3 - f^2 - 2 eps Wi^2 = 0 to round-off, Wi = 1e-3 .. 1e4."""
+    wi = np.logspace(-3, 4, 71)
+    f = ptt_f_in_shear(wi, epsilon)
+    q = 2.0 * epsilon * wi**2
+    assert np.all(f >= 1.0)
+    assert np.abs(f**3 - f**2 - q).max() <= 1e-13 * np.maximum(f**3, 1.0).max()
+    largest = np.array([max(np.roots([1.0, -1.0, 0.0, -x]).real) for x in q])
+    assert np.allclose(f, largest, rtol=1e-12)
+
+
+def test_startup_of_ucm_is_the_exponential():
+    """eps = 0: tau_xy = eta gamma_dot (1 - e^{-t/lambda}), N1 its integral, no overshoot (peak at the end)."""
+    t = np.linspace(0.0, 8.0, 801)
+    run = ptt_startup_shear(t, 2.0, [Mode(1.0, 1000.0)], 0.0)
+    assert np.allclose(run.shear_stress, 2000.0 * -np.expm1(-t), rtol=1e-8, atol=1e-6)
+    n1 = 2 * 1000.0 * 2.0**2 * (1.0 - np.exp(-t) - t * np.exp(-t))  # 2 eta lambda gd^2 (1 - e^-s - s e^-s), s = t
+    assert np.allclose(run.first_normal_stress_difference, n1, rtol=1e-7, atol=1e-5)
+    assert run.peak_time == t[-1]
+
+
+@pytest.mark.parametrize("epsilon,weissenberg", [(0.01, 5.0), (0.1, 20.0), (0.5, 100.0)])
+def test_startup_overshoots_and_settles_on_the_closed_form(epsilon, weissenberg):
+    lam, eta = 0.5, 400.0
+    rate = weissenberg / lam
+    exact = ptt_steady_shear(rate, lam, eta, epsilon)
+    t = np.linspace(0.0, 40.0 * lam / float(exact.f), 4001)
+    run = ptt_startup_shear(t, rate, [Mode(lam, eta)], epsilon)
+    assert run.shear_stress[-1] == pytest.approx(float(exact.shear_stress), rel=1e-7)
+    assert run.first_normal_stress_difference[-1] == pytest.approx(float(exact.first_normal_stress_difference),
+                                                                   rel=1e-7)
+    assert run.peak_shear_stress > 1.005 * float(exact.shear_stress)  # the overshoot
+    assert 0.0 < run.peak_time < t[-1]
+
+
+def test_startup_of_two_modes_is_the_sum_and_adds_the_solvent():
+    t = np.linspace(0.0, 3.0, 301)
+    modes = [Mode(1.0, 1000.0), Mode(0.1, 50.0)]
+    both = ptt_startup_shear(t, 4.0, modes, 0.2, solvent_viscosity=3.0)
+    parts = [ptt_startup_shear(t, 4.0, [m], 0.2) for m in modes]
+    solvent = 3.0 * 4.0 * (t > 0)
+    assert np.allclose(both.shear_stress, parts[0].shear_stress + parts[1].shear_stress + solvent, rtol=1e-8)
+
+
+def test_startup_refuses_bad_parameters():
+    with pytest.raises(OrchestratorError, match="epsilon"):
+        ptt_startup_shear([0.0, 1.0], 1.0, [Mode(1.0, 1.0)], -0.1)
+    with pytest.raises(OrchestratorError, match="relaxation_time"):
+        ptt_startup_shear([0.0, 1.0], 1.0, [Mode(0.0, 1.0)], 0.1)

@@ -204,3 +204,70 @@ def maxwell_saos_stress(t, gamma_amplitude, omega, modes):
         total = total + gamma_amplitude * (storage * np.sin(omega * t) + loss * (np.cos(omega * t)
                                                                                  - np.exp(-t / lam)))
     return total
+
+
+# ------------------------------------------------------------------------------------- start-up of steady shear
+@dataclass(frozen=True)
+class PttStartup:
+    """Start-up of simple shear from rest: times t (s), the summed shear stress tau_xy(t) and first normal stress
+    difference N1(t) (Pa) of the modes, the peak of tau_xy (Pa) and its time (s) (the overshoot; the last time
+    when tau_xy only rises)."""
+
+    time: np.ndarray
+    shear_stress: np.ndarray
+    first_normal_stress_difference: np.ndarray
+    peak_shear_stress: float
+    peak_time: float
+
+
+def ptt_startup_shear(t, shear_rate, modes, epsilon, solvent_viscosity=0.0, rtol=1e-10) -> PttStartup:
+    """Start-up of homogeneous simple shear v = (gamma_dot y, 0) of a multi-mode linear PTT fluid, stress free at
+    t = 0, by scipy's ODE integration (the same law and conventions as ptt_steady_shear, each mode its own f_i).
+
+    t: increasing times, s (>= 0); shear_rate: gamma_dot, 1/s (imposed from t = 0+); modes: objects with
+    relaxation_time (s) and viscosity (Pa s); epsilon: eps (-, >= 0); solvent_viscosity: eta_s, Pa s (adds
+    eta_s gamma_dot to tau_xy for t > 0); rtol: relative tolerance of the integration.
+
+    With L_xy = gamma_dot the law's components are, per mode (tau_yy stays 0 from rest),
+        d tau_xx/dt = 2 gamma_dot tau_xy - f tau_xx / lambda,
+        d tau_xy/dt = eta gamma_dot / lambda - f tau_xy / lambda,      f = 1 + (eps lambda / eta) tau_xx,
+    and their steady state is ptt_steady_shear's. UCM (eps = 0) gives tau_xy = eta gamma_dot (1 - e^{-t/lambda}),
+    no overshoot; eps > 0 overshoots at Wi = lambda gamma_dot above about 1.
+    """
+    from scipy.integrate import solve_ivp
+
+    if not epsilon >= 0:
+        raise OrchestratorError(f"epsilon = {epsilon}: the PTT parameter must be 0 or above")
+    t = np.asarray(t, dtype=float)
+    lam = np.array([m.relaxation_time for m in modes], dtype=float)
+    eta = np.array([m.viscosity for m in modes], dtype=float)
+    if not (lam.size and np.all(lam > 0) and np.all(eta > 0)):
+        raise OrchestratorError("modes: each needs relaxation_time > 0 s and viscosity > 0 Pa s")
+    rate = float(shear_rate)
+    k = len(lam)
+
+    def rhs(_, y):
+        xx, xy = y[:k], y[k:]
+        f = 1.0 + epsilon * lam / eta * xx
+        return np.concatenate([2.0 * rate * xy - f * xx / lam, (eta * rate - f * xy) / lam])
+
+    def jacobian(_, y):
+        xx, xy = y[:k], y[k:]
+        f = 1.0 + epsilon * lam / eta * xx
+        jac = np.zeros((2 * k, 2 * k))
+        idx = np.arange(k)
+        jac[idx, idx] = -(f + epsilon * lam / eta * xx) / lam
+        jac[idx, k + idx] = 2.0 * rate
+        jac[k + idx, idx] = -epsilon / eta * xy
+        jac[k + idx, k + idx] = -f / lam
+        return jac
+
+    solution = solve_ivp(rhs, (0.0, float(t.max())), np.zeros(2 * k), method="Radau", t_eval=t, rtol=rtol,
+                         atol=1e-14 * float(np.sum(eta)) * abs(rate) + 1e-300, jac=jacobian)
+    if not solution.success:
+        raise OrchestratorError(f"the start-up ODE failed: {solution.message}")
+    shear = solution.y[k:].sum(axis=0) + solvent_viscosity * rate * (t > 0)
+    normal = solution.y[:k].sum(axis=0)
+    peak = int(np.argmax(shear))
+    return PttStartup(time=t, shear_stress=shear, first_normal_stress_difference=normal,
+                      peak_shear_stress=float(shear[peak]), peak_time=float(t[peak]))

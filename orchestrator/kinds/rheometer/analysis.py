@@ -11,7 +11,7 @@ import numpy as np
 
 from orchestrator.kinds.rheometer.physics import sample_numerics
 from orchestrator.reference.maxwell import Mode, loss_modulus, storage_modulus
-from orchestrator.reference.viscoelastic_flows import ptt_steady_shear
+from orchestrator.reference.viscoelastic_flows import ptt_startup_shear, ptt_steady_shear
 from orchestrator.outputs import save_figure
 
 
@@ -33,6 +33,8 @@ QUANTITIES: dict[str, tuple[str, str]] = {
     "mode*_first_normal_stress_difference*": ("Pa", "one mode's N1 (measured, or *_expected: its closed form)"),
     "mode*_tau_yy_over_tau_xx": ("-", "one mode's |tau_yy| / |tau_xx|"),
     "velocity_profile": ("-", "relative error of the velocity profile against homogeneous shear"),
+    "startup_peak_shear_stress*": ("Pa", "steady shear: the start-up overshoot (measured, or *_expected: the ODE)"),
+    "startup_peak_time*": ("s", "steady shear: the time of the overshoot (measured, or *_expected: the ODE)"),
 }
 
 
@@ -65,6 +67,21 @@ def fit_moduli(t, tau, omega: float, amplitude: float, t_start: float, t_end: fl
     return {"storage_modulus": float(coef[0]), "loss_modulus": float(coef[1]), "offset": float(coef[2]),
             "drift": float(coef[3]), "fit_residual": float(np.sqrt(np.mean(residual**2)) / scale) if scale else math.inf,
             "fitted_records": float(len(t))}
+
+
+def startup_peak(t, tau, case) -> dict[str, float]:
+    """The start-up overshoot of a steady run: the largest recorded shear stress (Pa) and its time (s), with the
+    homogeneous PTT start-up integrated at the same record times (reference.viscoelastic_flows.ptt_startup_shear)
+    as startup_peak_shear_stress_expected; nothing when the run stopped before the expected peak."""
+    t, tau = np.asarray(t, dtype=float), np.asarray(tau, dtype=float)
+    exact = ptt_startup_shear(t, case.shear.shear_rate, case.material.modes, case.material.epsilon,
+                              case.material.solvent_viscosity)
+    if exact.peak_time >= t[-1]:
+        return {}
+    peak = int(np.argmax(tau))
+    return {"startup_peak_shear_stress": float(tau[peak]), "startup_peak_time": float(t[peak]),
+            "startup_peak_shear_stress_expected": exact.peak_shear_stress,
+            "startup_peak_time_expected": exact.peak_time}
 
 
 def _volume_mean(frame: dict, values: np.ndarray) -> np.ndarray:
@@ -119,7 +136,10 @@ def measure_rheometer(case, result) -> dict[str, float]:
         measured.update(maxwell_storage_modulus=float(g1), maxwell_loss_modulus=float(g2))
     else:
         late = t >= t[-1] - 0.1 * shear.duration
-        measured["shear_viscosity"] = float(np.mean(tau[late]) / shear.shear_rate)
+        # a Morris solvent is not in the recorded stress; in homogeneous shear it adds eta_s exactly
+        solvent = case.material.solvent_viscosity if sn.morris_viscosity > 0.0 else 0.0
+        measured["shear_viscosity"] = float(np.mean(tau[late]) / shear.shear_rate) + solvent
+        measured.update(startup_peak(t, tau + solvent * shear.shear_rate, case))
         if "first_normal_stress_difference" in series:
             measured["first_normal_stress_difference"] = float(np.mean(
                 np.asarray(series["first_normal_stress_difference"].values)[late]))

@@ -23,6 +23,7 @@ from pydantic import Field, model_validator
 
 from orchestrator.case.common import CaseMeta, Frozen, NonNegative, Positive
 from orchestrator.kinds.sph_flow.case_materials import EQUATIONS_OF_STATE, MAX_MODES, PttMode
+from orchestrator.reference.viscoelastic_flows import ptt_f_in_shear
 
 #: The comparisons a rheometer scene's [[expected]] rows can name, and the quantities each measures.
 CHECK_QUANTITIES = {
@@ -88,6 +89,11 @@ class RheometerMaterial(Frozen):
             x = omega * m.relaxation_time
             g += m.viscosity / m.relaxation_time * (x * x + 1j * x) / (1.0 + x * x)
         return g
+
+    def polymer_viscosity(self, shear_rate: float) -> float:
+        """sum eta_i / f_i of the modes in steady shear at shear_rate (1/s), Pa s (the closed form's)."""
+        return sum(m.viscosity / float(ptt_f_in_shear(m.relaxation_time * shear_rate, self.epsilon))
+                   for m in self.modes)
 
     @property
     def instantaneous_modulus(self) -> float:
@@ -162,6 +168,12 @@ class RheometerNumerics(Frozen):
                                              "over max(G_0, |G*|), - (physics.py: the lattice's stiffness against "
                                              "the tensor path's zero-energy mode)")
     threads: int = Field(1, ge=1, le=256, description="OpenMP threads of the engine")
+    subtract_mean_stress: bool = Field(True, description="steady shear: the momentum equation takes the extra "
+                                       "stress minus the sample's mean (physics.py: without it N1 above the rest "
+                                       "pressure puts the sample in tension)")
+    damping_viscosity_ratio: NonNegative = Field(0.01, le=1.0, description="steady shear: a Morris viscosity of "
+                                                 "this fraction of the modes' expected shear viscosity damps the "
+                                                 "row zig-zag mode (physics.py); not part of the measured stress, -")
 
 
 class RheometerExpected(Frozen):

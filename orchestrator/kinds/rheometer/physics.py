@@ -22,6 +22,16 @@ mode: rows of particles moving alternately +u and -u along x leave the kernel-co
 the stress, unchanged, and nothing in a PTT Lees-Edwards cell damps it. With P0 = 0 it grows from round-off and
 the UCM moduli of ucm_one_mode.toml come out 1.7 % off; a uniform pressure gives the particle lattice a shear
 stiffness of order P0 that holds the mode down (P0 = G_0: 0.1 %, 10 G_0: 0.01 %).
+
+Steady shear (docs/rheometry.md, "Steady shear"). The first normal stress difference grows as Wi^2 at small epsilon
+(N1 = 2 G Wi^2 / f^2) and passes the rest pressure: the sample's stress turns tensile along the flow and the lattice
+clumps (the tensile instability of SPH). A higher rest pressure does not help (a pressure of 30 G_0 or more stirs
+the sliding lattice), neither do a higher sound speed or a shorter step (measured). So a steady run (1) subtracts
+the sample's mean extra stress in the momentum equation (numerics.subtract_mean_stress: a uniform stress moves
+nothing in the periodic cell, the stress itself is unchanged) and (2) damps the row zig-zag mode with a Morris
+viscosity of numerics.damping_viscosity_ratio x the modes' expected shear viscosity sum eta_i / f_i (with the
+material's solvent viscosity it is the Morris term's; in homogeneous shear its stress is eta gamma_dot exactly,
+so the measured viscosity adds the material's solvent viscosity and leaves the damping out).
 """
 
 from __future__ import annotations
@@ -42,6 +52,8 @@ class SampleNumerics:
     shear_wave_speed: float
     edge_speed: float
     rest_pressure: float
+    morris_viscosity: float = 0.0
+    subtract_mean_stress: bool = False
 
 
 def sample_numerics(case) -> SampleNumerics:
@@ -58,12 +70,17 @@ def sample_numerics(case) -> SampleNumerics:
     h = sample.h_over_dx * sample.dx
     limits = {"cfl h / c0": numerics.cfl * h / c0,
               "relaxation": numerics.relaxation_factor * min(m.relaxation_time for m in material.modes)}
-    if material.solvent_viscosity > 0.0:
-        limits["viscous (solvent)"] = numerics.viscous_factor * h * h * rho / material.solvent_viscosity
+    morris = 0.0
+    if not shear.oscillatory and numerics.damping_viscosity_ratio > 0.0:
+        morris = material.solvent_viscosity + numerics.damping_viscosity_ratio * material.polymer_viscosity(omega)
+    viscous = max(morris, material.solvent_viscosity)
+    if viscous > 0.0:
+        limits["viscous (solvent)"] = numerics.viscous_factor * h * h * rho / viscous
     which = min(limits, key=limits.get)
     dt = limits[which]
     # a whole number of steps per record: the series then samples the cycles evenly
     record = period / numerics.samples_per_cycle if shear.oscillatory else shear.duration / 200.0
     dt = record / math.ceil(record / dt * (1.0 - 1e-12))
     rest = numerics.rest_pressure_ratio * max(material.instantaneous_modulus, modulus)
-    return SampleNumerics(rho, c0, dt, which, wave, edge, rest)
+    subtract = numerics.subtract_mean_stress and not shear.oscillatory
+    return SampleNumerics(rho, c0, dt, which, wave, edge, rest, morris, subtract)

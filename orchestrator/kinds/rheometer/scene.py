@@ -22,7 +22,7 @@ def flow_case(case: RheometerCase) -> SphFlowCase:
     d, size = sample.dimension, sample.size
     sn = sample_numerics(case)
     le = {"amplitude": shear.amplitude, "omega": shear.omega} if shear.oscillatory else \
-        {"shear_rate": shear.shear_rate}
+        {"shear_rate": shear.shear_rate, "subtract_mean_stress": sn.subtract_mean_stress}
     per = shear.time_scale
     duration = shear.duration_s
     series = per / numerics.samples_per_cycle if shear.oscillatory else duration / 200.0
@@ -35,9 +35,9 @@ def flow_case(case: RheometerCase) -> SphFlowCase:
         "materials": [{"name": MATERIAL, "model": "ptt", "density": sn.density, "sound_speed": sn.sound_speed,
                        "eos": material.eos, "background_pressure": _zero_pressure_shift(material.eos, sn) + sn.rest_pressure,
                        "epsilon": material.epsilon,
-                       "solvent_viscosity": material.solvent_viscosity,
+                       "solvent_viscosity": sn.morris_viscosity or material.solvent_viscosity,
                        "modes": [m.model_dump() for m in material.modes]}],
-        "physics": {"terms": []},
+        "physics": {"terms": ["morris_viscosity"] if sn.morris_viscosity > 0.0 else []},
         "blocks": [{"name": "sample", "kind": "fluid", "material": MATERIAL, "lo": [0.0] * d, "hi": [size] * d}],
         "lees_edwards": le,
         "numerics": {"dx": sample.dx, "h_over_dx": sample.h_over_dx, "dt": sn.dt, "threads": numerics.threads},

@@ -52,9 +52,10 @@ from pydantic import Field, field_validator
 
 from orchestrator.case.common import Frozen, Name, NonNegative, Positive
 from orchestrator.kinds.sph_flow.case_parts import Finite
+from orchestrator.kinds.sph_flow.case_solids import SolidMaterial, check_solid
 
 #: Material models of the sph executable (engines/sph/src/material_models.h).
-MATERIAL_MODELS = ("newtonian", "ptt")
+MATERIAL_MODELS = ("newtonian", "ptt", "johnson_cook")
 
 #: Equations of state of the sph executable: Tait (Canini et al. eq. 6) and Nutto et al.'s quadratic p = c0^2 rho^2/(2 rho0).
 EQUATIONS_OF_STATE = ("tait", "quadratic")
@@ -82,7 +83,7 @@ class Material(Frozen):
     a (Morris) viscosity."""
 
     name: Name = Field(description="identifier, named by blocks[].material")
-    model: str = Field(description="constitutive model: newtonian or ptt")
+    model: str = Field(description="constitutive model: newtonian, ptt or johnson_cook (a solid, case_solids.py)")
     density: Positive = Field(description="reference density rho0, kg/m^3")
     viscosity: Positive | None = Field(
         None, description="kinematic viscosity nu, m^2/s; given exactly when physics.terms has morris_viscosity"
@@ -98,6 +99,8 @@ class Material(Frozen):
     epsilon: NonNegative | None = Field(None, description="ptt: extensibility parameter epsilon of f_i, - (0: "
                                                           "Oldroyd-B / UCM; default 0)")
     solvent_viscosity: NonNegative | None = Field(None, description="ptt: solvent viscosity eta_s, Pa s (default 0)")
+    solid: SolidMaterial | None = Field(None, description="johnson_cook: the [materials.solid] table (elasticity, "
+                                                          "equation of state, strength, heat, failure)")
 
     @field_validator("eos")
     @classmethod
@@ -130,9 +133,12 @@ class RunMaterial:
     modes: tuple[tuple[float, float], ...] = ()
     epsilon: float = 0.0
     solvent_viscosity: float = 0.0
+    solid: dict | None = None  # johnson_cook: its deck keys (case_solids.SolidMaterial.deck); c0 is its wave speed
 
     def deck(self) -> dict:
         """The material as the deck's JSON object (engines/sph/README.md, `materials`), SI units."""
+        if self.solid is not None:
+            return {"name": self.name, "model": self.model, "rho0": float(self.rho0), **self.solid}
         item = {"name": self.name, "model": self.model, "rho0": float(self.rho0), "c0": float(self.c0)}
         if self.eos != "tait":
             item["eos"] = self.eos
@@ -158,10 +164,17 @@ def run_materials(case) -> tuple[RunMaterial, ...]:
         f = case.fluid
         return (RunMaterial("fluid", "newtonian", f.density, f.c0, f.gamma, f.background_pressure, f.viscosity),)
     speed = 10.0 * case.fluid.max_speed
-    return tuple(RunMaterial(m.name, m.model, m.density, m.sound_speed if m.sound_speed is not None else speed,
-                             m.gamma, m.background_pressure, m.viscosity, m.eos,
-                             tuple((mode.relaxation_time, mode.viscosity) for mode in m.modes),
-                             m.epsilon or 0.0, m.solvent_viscosity or 0.0) for m in case.materials)
+    return tuple(RunMaterial(m.name, m.model, m.density, _sound_speed(m, speed), m.gamma, m.background_pressure,
+                             m.viscosity, m.eos, tuple((mode.relaxation_time, mode.viscosity) for mode in m.modes),
+                             m.epsilon or 0.0, m.solvent_viscosity or 0.0,
+                             None if m.solid is None else m.solid.deck()) for m in case.materials)
+
+
+def _sound_speed(m: Material, default: float) -> float:
+    """c0 of a material, m/s: a solid's wave speed, a fluid's sound_speed or the default 10 max_speed."""
+    if m.solid is not None:
+        return m.solid.wave_speed(m.density)
+    return m.sound_speed if m.sound_speed is not None else default
 
 
 def largest_c0_and_viscosity(materials) -> tuple[float, float | None]:
@@ -205,6 +218,12 @@ def check_materials(case) -> None:
             raise ValueError(f"materials[{i}].name = {m.name!r} is used twice; names must be unique")
         names.add(m.name)
         model = getattr(m, "model", "newtonian")
+        if model == "johnson_cook":
+            check_solid(case, i, m)
+            continue
+        if m.solid is not None:
+            raise ValueError(f"materials[{i}].solid ({m.name}) is the table of a johnson_cook material; this one "
+                             f"is {model}: remove it or set model = \"johnson_cook\"")
         given = [key for key in PTT_KEYS if getattr(m, key, None) not in (None, ())]
         if model == "ptt":
             _check_ptt(case, i, m)
@@ -247,9 +266,6 @@ def _check_ptt(case, i: int, m: Material) -> None:
         if not (m.solvent_viscosity or 0.0) > 0.0:
             raise ValueError(f"{where}.solvent_viscosity ({m.name}) must be > 0 with 'morris_viscosity' in "
                              "physics.terms: the Morris term carries a ptt material's solvent viscosity")
-        if case.lees_edwards is not None:
-            raise ValueError(f"{where} ({m.name}) is a ptt material in a lees_edwards cell: the sph executable "
-                             "runs it without 'morris_viscosity' (its solvent_viscosity is the viscous part)")
         if len(case.materials) > 1:
             raise ValueError(f"{where} ({m.name}): 'morris_viscosity' with a ptt material needs it to be the only "
                              "[[materials]] table; the sph executable compiles PTT with the Morris term for one "

@@ -26,6 +26,9 @@ class LeesEdwards(Frozen):
     shear_rate: Finite | None = Field(None, description="steady shear rate gamma_dot, 1/s")
     amplitude: Finite | None = Field(None, description="strain amplitude gamma_A of gamma_A sin(omega t), -")
     omega: Positive | None = Field(None, description="angular frequency omega of the oscillation, rad/s")
+    subtract_mean_stress: bool = Field(False, description="the momentum equation takes the extra stress minus the "
+                                       "cell's volume mean (a uniform stress moves nothing in the periodic cell; "
+                                       "engines/sph/README.md)")
 
     @model_validator(mode="after")
     def _steady_or_oscillatory(self):
@@ -45,9 +48,9 @@ class LeesEdwards(Frozen):
 
     def deck(self) -> dict:
         """The deck's lees_edwards object."""
-        if self.shear_rate is not None:
-            return {"shear_rate": float(self.shear_rate)}
-        return {"amplitude": float(self.amplitude), "omega": float(self.omega)}
+        deck = {"shear_rate": float(self.shear_rate)} if self.shear_rate is not None else \
+            {"amplitude": float(self.amplitude), "omega": float(self.omega)}
+        return {**deck, "subtract_mean_stress": True} if self.subtract_mean_stress else deck
 
 
 def check_lees_edwards(case) -> None:

@@ -20,6 +20,7 @@ from orchestrator.engines import get_engine
 from orchestrator.errors import EngineNotFound, OrchestratorError
 from orchestrator.kinds.base import Command
 from orchestrator.kinds.rheometer.analysis import maxwell_moduli
+from orchestrator.kinds.rheometer.commands import rheometry_steady as steady
 from orchestrator.kinds.rheometer.physics import sample_numerics
 from orchestrator.plots import save_pyplot_figure
 from orchestrator.run import checked_scene, run_case
@@ -56,8 +57,8 @@ def frequencies_of(case_file: Path, frequencies=None, overrides=()) -> list[floa
     if model.case.kind != "rheometer":
         raise OrchestratorError(f"{case_file}: case.kind = {model.case.kind!r}; rheometry runs rheometer cases")
     if not model.shear.oscillatory:
-        raise OrchestratorError(f"{case_file}: shear is steady (shear_rate); rheometry sweeps an oscillatory shear "
-                                "(shear.amplitude and shear.omega)")
+        raise OrchestratorError(f"{case_file}: shear is steady (shear_rate); a frequency sweep needs an oscillatory "
+                                "shear (shear.amplitude and shear.omega); give --shear-rates for a steady sweep")
     if frequencies:
         values = [float(w) for w in frequencies]
     elif model.sweep is not None:
@@ -187,6 +188,11 @@ def add_arguments(p) -> None:
     p.add_argument("case", type=Path, help="a rheometer case file (e.g. cases/rheometry/mf20_table3.toml)")
     p.add_argument("--frequencies", type=float, nargs="+", metavar="OMEGA",
                    help="angular frequencies, rad/s (default: the case's [sweep] frequencies, else shear.omega)")
+    p.add_argument("--shear-rates", type=float, nargs="+", metavar="RATE",
+                   help="steady mode: shear rates, 1/s; eta and N1 against the PTT closed form, the start-up "
+                        "overshoot against the ODE (flow_curve.png)")
+    p.add_argument("--relaxation-times", type=float, default=10.0, metavar="K",
+                   help="steady mode: each run lasts K x the longest lambda_i / f_i at its rate (default 10)")
     p.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE",
                    help="override a case value at every frequency, SI units, e.g. --set numerics.quasi_static=40")
     p.add_argument("--out", metavar="DIR", help="run directories and the PNG (default: runs/rheometry-<time>)")
@@ -199,6 +205,8 @@ def add_arguments(p) -> None:
 def cmd_rheometry(args) -> int:
     """Run the sweep, print its table (or JSON), write rheometry.png; exit 1 when a point failed."""
     check_options(args)
+    if args.shear_rates:
+        return _steady(args)
 
     def done(point, count, total):
         print(f"rheometry: {count}/{total} omega = {point.omega:g} rad/s: {point.status}", file=sys.stderr,
@@ -217,8 +225,31 @@ def cmd_rheometry(args) -> int:
     return 0 if all(p.status == "ok" for p in points) else 1
 
 
+def _steady(args) -> int:
+    """The steady mode: the flow curve's table (or JSON) and flow_curve.png; exit 1 when a point failed."""
+    if args.frequencies:
+        raise OrchestratorError("--shear-rates and --frequencies: give one (a steady or an oscillatory sweep)")
+
+    def done(point, count, total):
+        print(f"rheometry: {count}/{total} rate = {point.shear_rate:g} 1/s: {point.status}", file=sys.stderr,
+              flush=True)
+
+    folder, points, wall = steady.run_rate_sweep(args.case, args.shear_rates, args.out, args.overrides,
+                                                 args.workers, args.timeout, done, args.relaxation_times)
+    png = steady.plot_flow_curve(args.case, points, folder / "flow_curve.png", args.overrides)
+    if args.json:
+        print(json.dumps(json_sweep(points, wall)))
+    else:
+        print(steady.format_flow_curve(points))
+        print(f"sweep: {len(points)} shear rates in {wall:.1f} s of wall time")
+        print(f"figure       {png}")
+        print(f"runs         {folder}")
+    return 0 if all(p.status == "ok" for p in points) else 1
+
+
 COMMAND = Command(
-    help="frequency sweep of the numerical rheometer: G'(omega), G''(omega) against Maxwell",
+    help="frequency sweep of the numerical rheometer: G'(omega), G''(omega) against Maxwell; or, with "
+         "--shear-rates, the steady flow curve eta, N1 against PTT",
     description="Run a rheometer case (kind rheometer: a Lees-Edwards SPH sample of a multi-mode PTT fluid in "
         "oscillatory shear gamma_A sin(omega t); Nutto et al.) at each angular frequency, in parallel on "
         "the sph executable; fit eq. 17, tau = G' gamma_A sin(omega t) + G'' gamma_A cos(omega t), over the cycles "
