@@ -3,6 +3,7 @@ meshes from run.h5 groups."""
 
 from __future__ import annotations
 
+import io
 import os
 from pathlib import Path
 
@@ -187,3 +188,30 @@ def plain_log_ticks(axis) -> None:
 
     axis.set_major_formatter(PlainLogFormatter(labelOnlyBase=False, minor_thresholds=(1, 0.4)))
     axis.set_minor_formatter(PlainLogFormatter(labelOnlyBase=False, minor_thresholds=(1, 0.4)))
+
+
+# ---------------------------------------------------------------- pages
+
+def figure_png(fig) -> bytes:
+    """A matplotlib figure as PNG bytes at its own dpi (for pages that embed their pictures)."""
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format="png", dpi="figure")
+    return buffer.getvalue()
+
+
+def number_or_nan(value) -> float:
+    """float(value), or NaN for a value that is not a number (an empty CSV cell, None)."""
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        return float("nan")
+
+
+def parameter_label(row: dict, keys: list[str] | None = None, short: bool = True) -> str:
+    """'name = value, ...' of a study row's parameters (its 'param:' columns, or only keys when given), each name
+    shortened to its last part when short and that stays unique (numerics.stiffness_scale -> stiffness_scale)."""
+    keys = keys if keys is not None else [k for k in row if k.startswith("param:")]
+    names = [k.removeprefix("param:") for k in keys]
+    last = [n.rsplit(".", 1)[-1] for n in names]
+    names = last if short and len(set(last)) == len(last) else names
+    return ", ".join(f"{name} = {row.get(k)}" for name, k in zip(names, keys))

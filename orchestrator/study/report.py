@@ -5,7 +5,6 @@ table, wall time against error with the Pareto front marked, and the sections th
 from __future__ import annotations
 
 import base64
-import io
 import itertools
 import json
 import math
@@ -16,7 +15,7 @@ from orchestrator import __version__
 from orchestrator.case.common import MAX_MAGNITUDE
 from orchestrator.errors import OrchestratorError
 from orchestrator.kinds import get_kind
-from orchestrator.plots import place_point_labels, plain_log_ticks
+from orchestrator.plots import figure_png, number_or_nan, parameter_label, place_point_labels, plain_log_ticks
 from orchestrator.study.core import INDEX_NAME, STUDY_INFO, read_index_rows
 from orchestrator.templating import render
 
@@ -101,16 +100,16 @@ def write_study_report(study_dir, quantity: str = "fn_mean", reference: str = "f
     out = Path(path) if path is not None else study_dir / "report.html"
     rows = [{**r, "run_dir": str(_run_dir(study_dir, r))} for r in read_index_rows(study_dir)]
     number = {id(r): n for n, r in enumerate(rows, 1)}
-    ok = [r for r in rows if r.get("status") == "ok" and math.isfinite(_float(r.get(quantity)))
-          and _float(r.get("wall_time_s")) > 0]
+    ok = [r for r in rows if r.get("status") == "ok" and math.isfinite(number_or_nan(r.get(quantity)))
+          and number_or_nan(r.get("wall_time_s")) > 0]
     if not ok:
         raise OrchestratorError(f"{study_dir}: no finished run has the quantity {quantity!r}")
     ref_row, ref_value, reference_label = _reference(ok, quantity, reference)
-    walls = [_float(r["wall_time_s"]) for r in ok]
-    errors = relative_errors([_float(r[quantity]) for r in ok], ref_value)
+    walls = [number_or_nan(r["wall_time_s"]) for r in ok]
+    errors = relative_errors([number_or_nan(r[quantity]) for r in ok], ref_value)
     front = pareto_front(walls, errors)
     varied = [k for k in rows[0] if k.startswith("param:") and len({r.get(k) for r in rows}) > 1]
-    figure = speed_error_figure(walls, errors, front, [_label(r, varied) for r in ok],
+    figure = speed_error_figure(walls, errors, front, [parameter_label(r, varied) for r in ok],
                                 [f"#{number[id(r)]}" for r in ok], quantity, tolerance)
     info = _study_info(study_dir)
     pictures, pictures_note = _kind_pictures(info.get("kind") or _kind_of_runs(ok), rows, quantity, ref_row,
@@ -120,7 +119,7 @@ def write_study_report(study_dir, quantity: str = "fn_mean", reference: str = "f
         "reference_label": reference_label, "version": __version__,
         "index_path": _relative(study_dir / INDEX_NAME, out.parent),
         "recommendation": _recommendation(ok, walls, errors, ref_row, varied, quantity, tolerance, number),
-        "pareto_png": _png(figure), "header": ["#"] + _table_header(rows, quantity),
+        "pareto_png": base64.b64encode(figure_png(figure)).decode(), "header": ["#"] + _table_header(rows, quantity),
         "table": _table(rows, ok, errors, front, quantity), "description": info.get("description", ""),
         "exact_note": _exact_note(ok, errors, number), "pictures": pictures, "pictures_note": pictures_note,
     })
@@ -136,14 +135,14 @@ def _reference(ok: list[dict], quantity: str, reference: str) -> tuple[dict | No
         ref_value, label = float(reference), f"the value {reference}"
     except ValueError:
         if reference == "finest":
-            ref_row = min(ok, key=lambda r: (_float(r.get("dt")), -_float(r.get("wall_time_s"))))
+            ref_row = min(ok, key=lambda r: (number_or_nan(r.get("dt")), -number_or_nan(r.get("wall_time_s"))))
         else:
             matches = [r for r in ok if r["run_id"].startswith(reference)]
             if not matches:
                 raise OrchestratorError(f"no finished run's id starts with {reference!r}; use 'finest', an id or a "
                                         "number") from None
             ref_row = matches[0]
-        ref_value = _float(ref_row[quantity])
+        ref_value = number_or_nan(ref_row[quantity])
         label = f"run {ref_row['run_id'][:12]} ({quantity} = {ref_value:.4g})"
     if not (math.isfinite(ref_value) and 1.0 / MAX_MAGNITUDE <= abs(ref_value) <= MAX_MAGNITUDE):
         raise OrchestratorError(f"--reference {reference}: the reference {quantity} is {ref_value:g}; relative errors "
@@ -158,12 +157,12 @@ def _recommendation(ok, walls, errors, ref_row, varied, quantity, tolerance, num
     if not candidates:
         return f"no run other than the reference is within {100 * tolerance:g} % of it"
     wall, err, best = min(candidates, key=lambda item: item[0])
-    text = (f"#{number[id(best)]}, {_label(best, varied or None, short=False)} on {best['engine']}: {quantity} within "
-            f"{100 * tolerance:g} % of the reference ({100 * err:.1f} %) in {wall:.1f} s")
+    text = (f"#{number[id(best)]}, {parameter_label(best, varied or None, short=False)} on {best['engine']}: "
+            f"{quantity} within {100 * tolerance:g} % of the reference ({100 * err:.1f} %) in {wall:.1f} s")
     if ref_row is not None:
-        speed_up = _float(ref_row["wall_time_s"]) / wall
+        speed_up = number_or_nan(ref_row["wall_time_s"]) / wall
         text += (f", {speed_up:.0f} x faster than the reference run" if speed_up >= 1.5 else
-                 f" (the reference run took {_float(ref_row['wall_time_s']):.1f} s)")
+                 f" (the reference run took {number_or_nan(ref_row['wall_time_s']):.1f} s)")
     return text
 
 
@@ -190,8 +189,8 @@ def _table(rows: list[dict], ok: list[dict], errors: list[float], front: list[bo
     for n, r in enumerate(rows, 1):
         err, on_front = by_id.get(id(r), (math.nan, False))
         cells = [f"#{n}"] + [r.get(p, "") for p in params] + [
-            r.get("engine", ""), r.get("status", ""), f"{_float(r.get('wall_time_s')):.1f}",
-            f"{_float(r.get(quantity)):.4g}", "" if math.isnan(err) else f"{err:.3g}", r["run_id"][:12]]
+            r.get("engine", ""), r.get("status", ""), f"{number_or_nan(r.get('wall_time_s')):.1f}",
+            f"{number_or_nan(r.get(quantity)):.4g}", "" if math.isnan(err) else f"{err:.3g}", r["run_id"][:12]]
         table.append({"cells": cells, "pareto": on_front})
     return table
 
@@ -245,26 +244,3 @@ def _relative(path: Path, start: Path) -> str:
         return Path(os.path.relpath(path.resolve(), start.resolve())).as_posix()
     except ValueError:  # another drive
         return path.name
-
-
-def _label(row: dict, keys: list[str] | None, short: bool = True) -> str:
-    """'key = value, ...' of a row's parameters (only those in keys when given), keys shortened to their last
-    part when short and that stays unique (numerics.stiffness_scale -> stiffness_scale)."""
-    keys = keys if keys is not None else [k for k in row if k.startswith("param:")]
-    names = [k.removeprefix("param:") for k in keys]
-    last = [n.rsplit(".", 1)[-1] for n in names]
-    names = last if short and len(set(last)) == len(last) else names
-    return ", ".join(f"{name} = {row.get(k)}" for name, k in zip(names, keys))
-
-
-def _float(value) -> float:
-    try:
-        return float(value)
-    except (TypeError, ValueError):
-        return math.nan
-
-
-def _png(fig) -> str:
-    buffer = io.BytesIO()
-    fig.savefig(buffer, format="png", dpi="figure")
-    return base64.b64encode(buffer.getvalue()).decode()

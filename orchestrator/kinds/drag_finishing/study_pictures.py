@@ -3,14 +3,13 @@ noise can resolve) and each finished run's force plot (Kind.study_pictures)."""
 
 from __future__ import annotations
 
-import io
 import math
 import tempfile
 from pathlib import Path
 
 from orchestrator.errors import ReadError
 from orchestrator.kinds.drag_finishing.plots import plot_drag_finishing_forces
-from orchestrator.plots import place_point_labels, plain_log_ticks
+from orchestrator.plots import figure_png, number_or_nan, parameter_label, place_point_labels, plain_log_ticks
 from orchestrator.runh5 import read_run, stored_case
 
 #: Quantities plotted against wall time when the index has them: (column, its error column, label with units).
@@ -41,7 +40,7 @@ def drag_finishing_study_pictures(rows: list[dict], quantity: str, reference: di
         note = "Error bars: standard error of the mean by block averaging, where the run has it."
         noise = noise_note(reference, quantity, tolerance)
         sections.append({"title": "Measured quantities against wall time", "note": f"{note} {noise}".strip(),
-                         "png": _png(figure)})
+                         "png": figure_png(figure)})
     return sections + run_force_plots(rows)
 
 
@@ -51,18 +50,19 @@ def quantities_figure(rows: list[dict]):
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    numbered = [(n, r) for n, r in enumerate(rows, 1) if r.get("status") == "ok" and _float(r.get("wall_time_s")) > 0]
-    present = [q for q in TRADE_OFF_QUANTITIES if any(math.isfinite(_float(r.get(q[0]))) for _, r in numbered)]
+    numbered = [(n, r) for n, r in enumerate(rows, 1)
+                if r.get("status") == "ok" and number_or_nan(r.get("wall_time_s")) > 0]
+    present = [q for q in TRADE_OFF_QUANTITIES if any(math.isfinite(number_or_nan(r.get(q[0]))) for _, r in numbered)]
     if not present:
         return None
     fig = Figure(figsize=(7, 2.6 * len(present)), dpi=DPI, layout="constrained")
     FigureCanvasAgg(fig)
     axes = fig.subplots(len(present), 1, sharex=True, squeeze=False)[:, 0]
-    walls = [_float(r["wall_time_s"]) for _, r in numbered]
+    walls = [number_or_nan(r["wall_time_s"]) for _, r in numbered]
     varied = _varied(rows)
     for ax, (column, error_column, label) in zip(axes, present):
-        values = [_float(r.get(column)) for _, r in numbered]
-        errors = [_float(r.get(error_column)) if error_column else 0.0 for _, r in numbered]
+        values = [number_or_nan(r.get(column)) for _, r in numbered]
+        errors = [number_or_nan(r.get(error_column)) if error_column else 0.0 for _, r in numbered]
         ax.errorbar(walls, values, yerr=[e if math.isfinite(e) else 0.0 for e in errors], fmt="o", capsize=3)
         ax.set_ylabel(label, fontsize=8)
         ax.set_xscale("log")
@@ -70,9 +70,9 @@ def quantities_figure(rows: list[dict]):
         plain_log_ticks(ax.xaxis)
     axes[-1].set_xlabel("wall time [s]")
     for ax, (column, error_column, _) in zip(axes, present):
-        values = [_float(r.get(column)) for _, r in numbered]
-        errors = [_float(r.get(error_column)) if error_column else 0.0 for _, r in numbered]
-        place_point_labels(ax, walls, values, [_label(r, varied) for _, r in numbered],
+        values = [number_or_nan(r.get(column)) for _, r in numbered]
+        errors = [number_or_nan(r.get(error_column)) if error_column else 0.0 for _, r in numbered]
+        place_point_labels(ax, walls, values, [parameter_label(r, varied) for _, r in numbered],
                            [f"#{n}" for n, _ in numbered], yerr=errors)
     return fig
 
@@ -80,9 +80,9 @@ def quantities_figure(rows: list[dict]):
 def noise_note(reference: dict | None, quantity: str, tolerance: float) -> str:
     """How the reference's own statistical error of the mean F_n compares with the tolerance ('' unless the
     compared quantity is fn_mean and the reference run has its standard error)."""
-    if reference is None or quantity != "fn_mean" or not math.isfinite(_float(reference.get("fn_sem"))):
+    if reference is None or quantity != "fn_mean" or not math.isfinite(number_or_nan(reference.get("fn_sem"))):
         return ""
-    sem, value = _float(reference["fn_sem"]), _float(reference["fn_mean"])
+    sem, value = number_or_nan(reference["fn_sem"]), number_or_nan(reference["fn_mean"])
     rel = abs(sem / value)
     # the difference of two runs' means has about sqrt(2) times one run's error; two of those is what resolves
     resolvable = 2 * math.sqrt(2) * rel
@@ -124,25 +124,3 @@ def run_force_plots(rows: list[dict]) -> list[dict]:
 def _varied(rows: list[dict]) -> list[str]:
     """The index's parameter columns whose value differs between rows."""
     return [k for k in (rows[0] if rows else {}) if k.startswith("param:") and len({r.get(k) for r in rows}) > 1]
-
-
-def _label(row: dict, keys: list[str]) -> str:
-    """'name = value, ...' of a row's parameters in keys, each name shortened to its last part when that stays
-    unique (numerics.stiffness_scale -> stiffness_scale)."""
-    names = [k.removeprefix("param:") for k in keys]
-    short = [n.rsplit(".", 1)[-1] for n in names]
-    names = short if len(set(short)) == len(short) else names
-    return ", ".join(f"{name} = {row.get(k)}" for name, k in zip(names, keys))
-
-
-def _float(value) -> float:
-    try:
-        return float(value)
-    except (TypeError, ValueError):
-        return math.nan
-
-
-def _png(fig) -> bytes:
-    buffer = io.BytesIO()
-    fig.savefig(buffer, format="png", dpi="figure")
-    return buffer.getvalue()
