@@ -47,4 +47,15 @@ Mat<D> mean_extra_stress(const Particles<D>& P) {
   return volume > 0.0 ? Mat<D>(sum / volume) : sum;
 }
 
+// tau_B, Pa, of a Lees-Edwards cell that subtracts its mean stress (`on`): the volume mean of the fluid's extra
+// stress at the start of the step (one serial sum in particle order: the same for any thread count); else zero.
+// A uniform stress exerts no force in a periodic cell, but eq. T1 turns one into forces wherever the kernel
+// gradient sums do not vanish (the sliding images), and a first normal stress difference above the rest pressure
+// puts the sample in tension (the tensile instability): the momentum equation then carries only the stress's
+// departures from the mean; the stress itself (its rates, the records) is unchanged.
+template <class Models, int D>
+Mat<D> background_stress(const Particles<D>& P, bool on) {
+  return on ? mean_extra_stress<Models>(P) : Mat<D>::Zero();
+}
+
 }  // namespace sph

@@ -133,8 +133,7 @@ class Simulation {
   // Rates of every particle at the current x, v, rho (the Verlet list must hold them): the gather
   // and close_rates stages in one parallel region, then the per-body reduction.
   void compute_rates() {
-    update_background_stress();
-    rates_ready_ = true;
+    rates_ready_ = true, background_stress_ = background_stress<Models>(P_, sheared && deck_.lees_edwards.subtract_mean_stress);
     maxima_.valid = false;  // acc changes
     if (list_stale_) build_list();
     ++times_.evaluations;
@@ -279,8 +278,7 @@ class Simulation {
   // False if the predicted particles spread over too many cells (blow-up).
   template <class Crossed>
   bool step(double dt, Crossed&& crossed) {
-    ensure_rates();
-    update_background_stress();
+    ensure_rates(), background_stress_ = background_stress<Models>(P_, sheared && deck_.lees_edwards.subtract_mean_stress);
     const double half = 0.5 * dt;
     const std::ptrdiff_t n = P_.size();
     const bool check = !list_stale_;  // x_build_ and the list match the particles
@@ -336,16 +334,6 @@ class Simulation {
   double max_density_deviation() const { return sph::max_density_deviation(P_, materials_); }
 
  private:
-  // A Lees-Edwards cell that subtracts its mean stress: tau_B = the volume mean of the fluid's extra stress at
-  // the start of the step (one serial sum in particle order: the same for any thread count). A uniform stress
-  // exerts no force in a periodic cell, but eq. T1 turns one into forces wherever the kernel gradient sums do not
-  // vanish (the sliding images), and a first normal stress difference above the rest pressure puts the sample in
-  // tension (the tensile instability): the momentum equation then carries only the stress's departures from the
-  // mean, the stress itself (its rates, the records) is unchanged.
-  void update_background_stress() {
-    if constexpr (tensor && sheared)
-      if (deck_.lees_edwards.subtract_mean_stress) background_stress_ = mean_extra_stress();
-  }
   // The maxima of the current state: the corrector's, or taken now.
   const StepMaxima& maxima() {
     if (!maxima_.valid) maxima_ = sweep_maxima(P_, materials_, [](std::ptrdiff_t) {});
@@ -403,7 +391,7 @@ class Simulation {
   double skin_ = 0.0;
   double last_moved_ = 0.0, last_allowed_ = 1.0;  // m: the last step's largest displacement since the build, its bound
   double time_ = 0.0;  // s
-  Mat<D> background_stress_ = Mat<D>::Zero();  // Pa, tau_B of eq. T1 (update_background_stress)
+  Mat<D> background_stress_ = Mat<D>::Zero();  // Pa, tau_B of eq. T1 (extra_stress.h)
   bool list_stale_ = true;  // the list must be rebuilt before the next evaluation
   StageTimes times_;
   Smagorinsky smagorinsky_;  // eq. SM1 (eddy only)
