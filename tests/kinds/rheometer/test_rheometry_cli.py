@@ -2,15 +2,15 @@
 one UCM mode against Maxwell, the figure, and the moduli unchanged when the quasi-static criterion is tightened."""
 
 import json
-from pathlib import Path
 
 import pytest
 
 from orchestrator.cli import main
 from orchestrator.errors import OrchestratorError
 from orchestrator.kinds.rheometer.commands.rheometry import frequencies_of, run_point
+from paths import REPO
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = REPO
 UCM = ROOT / "cases" / "rheometry" / "ucm_one_mode.toml"
 MF20 = ROOT / "cases" / "rheometry" / "mf20_table3.toml"
 

@@ -17,13 +17,14 @@ import numpy as np
 import pytest
 
 from orchestrator.reference import sph_ptt as ref
+from paths import REPO
 
 STEPS = 20
 DT = 2e-3  # s
 TOLERANCE = 1e-9
 N = 8  # particles per side
 LENGTH = 1.0  # m, box side
-EXECUTABLE = Path(os.environ.get("ORCHESTRATOR_SPH") or Path(__file__).parents[1] / "engines/sph/build/sph")
+EXECUTABLE = Path(os.environ.get("ORCHESTRATOR_SPH") or REPO / "engines/sph/build/sph")
 
 
 def _scene(subtract_mean_stress: bool = False) -> tuple[ref.PttState, ref.PttFluid]:

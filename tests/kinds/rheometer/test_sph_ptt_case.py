@@ -2,7 +2,6 @@
 sph adapter writes, and (with the executable) the shear-stress, N1 and strain series and mode stresses in run.h5."""
 
 import json
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -13,8 +12,9 @@ from orchestrator.kinds import build_scene
 from orchestrator.kinds.sph_flow.sph import deck_context
 from orchestrator.run import run_case
 from orchestrator.runh5 import read_run
+from paths import DATA
 
-CELL = Path(__file__).resolve().parent / "data" / "sph_ptt_shear_cell.toml"
+CELL = DATA / "sph_ptt_shear_cell.toml"
 
 
 def test_ptt_material_and_lees_edwards_reach_the_deck():

@@ -2,7 +2,6 @@
 stresses, the sample's lattice, and (with the executable) one UCM mode against Maxwell's G', G''."""
 
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -14,8 +13,9 @@ from orchestrator.kinds.rheometer.analysis import fit_moduli, maxwell_moduli
 from orchestrator.kinds.rheometer.physics import sample_numerics
 from orchestrator.kinds.rheometer.scene import hexagonal_lattice
 from orchestrator.run import run_case
+from paths import REPO
 
-CASES = Path(__file__).resolve().parent.parent / "cases" / "rheometry"
+CASES = REPO / "cases" / "rheometry"
 UCM = CASES / "ucm_one_mode.toml"
 
 

@@ -4,7 +4,6 @@ epsilon = 0.01 — unstable within one relaxation time before the cure — follo
 overshoot."""
 
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -16,8 +15,9 @@ from orchestrator.kinds.rheometer.commands.rheometry_steady import rates_of, ste
 from orchestrator.kinds.rheometer.physics import sample_numerics
 from orchestrator.reference.viscoelastic_flows import ptt_f_in_shear, ptt_startup_shear
 from orchestrator.run import run_case
+from paths import REPO
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = REPO
 UCM = ROOT / "cases" / "rheometry" / "ucm_one_mode.toml"
 STEADY = ["shear={shear_rate=5.0, duration=4.0}", "material.epsilon=0.01"]
 
