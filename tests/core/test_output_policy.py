@@ -329,3 +329,25 @@ def test_pool_workers_stop_quietly_on_a_signal(tmp_path, sig):
     out, err = proc.communicate(timeout=120)
     assert proc.returncode == 128 + sig, err
     assert "Traceback" not in err and err.count("error:") == 1, err
+
+
+@pytest.mark.sph
+def test_resume_of_a_truncated_output_is_an_unreadable_output(capsys, tiny_run, tmp_path):
+    import shutil
+
+    run = tmp_path / "run"
+    shutil.copytree(tiny_run, run)
+    data = (run / "out.h5").read_bytes()
+    (run / "out.h5").write_bytes(data[: len(data) // 2])
+    err = refused(capsys, ["run", "--resume", str(run), "--until", "0.04"], code=6)
+    assert "truncated" in err and (run / "out.h5").stat().st_size == len(data) // 2
+
+
+@pytest.mark.sph
+def test_building_a_scene_counts_against_the_timeout(capsys, tmp_path):
+    drill = CASES / "ejector_drill_canini.toml"
+    start = time.monotonic()
+    err = refused(capsys, ["run", str(drill), "--preset", "flow_exit_quick", "--set", "scene.inlet_distance=10",
+                           "--timeout", "2", "--out", str(tmp_path / "r")], code=5)
+    assert "building the scene" in err and time.monotonic() - start < 60
+    assert not (tmp_path / "r").exists()
