@@ -21,6 +21,7 @@ namespace sph {
 
 template <class Models, unsigned Terms>
 struct Configuration {
+  static_assert(!Models::any_solid || Models::all_solid, "a configuration of solids holds solids only");
   using models = Models;
   static constexpr unsigned terms = Terms;
 };
@@ -28,6 +29,7 @@ struct Configuration {
 namespace config {
 using N = ModelList<Newtonian>;
 using P = ModelList<Ptt>;
+using J = ModelList<JohnsonCook>;
 constexpr unsigned morris = term::morris_viscosity, av = term::artificial_viscosity, several = term::several_materials;
 constexpr unsigned sheared = term::sheared;  // Lees-Edwards boundaries (the deck's `lees_edwards`)
 constexpr unsigned corrected = term::viscosity_correction;  // the deck's `viscosity_correction`
@@ -50,6 +52,9 @@ using Configurations = std::tuple<                           //
     Configuration<config::P, config::av>,                                     //   with artificial viscosity
     Configuration<config::P, config::sheared>,                                // PTT Lees-Edwards cell (rheometer)
     Configuration<config::P, config::morris | config::sheared>,               //   with a Morris solvent (steady shear)
-    Configuration<config::P, config::morris>>;  // PTT whose solvent viscosity is the Morris term (walled channels)
+    Configuration<config::P, config::morris>,   // PTT whose solvent viscosity is the Morris term (walled channels)
+    Configuration<config::J, 0>,                // Johnson-Cook solid (artificial stress: a material key)
+    Configuration<config::J, config::av>,       //   with artificial viscosity (shocks, impacts)
+    Configuration<config::J, config::sheared>>;  //   in a Lees-Edwards cell (homogeneous simple shear)
 
 }  // namespace sph

@@ -29,19 +29,24 @@ void close_constitutive_rates(Particles<D>& P, const MaterialTable& materials, s
     if constexpr (stress_modes_v<Model> > 0) {
       Model::mode_rates(mat, L, P.mode_stress.value[a], P.mode_stress.rate[a]);
       P.tau_solvent[a] = Model::solvent_stress(mat, L);
+    } else if constexpr (solid_v<Model>) {
+      Model::rates(mat, L, P, a);  // s, s_zz and the energy (materials/johnson_cook_material.h)
     } else if constexpr (Models::any_single_stress) {
       model.stress_rate(mat, L, P.tau[a], P.dtau[a]);
     }
   });
 }
 
-// post_correct of particle i: its material's return mapping and failure (single-stress models).
+// post_correct of particle i after a step of dt (s): its material's return mapping and failure (single-stress models).
 template <class Models, int D>
-void post_correct_material(Particles<D>& P, const MaterialTable& materials, std::ptrdiff_t i) {
+void post_correct_material(Particles<D>& P, const MaterialTable& materials, std::ptrdiff_t i, double dt) {
   if constexpr (!Models::any_single_stress) return;
   if (!P.advects(i)) return;
   const Material& mat = materials[P.material[i]];
-  Models::visit(mat.model, [&](auto model) { model.post_correct(mat, P.tau[i]); });
+  Models::visit(mat.model, [&](auto model) {
+    if constexpr (solid_v<decltype(model)>) decltype(model)::post_correct(mat, P, i, dt);
+    else model.post_correct(mat, P.tau[i]);
+  });
 }
 
 }  // namespace sph

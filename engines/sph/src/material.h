@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "eos.h"
+#include "materials/solid_parameters.h"
 #include "vec.h"
 
 namespace sph {
@@ -37,6 +38,7 @@ struct Material {
   double mu = 0.0;  // dynamic viscosity rho0 nu, Pa s
   int model = 0;    // index of its model in the configuration's model list
   ModeParameters modes;  // viscoelastic models only
+  SolidParameters solid;  // solids only (materials/johnson_cook_material.h)
 };
 
 class MaterialTable {

@@ -3,6 +3,7 @@
 // MaterialSpec (materials/*.h) without knowing the deck's format.
 #pragma once
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -17,6 +18,16 @@ class MaterialKeys {
   bool has(const std::string& key) const;
   double positive(const std::string& key) const;  // required, > 0
   double non_negative_or(const std::string& key, double fallback) const;  // optional, >= 0
+  double non_negative(const std::string& key) const;                      // required, >= 0
+  double positive_or(const std::string& key, double fallback) const;     // optional, > 0
+  double number(const std::string& key) const;                           // required, finite
+  double number_or(const std::string& key, double fallback) const;       // optional, finite
+  // Optional text, one of `allowed`.
+  std::string text_or(const std::string& key, const std::string& fallback, const std::vector<std::string>& allowed) const;
+  // Optional object `key` with only `allowed` keys, as MaterialKeys (none when absent).
+  std::optional<MaterialKeys> object(const std::string& key, const std::vector<std::string>& allowed) const;
+  // Reject the value of `key`: "'<path>.<key>' <what>".
+  [[noreturn]] void fail(const std::string& key, const std::string& what) const;
   // The entries of list `key` (required, min_size..max_size objects with only `allowed` keys), each as MaterialKeys.
   std::vector<MaterialKeys> objects(const std::string& key, std::size_t min_size, std::size_t max_size,
                                     const std::vector<std::string>& allowed) const;

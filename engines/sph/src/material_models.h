@@ -7,6 +7,7 @@
 #include "parameters.h"
 #include "material.h"
 
+#include "materials/johnson_cook_material.h"
 #include "materials/newtonian.h"
 #include "materials/ptt.h"
 
@@ -19,6 +20,13 @@ template <class M>
 struct stress_modes_of<M, std::void_t<decltype(M::stress_modes)>> : std::integral_constant<int, M::stress_modes> {};
 template <class M>
 constexpr int stress_modes_v = stress_modes_of<M>::value;
+// Whether a model is a solid (its static `solid`): its own EOS, rates and return over the particle's solid_state.
+template <class M, class = void>
+struct solid_of : std::false_type {};
+template <class M>
+struct solid_of<M, std::void_t<decltype(M::solid)>> : std::bool_constant<M::solid> {};
+template <class M>
+constexpr bool solid_v = solid_of<M>::value;
 
 template <class... M>
 struct ModelList {
@@ -26,6 +34,8 @@ struct ModelList {
   static constexpr bool any_stress = (M::has_stress || ...);  // then the momentum pass takes the tensor form
   static constexpr bool any_modes = ((stress_modes_v<M> > 0) || ...);  // per-mode stresses (PTT)
   static constexpr bool any_single_stress = ((M::has_stress && stress_modes_v<M> == 0) || ...);  // one tau
+  static constexpr bool any_solid = (solid_v<M> || ...);  // solids (a configuration holds solids only)
+  static constexpr bool all_solid = (solid_v<M> && ...);
   // Whether model `name` is in the list, and its index (-1 if not).
   static int index(const std::string& name) {
     int k = 0, found = -1;
@@ -46,7 +56,7 @@ struct ModelList {
 };
 
 // The models a deck may name in `materials[].model` (one line per model).
-using MaterialModels = ModelList<Newtonian, Ptt>;
+using MaterialModels = ModelList<Newtonian, Ptt, JohnsonCook>;
 
 // The deck's materials, in order, into `table` (each with its index in the
 // configuration's model list and its model's own parameters); returns the
@@ -55,9 +65,10 @@ template <class Models>
 int add_materials(const RunParameters& deck, MaterialTable& table) {
   int modes = 0;
   for (const MaterialSpec& m : deck.material_list()) {
-    Material mat{material_eos(m), m.viscosity, m.rho0 * m.viscosity, std::max(0, Models::index(m.model)), {}};
+    Material mat{material_eos(m), m.viscosity, m.rho0 * m.viscosity, std::max(0, Models::index(m.model)), {}, {}};
     Models::visit(mat.model, [&](auto model) {
       if constexpr (stress_modes_v<decltype(model)> > 0) decltype(model)::configure(m, mat);
+      if constexpr (solid_v<decltype(model)>) decltype(model)::configure(m, mat, deck.dx);
     });
     modes = std::max(modes, mat.modes.count);
     table.add(mat);

@@ -22,6 +22,7 @@
 #include "boundary_particles.h"
 #include "kernel.h"
 #include "material.h"
+#include "materials/johnson_cook_material.h"
 #include "neighbour_list.h"
 #include "pair_chunk.h"
 #include "particles.h"
@@ -82,6 +83,7 @@ class PairLoop {
   void list_built() {
     const auto& m = P_.mass;
     uniform_mass_ = !m.empty() && std::all_of(m.begin(), m.end(), [&](double mi) { return mi == m[0]; });
+    if constexpr (Models::any_solid) artificial_stress_ = ArtificialStressFactor::of(materials_, kernel_.h);
     if constexpr (corrected) correction_.resize(P_.size());
   }
 
@@ -314,7 +316,7 @@ class PairLoop {
       grad_v[b].noalias() -= (F * vol_a) * vr_outer, shape[b].noalias() -= (F * vol_a) * rr_outer;
       if constexpr (AMoves || BMoves) {
         // Eq. T1: symmetric in a and b; grad_b W_ba = -F r_ab.
-        const Vec<D> f = (S_a + sigma_rho2[b]) * (F * r);
+        const Vec<D> f = pair_stress(S_a, a, b, t, r2) * (F * r);
         if constexpr (AMoves) acc_a.noalias() += m_b * f;
         if constexpr (BMoves) acc[b].noalias() -= m_a * f;
         // Eqs. 11-12: symmetric in a and b, along r_ab.
@@ -334,6 +336,15 @@ class PairLoop {
     drho[a] += drho_a;
     grad_v[a] += G_a, shape[a] += M_a;
     (void)mu_row, (void)jumps;
+  }
+  // Eq. T1's stress of the pair a, b, sigma_a/rho_a^2 (S_a) + sigma_b/rho_b^2; solids add Monaghan's artificial
+  // stress f_ab^n (R_a + R_b), f_ab = W(r_ab) / W(dx) from t = max(1 - q/2, 0) and r_ab^2 (johnson_cook_material.h).
+  inline __attribute__((always_inline)) Mat<D> pair_stress(const Mat<D>& S_a, int a, int b, double t, double r2) const {
+    if constexpr (Models::any_solid)
+      return S_a + P_.sigma_rho2[b] +
+             artificial_stress_(t, std::sqrt(r2) * kernel_.inv_h) * (P_.art_stress[a] + P_.art_stress[b]);
+    else
+      return (void)a, S_a + P_.sigma_rho2[b];
   }
   // Eq. 10 on the tensor path for owner a and neighbour b: 2 mu_ab (r_ab . grad W)/(r_ab^2 + 0.01 h^2)
   // m/(rho_a rho_b) times the velocity difference, each side against the other's no-slip velocity (va, vns_a:
@@ -368,6 +379,7 @@ class PairLoop {
   const MaterialTable& materials_;
   std::vector<double>& shepard_;
   bool uniform_mass_ = false;
+  ArtificialStressFactor artificial_stress_;  // solids (set at each list build)
   ViscosityCorrection<D> correction_;  // eq. VC1 (corrected configurations only)
 };
 

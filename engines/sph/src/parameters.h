@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "eos.h"
+#include "materials/solid_parameters.h"
 
 namespace sph {
 
@@ -87,6 +88,7 @@ struct MaterialSpec {
   // PTT (materials/ptt.h): relaxation time s and viscosity Pa s per mode, extensibility, solvent viscosity Pa s
   std::vector<double> mode_lambda, mode_eta;
   double epsilon = 0, solvent_viscosity = 0;
+  SolidParameters solid;  // johnson_cook (materials/johnson_cook_material.h); c0 is then its wave speed
 };
 
 // A material's equation of state with its cavitation floor (eos.h).

@@ -19,6 +19,7 @@
 #include <utility>
 #include <vector>
 
+#include "materials/solid_state.h"
 #include "parallel.h"
 #include "physics_terms.h"
 #include "vec.h"
@@ -94,6 +95,8 @@ struct Particles {
   std::vector<double> nu_t, next_nu_t;  // eddy viscosity m^2/s of the last evaluation (eddy; 0 for fixed particles)
   Field<ModeStress<D>> mode_stress{"mode_stress"};  // per-mode stresses tau_i Pa (PTT), rate Pa/s; only when modes > 0
   int modes = 0;                      // stress modes of the run (0: none)
+  Field<SolidState> solid_state{"solid_state"};  // a solid's scalars (materials/solid_state.h); only when solid
+  bool solid = false;                 // the run's materials are solids
   // -- carried (reordered, compacted, never integrated)
   std::vector<double> mass;             // kg
   std::vector<Kind> kind;
@@ -116,6 +119,7 @@ struct Particles {
   std::vector<Mat<D>> grad_v;        // velocity gradient (tensor() or eddy): row i, column j is d v_i / d x_j
   std::vector<Mat<D>> shape;         // kernel-correction sum, then its inverse (tensor())
   std::vector<Mat<D>> sigma_rho2;    // (-p I + tau) / rho^2 (tensor())
+  std::vector<Mat<D>> art_stress;    // Monaghan's artificial stress R / rho^2 (solid)
 
   // Short names of the integrated values and rates used all over the solver.
   std::vector<Vec<D>>& v = vel.value;
@@ -140,6 +144,7 @@ struct Particles {
     f(dens, Integrates::all);
     if (has_stress) f(stress, Integrates::advecting);
     if (modes) f(mode_stress, Integrates::advecting);
+    if (solid) f(solid_state, Integrates::advecting);
   }
   // f(array, second buffer) for every carried field.
   template <class F>
@@ -186,6 +191,7 @@ struct Particles {
       for (auto* a : {&grad_v, &shape, &sigma_rho2}) a->resize(n, Mat<D>::Zero());
     else if (eddy)
       grad_v.resize(n, Mat<D>::Zero());
+    if (solid) art_stress.resize(n, Mat<D>::Zero());
   }
 
   // Capacity for n particles in every array, so later growth up to n does not allocate.
@@ -199,6 +205,7 @@ struct Particles {
       for (auto* a : {&grad_v, &shape, &sigma_rho2}) a->reserve(n);
     else if (eddy)
       grad_v.reserve(n);
+    if (solid) art_stress.reserve(n);
     reserved_ = n;
   }
 
@@ -277,6 +284,7 @@ struct Particles {
     const std::size_t cap = std::max(o.reserved_, o.x.capacity());
     SPH_TAKE(x), SPH_TAKE(x0), SPH_TAKE(next_x), SPH_TAKE(next_x0), SPH_TAKE(vel), SPH_TAKE(dens), SPH_TAKE(stress);
     SPH_TAKE(has_stress), SPH_TAKE(eddy), SPH_TAKE(nu_t), SPH_TAKE(next_nu_t), SPH_TAKE(mode_stress), SPH_TAKE(modes), SPH_TAKE(tau_solvent), SPH_TAKE(next_tau_solvent);
+    SPH_TAKE(solid_state), SPH_TAKE(solid), SPH_TAKE(art_stress);
     SPH_TAKE(has_wall_points), SPH_TAKE(wall_offset), SPH_TAKE(next_wall_offset), SPH_TAKE(wall_frame),
     SPH_TAKE(next_wall_frame), SPH_TAKE(x_noslip), SPH_TAKE(wall_fit);
     SPH_TAKE(mass), SPH_TAKE(kind), SPH_TAKE(id), SPH_TAKE(material);

@@ -71,6 +71,7 @@ class Recorder {
     order_.reserve(n);
     if (sim.particles().has_stress) field_.reserve(n * D * D);
     if (sim.particles().modes) field_.reserve(n * D * D * sim.particles().modes);
+    if (sim.particles().solid) field_.reserve(n * SolidState::SizeAtCompileTime);
   }
 
   bool has_flow_planes() const { return !planes_.empty(); }
@@ -170,7 +171,10 @@ class Recorder {
           constexpr int cols = T::SizeAtCompileTime;
           field_.resize(n * cols);
           for (std::size_t r = 0; r < n; ++r)
-            for (int c = 0; c < cols; ++c) field_[r * cols + c] = values[order_[r]](c / D, c % D);
+            for (int c = 0; c < cols; ++c) {
+              if constexpr (T::ColsAtCompileTime == 1) field_[r * cols + c] = values[order_[r]](c);  // a solid's scalars
+              else field_[r * cols + c] = values[order_[r]](c / D, c % D);
+            }
           out_.frame_field(f.output, n, cols, field_.data());
         }
       }

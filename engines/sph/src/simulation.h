@@ -64,8 +64,8 @@ class Simulation {
     for (std::size_t i = 0; i < P_.size(); ++i) images_.wrap(P_.x[i], P_.v[i]);
     walls_together_ = walls_move_together(P_);
     const std::size_t n = P_.size(), capacity = P_.x.capacity();
-    P_.has_stress = Models::any_single_stress, P_.modes = Models::any_modes ? modes : 0, P_.eddy = eddy;
-    P_.resize(n), P_.set_wall_frames();  // wall frames: of the wall offsets the caller set
+    P_.has_stress = Models::any_single_stress, P_.modes = Models::any_modes ? modes : 0, P_.eddy = eddy, P_.solid = Models::any_solid;
+    P_.resize(n), P_.set_wall_frames(), start_solids<Models>(P_, materials_);  // the caller's wall offsets; solids at T0
     P_.reserve(capacity);
     for (auto* a : {&x_pred_, &x_build_}) a->reserve(capacity);
     shepard_.reserve(capacity);
@@ -110,11 +110,12 @@ class Simulation {
   void equation_of_state() {
     parallel_for(P_.size(), parallel_min_light, [this](std::ptrdiff_t i) { equation_of_state_at(i); });
   }
-  // Eq. 6 with the particle's material. A fixed boundary particle never pulls:
-  // its pressure is that of max(rho, rho0), so a wall under a free surface does not suck fluid in.
+  // Eq. 6 with the particle's material (a solid: its model's). A fixed boundary particle never pulls: its pressure
+  // is that of max(rho, rho0), so a wall under a free surface does not suck fluid in.
   // A cavitating particle (below the floor's density) takes p / rho^2 at the floor's density, its liquid's (as
   // the volume balances count it): at its own density the floor's tension grew as 1 / rho^2 (8 x at 35 % of rho0).
   void equation_of_state_at(std::ptrdiff_t i) {
+    if constexpr (Models::any_solid) return solid_equation_of_state<Models>(P_, materials_, i);
     const TaitEos& eos = materials_.eos(P_.material[i]);
     const double rho = P_.kind[i] == Kind::boundary ? std::max(P_.rho[i], eos.rho0) : P_.rho[i];
     P_.p[i] = eos.pressure(rho);
@@ -183,7 +184,7 @@ class Simulation {
     StepMaxima m = partial_each_index(par, n, maxima_partials_, StepMaxima{}, [&](std::ptrdiff_t i, StepMaxima& part) {
       close_rates_at(i);
       correct_at(P_, i, dt);
-      if constexpr (tensor) post_correct_material<Models>(P_, materials_, i);
+      if constexpr (tensor) post_correct_material<Models>(P_, materials_, i, dt);
       take_maxima(P_, materials_, i, part.worst_rho, part.v2, part.a2, part.finite);
     });
     if (!par) maxima_ = m, maxima_.valid = true, t[3] = omp_get_wtime();
@@ -388,9 +389,8 @@ class Simulation {
   std::vector<ThreadPartial<StepMaxima>> maxima_partials_;  // per thread: the corrector's maxima
   int maxima_threads_ = 0;  // threads whose maxima_partials_ finish_maxima has still to combine
   std::vector<Vec<D>> x_build_;  // positions at the last Verlet list build
-  double skin_ = 0.0;
+  double skin_ = 0.0, time_ = 0.0;  // m (the Verlet skin), s
   double last_moved_ = 0.0, last_allowed_ = 1.0;  // m: the last step's largest displacement since the build, its bound
-  double time_ = 0.0;  // s
   Mat<D> background_stress_ = Mat<D>::Zero();  // Pa, tau_B of eq. T1 (extra_stress.h)
   bool list_stale_ = true;  // the list must be rebuilt before the next evaluation
   StageTimes times_;

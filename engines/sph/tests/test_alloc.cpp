@@ -107,6 +107,24 @@ long sheared_ptt_allocations(int threads, long& builds) {
   return allocations_after_warm_up(sim, 500, 2e-3, builds);
 }
 
+// The same for a Johnson-Cook solid block (plastic, artificial stress and viscosity) on the walls of the block.
+long solid_allocations(int threads, long& builds) {
+  omp_set_num_threads(threads);
+  RunParameters d = deck();
+  d.terms = term::artificial_viscosity, d.alpha = 1.0, d.beta = 1.0;
+  MaterialSpec m;
+  m.name = "steel", m.model = "johnson_cook", m.rho0 = 1000.0;
+  m.solid.shear_modulus = 4e5, m.solid.linear = {1000.0, 1e6};
+  m.solid.plastic = true, m.solid.strength = {2e3, 1e3, 0.5, 0.01, 1.0};
+  m.solid.strength.melting_temperature = 1000.0;
+  m.solid.heat = {1000.0, 500.0, 0.9};
+  m.solid.artificial_stress = 0.3;
+  m.c0 = m.solid.wave_speed();
+  d.materials = {m};
+  Simulation<2, term::artificial_viscosity, ModelList<JohnsonCook>> sim(d, block());
+  return allocations_after_warm_up(sim, 40, 2e-6, builds);
+}
+
 }  // namespace
 
 TEST(no_allocation_while_stepping) {
@@ -132,6 +150,10 @@ TEST(no_allocation_while_stepping) {
     std::fprintf(stderr, "  PTT + Morris on walls, %d thread(s): %ld allocations in 200 steps (%ld list builds)\n",
                  threads, walled, builds);
     CHECK(walled == 0 && builds > 0);
+    const long solid = solid_allocations(threads, builds);
+    std::fprintf(stderr, "  Johnson-Cook solid, %d thread(s): %ld allocations in 200 steps (%ld list builds)\n", threads,
+                 solid, builds);
+    CHECK(solid == 0 && builds > 0);
   }
   omp_set_num_threads(saved);
 }

@@ -1,0 +1,191 @@
+"""Solid materials of an SPH case: the elastic-plastic Johnson-Cook solid of Nutto et al. (section II-B; the sph
+executable's engines/sph/src/materials/johnson_cook_material.h, docs/solids.md), a [[materials]] table of model
+"johnson_cook" with its parameters in a [materials.solid] table. SI units (Pa, K, J/(kg K), 1/s).
+
+    [[materials]]
+    name = "al6061"
+    model = "johnson_cook"
+    density = 2703.0              # rho0, kg/m^3
+
+    [materials.solid]
+    shear_modulus = 25.9e9        # G, Pa
+    eos = "mie_gruneisen"         # or "linear" with bulk_modulus (Pa)
+    bulk_sound_speed = 5240.0     # C0, m/s (Steinberg 1996)
+    hugoniot_slope = 1.4          # S, -
+    gruneisen = 1.97              # Gamma0, -
+    yield_stress = 324e6          # A, Pa (without it: elastic, no strength or failure)
+    hardening_modulus = 114e6     # B, Pa
+    hardening_exponent = 0.42     # n, -
+    rate_sensitivity = 0.002      # C, -
+    thermal_exponent = 1.34       # m, -
+    melting_temperature = 925.0   # Tm, K
+    heat_capacity = 896.0         # C_p, J/(kg K)
+    heat_fraction = 0.95          # chi, - (0: isothermal)
+
+    [materials.solid.failure]     # Johnson-Cook damage (eq. 14), sigma* tension positive
+    d1 = -0.77
+    d2 = 1.45
+    d3 = -0.47
+
+    [materials.solid.artificial_stress]   # Monaghan (2000), Gray, Monaghan & Swift (2001)
+    epsilon = 0.3
+    exponent = 4
+
+The engine compiles solids alone (no fluid beside them) with artificial viscosity or none, or in a Lees-Edwards
+cell; the Morris viscosity is not a solid's term.
+"""
+
+from __future__ import annotations
+
+import math
+
+from pydantic import Field
+
+from orchestrator.case.common import Frozen, NonNegative, Positive
+from orchestrator.kinds.sph_flow.case_parts import Finite
+
+#: Equations of state of a solid (engines/sph/src/materials/solid_parameters.h).
+SOLID_EOS = ("linear", "mie_gruneisen")
+
+#: The rate factor of eqs. 10 and 14: (1 + epsdot*)^C as the paper prints it, or Johnson and Cook's 1 + C ln epsdot*.
+RATE_FORMS = ("power", "log")
+
+#: Keys of [materials.solid] that only a plastic solid (one with a yield_stress) takes.
+STRENGTH_KEYS = ("hardening_modulus", "hardening_exponent", "rate_sensitivity", "thermal_exponent",
+                 "reference_rate", "rate_form", "room_temperature", "melting_temperature", "failure")
+
+
+class SolidFailure(Frozen):
+    """Johnson-Cook damage, eq. 14: eps_f = [d1 + d2 exp(d3 sigma*)] R(epsdot*; d4) [1 + d5 T*]."""
+
+    d1: Finite = Field(description="D1, -")
+    d2: Finite = Field(description="D2, -")
+    d3: Finite = Field(description="D3, - (sigma* = mean stress / von Mises stress, tension positive)")
+    d4: Finite = Field(0.0, description="D4, - (rate term, the strength's rate form and reference rate)")
+    d5: Finite = Field(0.0, description="D5, - (temperature term)")
+
+
+class ArtificialStress(Frozen):
+    """Monaghan's artificial stress against the tensile instability (Gray, Monaghan & Swift 2001)."""
+
+    epsilon: NonNegative = Field(0.3, description="epsilon of R = -epsilon sigma_tension / rho^2, -")
+    exponent: int = Field(4, ge=1, le=8, description="n of f_ab^n, f_ab = W(r_ab) / W(dx), -")
+
+
+class SolidMaterial(Frozen):
+    """[materials.solid]: elasticity, equation of state, Johnson-Cook strength, heating, failure."""
+
+    shear_modulus: Positive = Field(description="shear modulus G, Pa")
+    eos: str = Field("linear", description="equation of state: linear (p = K mu) or mie_gruneisen (Hugoniot "
+                                           "reference, mu = rho / rho0 - 1)")
+    bulk_modulus: Positive | None = Field(None, description="linear eos: bulk modulus K, Pa")
+    bulk_sound_speed: Positive | None = Field(None, description="mie_gruneisen: bulk sound speed C0, m/s")
+    hugoniot_slope: NonNegative | None = Field(None, description="mie_gruneisen: S of U_s = C0 + S u_p, -")
+    gruneisen: NonNegative | None = Field(None, description="mie_gruneisen: Grueneisen parameter Gamma0, -")
+    yield_stress: Positive | None = Field(None, description="initial yield stress A of eq. 10, Pa (without it the solid is elastic)")
+    hardening_modulus: NonNegative | None = Field(None, description="hardening modulus B, Pa (default 0)")
+    hardening_exponent: Positive | None = Field(None, description="hardening exponent n, - (default 1)")
+    rate_sensitivity: NonNegative | None = Field(None, description="rate sensitivity C, - (default 0)")
+    thermal_exponent: Positive | None = Field(None, description="thermal softening exponent m, - (default 1)")
+    reference_rate: Positive | None = Field(None, description="reference rate epsdot_0 of epsdot* = "
+                                                              "epsdot_p / epsdot_0, 1/s (default 1)")
+    rate_form: str | None = Field(None, description="power ((1 + epsdot*)^C, the paper's eq. 10; default) or log "
+                                                    "(1 + C ln epsdot*)")
+    room_temperature: Positive | None = Field(None, description="room temperature T0, K (default 293; the start "
+                                                                "temperature)")
+    melting_temperature: Positive | None = Field(None, description="melting temperature Tm, K (required with "
+                                                                   "yield_stress)")
+    heat_capacity: Positive | None = Field(None, description="specific heat C_p of eq. 12, J/(kg K) "
+                                                             "(required with heat_fraction)")
+    heat_fraction: NonNegative = Field(0.0, le=1.0, description="chi of eq. 12, the share of plastic work turned "
+                                                               "into heat, - (0: isothermal)")
+    failure: SolidFailure | None = Field(None, description="Johnson-Cook damage (eqs. 13-14); needs yield_stress")
+    artificial_stress: ArtificialStress | None = Field(None, description="Monaghan's artificial stress (off "
+                                                                         "without the table)")
+
+    def bulk(self, density: float) -> float:
+        """The bulk modulus of the reference state, Pa (rho0 C0^2 for mie_gruneisen)."""
+        return self.bulk_modulus if self.eos == "linear" else density * self.bulk_sound_speed ** 2
+
+    def wave_speed(self, density: float) -> float:
+        """The longitudinal wave speed in uniaxial strain sqrt((K + 4G/3) / rho0), m/s."""
+        return math.sqrt((self.bulk(density) + 4.0 / 3.0 * self.shear_modulus) / density)
+
+    def deck(self) -> dict:
+        """The solid's keys of the deck's materials entry (engines/sph/README.md), SI units."""
+        item = {key: value for key, value in self.model_dump(exclude_none=True).items()
+                if key not in ("failure", "artificial_stress", "heat_fraction")}
+        if self.heat_fraction > 0.0:
+            item["heat_fraction"] = self.heat_fraction
+        if self.failure is not None:
+            item["failure"] = self.failure.model_dump()
+        if self.artificial_stress is not None:
+            item["artificial_stress"] = self.artificial_stress.model_dump()
+        return item
+
+
+def check_solid(case, i: int, m) -> None:
+    """A johnson_cook material against its own keys, the engine's configurations and the run's density window;
+    ValueError naming the key."""
+    where, s = f"materials[{i}]", m.solid
+    if s is None:
+        raise ValueError(f"{where}.solid ({m.name}) is missing; a johnson_cook material needs a [materials.solid] "
+                         "table (shear_modulus Pa, eos and its constants, ...)")
+    for key in ("viscosity", "sound_speed", "modes", "epsilon", "solvent_viscosity"):
+        if getattr(m, key) not in (None, ()):
+            raise ValueError(f"{where}.{key} ({m.name}) is not a key of a johnson_cook material (its pressure and "
+                             "wave speed come from [materials.solid]); remove it")
+    for key in ("gamma", "background_pressure", "eos"):
+        if key in m.model_fields_set:
+            raise ValueError(f"{where}.{key} ({m.name}) is a key of the fluids' equation of state; a johnson_cook "
+                             f"material's is [materials.solid].eos: remove it")
+    _check_eos(where, s)
+    _check_strength(where, s)
+    if s.heat_fraction > 0.0 and s.heat_capacity is None:
+        raise ValueError(f"{where}.solid.heat_capacity is missing; heat_fraction = {s.heat_fraction} heats the "
+                         "solid by eq. 12, which needs C_p (J/(kg K))")
+    if s.yield_stress is not None:
+        limit = s.yield_stress / (2.0 * s.shear_modulus)
+        deviation = case.numerics.max_density_deviation
+        if limit >= deviation:
+            raise ValueError(f"{where}.solid.yield_stress = {s.yield_stress:g} Pa is above what the equation of "
+                             f"state's range carries: yielding in uniaxial strain needs a density change A / (2 G) = "
+                             f"{limit:.3g}, beyond numerics.max_density_deviation = {deviation:g}")
+    others = [o.name for o in case.materials if o.model != "johnson_cook"]
+    if others:
+        raise ValueError(f"{where} ({m.name}) is a johnson_cook material beside the {others[0]!r} material of "
+                         "another model; the sph executable runs solids only with solids")
+    if "morris_viscosity" in case.physics.terms:
+        raise ValueError(f"physics.terms has 'morris_viscosity' with the johnson_cook material {where} ({m.name}); "
+                         "a solid takes artificial_viscosity only: remove it")
+
+
+def _check_eos(where: str, s: SolidMaterial) -> None:
+    if s.eos not in SOLID_EOS:
+        raise ValueError(f"{where}.solid.eos = {s.eos!r}: unknown equation of state; allowed: {', '.join(SOLID_EOS)}")
+    own = ("bulk_modulus",) if s.eos == "linear" else ("bulk_sound_speed", "hugoniot_slope", "gruneisen")
+    for key in ("bulk_modulus", "bulk_sound_speed", "hugoniot_slope", "gruneisen"):
+        given = getattr(s, key) is not None
+        if key in own and not given:
+            raise ValueError(f"{where}.solid.{key} is missing; eos = {s.eos!r} needs {', '.join(own)}")
+        if key not in own and given:
+            raise ValueError(f"{where}.solid.{key} is not a key of eos = {s.eos!r}; remove it")
+
+
+def _check_strength(where: str, s: SolidMaterial) -> None:
+    if s.yield_stress is None:
+        given = [key for key in STRENGTH_KEYS if getattr(s, key) is not None]
+        if given:
+            what = "a failure model" if given[0] == "failure" else "a strength parameter"
+            raise ValueError(f"{where}.solid.{given[0]} is {what} without plasticity: the solid has no yield_stress "
+                             "(elastic); give yield_stress (Pa) or remove it")
+        return
+    if s.melting_temperature is None:
+        raise ValueError(f"{where}.solid.melting_temperature is missing; the Johnson-Cook strength (eq. 11) needs "
+                         "Tm (K)")
+    room = 293.0 if s.room_temperature is None else s.room_temperature
+    if not s.melting_temperature > room:
+        raise ValueError(f"{where}.solid.melting_temperature = {s.melting_temperature:g} K is not above "
+                         f"room_temperature = {room:g} K")
+    if s.rate_form is not None and s.rate_form not in RATE_FORMS:
+        raise ValueError(f"{where}.solid.rate_form = {s.rate_form!r}: allowed: {', '.join(RATE_FORMS)}")
