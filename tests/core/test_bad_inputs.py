@@ -263,7 +263,7 @@ BAD_INPUTS = [
     (["export", "@BAD/runs/nocase", "--out", "@OUT"], 6, "no /case"), (["export", "@BAD/runs/empty", "--out", "@OUT"], 6, "no /case"),
     # study files
     *[(["study", f"@BAD/studies/{name}.toml", "--out", "@OUT", "--no-progress"], 2, *words) for name, words in {
-        "sph_study": ("does not run sph_flow", 'engines = ["sph"]'), "inf_timeout": ("study.timeout", "finite"),
+        "sph_study": ("does not run sph_flow", 'engines = ["lammps", "sph"]'), "inf_timeout": ("study.timeout", "finite"),
         "neg_timeout": ("study.timeout",), "nostudy": ("study", "missing"), "empty_sweep": ("sweep.parameters",),
         "zip": ("zip",), "list_empty": ("sweep.runs",), "missing_case": ("case file not found",),
         "dir_case": ("is a directory",), "engine": ("fluent",), "sweep_inf": ("simulation.duration", "finite"),
@@ -292,7 +292,7 @@ BAD_INPUTS = [
     (["verify", "sph", "--set", "numerics.dx=1e-9", "--out", "@OUT"], 2, "memory"),
     (["verify", "dem", "--engine", "fluent", "--out", "@OUT"], 2, "unknown engine"),
     (["verify", "dem", "--engine", "sph", "--out", "@OUT"], 2, "does not run DEM"),
-    (["verify", "sph", "--engine", "yade", "--out", "@OUT"], 2, "sph engine only"),
+    (["verify", "sph", "--engine", "yade", "--out", "@OUT"], 2, "the engines lammps, sph"),
     (["verify", "sph", "--timestep-factors", "0.1", "--out", "@OUT"], 2, "--timestep-factors"),
     *[(["verify", "dem", "--timestep-factors", f, "--out", "@OUT"], 2, "--timestep-factors") for f in ("0", "2", "nan")],
     *[(["verify", s, "--workers", n, "--out", "@OUT"], 2, "--workers") for s in ("dem", "sph") for n in ("0", "-1")],

@@ -77,8 +77,8 @@ def test_an_unstable_scene_fails_its_checks_with_the_reason(tmp_path):
 def test_bad_engines_are_named(tmp_path):
     proc = cli("verify", "dem", "--engine", "abaqus", "--out", tmp_path)
     assert proc.returncode == 2 and "unknown engine 'abaqus'" in proc.stderr and "Traceback" not in proc.stderr
-    proc = cli("verify", "dem", "--engine", "lammps", "--out", tmp_path)  # an engine, but no DEM kind's adapter
-    assert proc.returncode == 2 and "lammps does not run DEM verification scenes" in proc.stderr
+    proc = cli("verify", "dem", "--engine", "sph", "--out", tmp_path)  # an engine, but no DEM kind's adapter
+    assert proc.returncode == 2 and "sph does not run DEM verification scenes" in proc.stderr
     proc = cli("verify", "dem", "--engine", "yade", "--out", tmp_path, env={"ORCHESTRATOR_YADE": "/nonexistent/yade"})
     assert proc.returncode == 3 and "Yade is not installed" in proc.stderr
 
