@@ -17,8 +17,9 @@ import time
 PROBE_TIMEOUT_S = 30.0
 
 
-def session_members(sid: int) -> list[int]:
-    """Pids of the processes in session sid (from /proc; [] where /proc does not tell)."""
+def session_members(sid: int, outside_group: bool = False) -> list[int]:
+    """Pids of the processes in session sid (from /proc; [] where /proc does not tell); outside_group: only those
+    that left the session leader's process group (a signal to the group does not reach them)."""
     members = []
     try:
         entries = os.listdir("/proc")
@@ -34,17 +35,20 @@ def session_members(sid: int) -> list[int]:
             continue
         # after the command: state, ppid, pgrp, session; a zombie is dead already (its parent reaps it)
         if len(fields) > 3 and int(fields[3]) == sid and fields[0] != b"Z":
-            members.append(int(entry))
+            if not (outside_group and int(fields[2]) == sid):
+                members.append(int(entry))
     return members
 
 
 def _signal_session(sid: int, sig: int) -> int:
-    """Send sig to the process group sid and every process of session sid; returns how many were alive."""
+    """Send sig to the process group sid and to every process of session sid outside that group (each process gets
+    it once: an engine that saves a checkpoint on SIGTERM must not be interrupted by a second one); returns how
+    many were reached."""
     alive = 0
     with contextlib.suppress(ProcessLookupError, PermissionError):
         os.killpg(sid, sig)
         alive += 1
-    for pid in session_members(sid):
+    for pid in session_members(sid, outside_group=True):
         with contextlib.suppress(ProcessLookupError, PermissionError):
             os.kill(pid, sig)
             alive += 1

@@ -351,3 +351,19 @@ def test_building_a_scene_counts_against_the_timeout(capsys, tmp_path):
                            "--timeout", "2", "--out", str(tmp_path / "r")], code=5)
     assert "building the scene" in err and time.monotonic() - start < 60
     assert not (tmp_path / "r").exists()
+
+
+def test_a_stop_signals_each_process_of_the_session_once(tmp_path):
+    """The group gets the signal once, and only processes that left the group get it again one by one: a script
+    that saves a checkpoint on SIGTERM (Yade's) is not interrupted by a second one."""
+    script = tmp_path / "count.py"
+    script.write_text("import signal, sys, time\nn = []\n"
+                      "signal.signal(signal.SIGTERM, lambda *a: n.append(1))\n"
+                      "t = time.time()\nwhile time.time() - t < 3: time.sleep(0.05)\n"
+                      f"open({str(tmp_path / 'n.txt')!r}, 'w').write(str(len(n)))\n")
+    proc = subprocess.Popen([sys.executable, str(script)], start_new_session=True)
+    time.sleep(0.5)
+    from orchestrator.processes import stop_session
+
+    stop_session(proc, grace_s=10.0)
+    assert (tmp_path / "n.txt").read_text() == "1"
