@@ -3,7 +3,7 @@
 What 3.8.0 runs with ``model hertz tangential history`` (pair_style gran and
 fix wall/gran alike; read in its normal_model_hertz.h,
 tangential_model_history.h and global_properties.cpp, and checked on the
-installed build by tests/test_liggghts_*):
+installed build by tests/engines/test_liggghts_physics.py):
 
 - normal force k_n delta with k_n = 4/3 Y* sqrt(R* delta), i.e. eq. 2's
   k_n0 delta^(3/2) with Y* = E_eq (eq. 3); against a wall R* = R, Hertz's
