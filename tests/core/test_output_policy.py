@@ -69,6 +69,7 @@ def tiny_run(tmp_path_factory) -> Path:
 
 # ---------------------------------------------------------------- data destroyed
 
+@pytest.mark.sph  # the run is refused at its folder, after the engine is found
 @pytest.mark.parametrize("force", [[], ["--force"]])
 def test_run_never_empties_a_users_folder_that_holds_a_run_h5(capsys, foreign, force):
     before = snapshot(foreign)

@@ -221,7 +221,7 @@ def check_materials(case) -> None:
         if model == "johnson_cook":
             check_solid(case, i, m)
             continue
-        if m.solid is not None:
+        if getattr(m, "solid", None) is not None:
             raise ValueError(f"materials[{i}].solid ({m.name}) is the table of a johnson_cook material; this one "
                              f"is {model}: remove it or set model = \"johnson_cook\"")
         given = [key for key in PTT_KEYS if getattr(m, key, None) not in (None, ())]

@@ -57,7 +57,7 @@ def test_every_sph_scene_has_checks_and_units():
                                        "sph_dam_break_2d", "sph_penalty_column", "sph_penalty_incline",
                                        "sph_two_layer_poiseuille", "sph_two_layer_couette",
                                        "sph_pipe_hagen_poiseuille", "sph_annulus_laminar",
-                                       "sph_saos_one_mode", "sph_saos_table3", "sph_steady_ptt",
+                                       "sph_saos_one_mode", "sph_saos_table3", "sph_steady_ptt", "sph_steady_ptt_wi5",
                                        "sph_newtonian_cell", "sph_oldroyd_b_poiseuille"}
     for path in files:
         case = load_case(path).model
