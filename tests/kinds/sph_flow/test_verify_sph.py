@@ -156,7 +156,10 @@ def test_every_scene_at_its_quick_preset_passes(tmp_path):
     assert len(steady) == 6 and all(r["passed"] for r in steady)
     assert by[("sph_newtonian_cell", "velocity_profile")]["rel_error"] < 0.005
     assert by[("sph_newtonian_cell", "storage_over_loss")]["rel_error"] < 0.001
-    assert len(rows) == 34 + 22
+    # steady PTT at Wi = 5 (epsilon 0.01) for 20 relaxation times: eta, N1 and the normal-stress ratio
+    wi5 = [r for r in rows if r["scene"] == "sph_steady_ptt_wi5"]
+    assert len(wi5) == 3 and all(r["passed"] for r in wi5)
+    assert len(rows) == 34 + 22 + 3
 
 
 @needs_sph
