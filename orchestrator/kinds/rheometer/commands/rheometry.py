@@ -17,13 +17,13 @@ import numpy as np
 from orchestrator.case import load_case
 from orchestrator.cli.common import check_options
 from orchestrator.engines import get_engine
-from orchestrator.errors import EngineNotFound, OrchestratorError
+from orchestrator.errors import OrchestratorError
 from orchestrator.kinds.base import Command
 from orchestrator.kinds.rheometer.analysis import maxwell_moduli
 from orchestrator.kinds.rheometer.commands import rheometry_steady as steady
 from orchestrator.kinds.rheometer.physics import sample_numerics
 from orchestrator.plots import save_pyplot_figure
-from orchestrator.run import checked_scene, run_case
+from orchestrator.run import checked_scene
 from orchestrator.workflows.base import Workflow
 
 ENGINE = "sph"
@@ -81,13 +81,7 @@ def run_point(case_file: Path, omega: float, out_dir: Path, overrides=(), timeou
     g1, g2 = maxwell_moduli(case.material, omega)
     point = RheometryPoint(omega, maxwell_storage_modulus=float(g1), maxwell_loss_modulus=float(g2),
                            sample_density=sn.density, time_step=sn.dt, run_dir=str(out_dir))
-    try:
-        summary = run_case(loaded, engine=ENGINE, out_dir=out_dir, timeout_s=timeout_s, progress=False, force=True)
-    except EngineNotFound:
-        raise
-    except OrchestratorError as exc:
-        point.status, point.message = "failed", str(exc).splitlines()[0]
-        summary = exc.summary
+    summary = steady.run_point(loaded, out_dir, timeout_s, point)
     if summary is None:
         return point
     measured = summary.measured

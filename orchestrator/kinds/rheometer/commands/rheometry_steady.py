@@ -50,6 +50,18 @@ class FlowCurvePoint:
     run_dir: str = ""
 
 
+def run_point(loaded, out_dir, timeout_s, point):
+    """Run one point of a sweep on the sph engine; a failed run sets point.status and point.message and gives the
+    RunSummary it left (None when it left none). EngineNotFound is raised (the sweep stops)."""
+    try:
+        return run_case(loaded, engine=ENGINE, out_dir=out_dir, timeout_s=timeout_s, progress=False, force=True)
+    except EngineNotFound:
+        raise
+    except OrchestratorError as exc:
+        point.status, point.message = "failed", str(exc).splitlines()[0]
+        return exc.summary
+
+
 def steady_duration(material, shear_rate: float, relaxation_times: float) -> float:
     """Run time (s) of a steady run at shear_rate (1/s): relaxation_times x the longest lambda_i / f_i (the time
     over which mode i approaches its steady state, f_i from the closed form), and at least 5 strain units."""
@@ -88,13 +100,7 @@ def run_rate(case_file, rate: float, out_dir, relaxation_times: float, overrides
     point = FlowCurvePoint(rate, viscosity_expected=float(exact.viscosity) + case.material.solvent_viscosity,
                            n1_expected=float(exact.first_normal_stress_difference), duration=case.shear.duration,
                            sample_density=sn.density, time_step=sn.dt, run_dir=str(out_dir))
-    try:
-        summary = run_case(loaded, engine=ENGINE, out_dir=out_dir, timeout_s=timeout_s, progress=False, force=True)
-    except EngineNotFound:
-        raise
-    except OrchestratorError as exc:
-        point.status, point.message = "failed", str(exc).splitlines()[0]
-        summary = exc.summary
+    summary = run_point(loaded, out_dir, timeout_s, point)
     if summary is None:
         return point
     m = summary.measured
