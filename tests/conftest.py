@@ -30,6 +30,27 @@ def pytest_collection_modifyitems(config, items):
             if item.get_closest_marker(name) is not None:
                 item.add_marker(skip)
 
+@pytest.fixture(scope="session")
+def tiny_bowl():
+    """The tiny drag-finishing bowl (tests/data/tiny_bowl.toml) as a case model; models are immutable, so one
+    instance serves the whole session."""
+    from orchestrator.case import load_case
+    from paths import TINY_BOWL
+
+    return load_case(TINY_BOWL).model
+
+
+@pytest.fixture(scope="session")
+def tiny_bowl_scene(tiny_bowl):
+    """The tiny bowl's built scene (packed media cloud, bowl and rod meshes); tests read it, none writes to it."""
+    from orchestrator.kinds import build_scene
+
+    scene = build_scene(tiny_bowl)
+    for value in (scene.positions, scene.radii):
+        value.flags.writeable = False  # a test that writes to the shared cloud fails at once
+    return scene
+
+
 #: What the synthetic run holds (tests compare exported files against these).
 PROCESS_START = 0.3  # s
 SIM_END = 0.6  # s

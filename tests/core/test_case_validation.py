@@ -250,8 +250,8 @@ def test_paper_case_presets_apply():
                     f"preset {name}: {table}.{key}"
 
 
-def test_case_model_is_immutable():
-    case = load_case(TINY_BOWL).model
+def test_case_model_is_immutable(tiny_bowl):
+    case = tiny_bowl
     with pytest.raises(Exception) as info:
         case.media.count = 1
     assert "frozen" in str(info.value).lower()

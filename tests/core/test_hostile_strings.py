@@ -195,12 +195,12 @@ def test_a_hostile_reference_label_changes_no_deck(tmp_path):
     assert _render_all(TINY_BOWL, tmp_path, [label], tag="b") == _render_all(TINY_BOWL, tmp_path, tag="a")
 
 
-def test_a_hostile_mesh_file_name_changes_no_deck(tmp_path):
+def test_a_hostile_mesh_file_name_changes_no_deck(tmp_path, tiny_bowl):
     """The rod's STL read from a file whose name would break any deck it were written into: it is read by the
     orchestrator and reaches the engines as rod.stl / arrays, so the decks are those of a plain name."""
     from orchestrator.kinds.drag_finishing.scene import rod_mesh
 
-    case = load_case(TINY_BOWL).model
+    case = tiny_bowl
     rod = rod_mesh(case.workpiece.radius, case.workpiece.length, case.workpiece.segments)
     folder = tmp_path / "meshes"
     folder.mkdir()

@@ -20,7 +20,7 @@ from orchestrator.kinds.impact.liggghts_output import read_impact_output
 from orchestrator.case import load_case
 from orchestrator.kinds import build_scene
 from orchestrator.kinds.drag_finishing.scene import bed_weight
-from paths import VERIFICATION, DATA, TINY_BOWL
+from paths import VERIFICATION, DATA
 
 IMPACTS = DATA / "liggghts_impact_output"
 
@@ -85,9 +85,8 @@ def test_a_run_without_final_status_is_failed_and_keeps_its_data(tmp_path):
 
 # ---- drag finishing ----
 @pytest.fixture(scope="module")
-def tiny(tmp_path_factory):
-    case = load_case(TINY_BOWL).model
-    scene = build_scene(case)
+def tiny(tmp_path_factory, tiny_bowl, tiny_bowl_scene):
+    case, scene = tiny_bowl, tiny_bowl_scene
     workdir = _workdir(DATA / "liggghts_tiny_output", tmp_path_factory.mktemp("tiny"))
     return case, scene, workdir, read_drag_output(scene, workdir)
 

@@ -8,21 +8,19 @@ import pytest
 
 from orchestrator.kinds import measure
 from orchestrator.kinds.drag_finishing.yade import read_drag_finishing_output, read_series_csv
-from orchestrator.case import load_case
-from orchestrator.kinds import build_scene
-from paths import DATA, TINY_BOWL
+from paths import DATA
 
 STORED = DATA / "yade_tiny_output"
 
 
 @pytest.fixture(scope="module")
-def case():
-    return load_case(TINY_BOWL).model
+def case(tiny_bowl):
+    return tiny_bowl
 
 
 @pytest.fixture(scope="module")
-def scene(case):
-    return build_scene(case)
+def scene(tiny_bowl_scene):
+    return tiny_bowl_scene
 
 
 @pytest.fixture

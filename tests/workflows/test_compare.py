@@ -93,8 +93,8 @@ def test_spread_speed_and_overhead_rows():
     assert header[1:3] == ["a", "b"] and "c" not in header  # a skipped engine has no column
 
 
-def test_drag_finishing_forces_are_placed_against_the_reference_bands():
-    case = load_case(TINY_BOWL).model  # reference: -1.99 +- 0.63 N
+def test_drag_finishing_forces_are_placed_against_the_reference_bands(tiny_bowl):
+    case = tiny_bowl  # reference: -1.99 +- 0.63 N
     comparison = Comparison(case, None, Path("/nowhere"), [
         EngineRun("a", "ok", "", summary("a", {"fn_mean": -1.81, "fn_std": 0.25, "ft_mean": -0.3, "ft_std": 0.5})),
         EngineRun("b", "ok", "", summary("b", {"fn_mean": -2.9, "fn_std": 0.4, "fn_sem": 0.05})),

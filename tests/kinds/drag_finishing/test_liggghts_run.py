@@ -20,7 +20,6 @@ from orchestrator.kinds.impact.analysis import evaluate_checks
 from orchestrator.case import load_case
 from orchestrator.run import run_case
 from orchestrator.runh5 import read_run
-from orchestrator.kinds import build_scene
 from orchestrator.kinds.drag_finishing.scene import bed_weight
 from test_rod_impacts import assert_engine_impacts
 from paths import VERIFICATION, TINY_BOWL
@@ -43,8 +42,8 @@ def tiny_run(tmp_path_factory):
 
 
 @pytest.fixture(scope="module")
-def tiny_weight():
-    return bed_weight(build_scene(load_case(TINY_BOWL).model))
+def tiny_weight(tiny_bowl_scene):
+    return bed_weight(tiny_bowl_scene)
 
 
 def test_summary_and_version(tiny_run):
@@ -54,7 +53,7 @@ def test_summary_and_version(tiny_run):
     assert run["attrs"]["engine_version"] == get_engine("liggghts").version() == "PUBLIC 3.8.0"
 
 
-def test_bowl_carries_the_bed_weight_at_rest(tiny_run, tiny_weight):
+def test_bowl_carries_the_bed_weight_at_rest(tiny_run, tiny_weight, tiny_bowl):
     """At rest (end of settling, before the rod touches) the bowl carries the whole bed: F_z = -m g within 1 %."""
     _, run = tiny_run
     series = run["series"]
@@ -62,12 +61,12 @@ def test_bowl_carries_the_bed_weight_at_rest(tiny_run, tiny_weight):
     assert run["attrs"]["settled"]
     assert series["bowl_force"][last_settle, 2] == pytest.approx(-tiny_weight, rel=0.01)
     assert abs(series["bowl_force"][last_settle, 0]) < 0.01 * tiny_weight
-    assert series["unbalanced_force"][last_settle] < load_case(TINY_BOWL).model.settling.unbalanced_force
+    assert series["unbalanced_force"][last_settle] < tiny_bowl.settling.unbalanced_force
 
 
-def test_rod_reaches_submersion_depth_and_the_media_resist(tiny_run):
+def test_rod_reaches_submersion_depth_and_the_media_resist(tiny_run, tiny_bowl):
     _, run = tiny_run
-    case = load_case(TINY_BOWL).model
+    case = tiny_bowl
     series = run["series"]
     process = series["phase"] == 3
     tip = series["rod_tip_z"][process]

@@ -56,8 +56,8 @@ def _data_atoms(path: Path) -> np.ndarray:
     return np.array([line.split() for line in lines[start:end] if line.strip()], dtype=float)
 
 
-def test_the_cloud_and_meshes_reach_liggghts_unchanged(tmp_path):
-    scene = build_scene(load_case(TINY_BOWL).model)
+def test_the_cloud_and_meshes_reach_liggghts_unchanged(tmp_path, tiny_bowl_scene):
+    scene = tiny_bowl_scene
     liggghts_adapter(scene).write_input(scene, tmp_path)
     atoms = _data_atoms(tmp_path / "balls.data")  # id type diameter density x y z
     np.testing.assert_array_equal(atoms[:, 0], np.arange(1, scene.n_particles + 1))

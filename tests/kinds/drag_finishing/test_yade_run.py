@@ -43,20 +43,20 @@ def test_summary_json(tiny_run):
     assert run["attrs"]["engine_version"] == get_engine("yade").version() != "unknown"
 
 
-def test_bowl_carries_the_bed_weight_at_rest(tiny_run):
+def test_bowl_carries_the_bed_weight_at_rest(tiny_run, tiny_bowl_scene):
     """At rest (end of settling, before the rod touches) the bowl carries the whole bed: sum F_z = -m g within 1 %."""
     _, run = tiny_run
     series = run["series"]
     last_settle = np.flatnonzero(series["phase"] == 0)[-1]
     assert run["attrs"]["settled"]
-    weight = bed_weight(build_scene(load_case(TINY_BOWL).model))
+    weight = bed_weight(tiny_bowl_scene)
     assert series["bowl_force"][last_settle, 2] == pytest.approx(-weight, rel=0.01)
     assert abs(series["bowl_force"][last_settle, 0]) < 0.01 * weight
 
 
-def test_rod_reaches_submersion_depth_and_moves(tiny_run):
+def test_rod_reaches_submersion_depth_and_moves(tiny_run, tiny_bowl):
     _, run = tiny_run
-    case = load_case(TINY_BOWL).model
+    case = tiny_bowl
     series = run["series"]
     process = series["phase"] == 3
     tip = series["rod_tip_z"][process]

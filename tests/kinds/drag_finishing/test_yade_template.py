@@ -21,8 +21,8 @@ GOLDEN = GOLDEN_DIR / "yade_tiny_bowl.py"
 
 
 @pytest.fixture(scope="module")
-def tiny_scene():
-    return build_scene(load_case(TINY_BOWL).model)
+def tiny_scene(tiny_bowl_scene):
+    return tiny_bowl_scene
 
 
 def test_rendered_script_matches_golden(tiny_scene, tmp_path):
