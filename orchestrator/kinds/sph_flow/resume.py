@@ -96,6 +96,9 @@ def write_resume_input(workdir: Path, deck_name: str = "deck.json", output: str 
         if status == "ok" and (t_end is None or t_end <= time * (1.0 + 1e-12)):
             raise OrchestratorError(f"--resume {workdir}: the run finished (t = {h5.attrs.get('t_final', time):.6g} "
                                     "s); there is nothing left to run (--until T runs it on to a later time T, s)")
+        if "solid_state" in group:
+            raise OrchestratorError("--resume: a solid's stresses, plastic strain, temperature and damage are not "
+                                    "restored from a frame; start the run again")
         if "mode_stress" in group:
             raise OrchestratorError("--resume: PTT materials' extra stresses are not restored from a frame; start the "
                                     "run again")

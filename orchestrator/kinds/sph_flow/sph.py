@@ -215,6 +215,7 @@ def _read_part(path: Path, workdir: Path, material) -> tuple[Result, dict]:
                 if "mode_stress" in group:  # PTT runs: (n, modes, D, D) Pa, tau_i of every mode
                     d = arrays["positions"].shape[1]
                     arrays["mode_stress"] = np.asarray(group["mode_stress"][()]).reshape(len(arrays["ids"]), -1, d, d)
+                arrays.update(_solid_fields(group, len(arrays["ids"]), arrays["positions"].shape[1]))
                 if material is not None:
                     arrays["material"] = _frame_material(material, arrays["ids"])
                 arrays["step"] = np.int64(group.attrs.get("step", -1))
@@ -235,6 +236,23 @@ def _read_part(path: Path, workdir: Path, material) -> tuple[Result, dict]:
         result.status = "failed"
         result.message = _engine_error(workdir) or "the engine ended without finishing (status 'running' in out.h5)"
     return result, attrs
+
+
+#: The columns of a solid's `solid_state` in out.h5 (engines/sph/src/materials/solid_state.h) as run.h5 frame arrays.
+SOLID_STATE_FIELDS = ("internal_energy", "plastic_strain", "plastic_strain_rate", "temperature", "damage", "stress_zz")
+
+
+def _solid_fields(group, n: int, dimension: int) -> dict:
+    """A solid run's frame fields: the deviatoric stress `stress` (n, D, D) Pa and the named columns of
+    `solid_state`: internal_energy J/kg, plastic_strain -, plastic_strain_rate 1/s, temperature K, damage -, and
+    in 2D stress_zz Pa (the plane-strain deviator). Empty for a fluid run."""
+    if "solid_state" not in group:
+        return {}
+    state = np.asarray(group["solid_state"][()], dtype=float).reshape(n, len(SOLID_STATE_FIELDS))
+    fields = {name: state[:, k] for k, name in enumerate(SOLID_STATE_FIELDS) if dimension == 2 or name != "stress_zz"}
+    if "stress" in group:
+        fields["stress"] = np.asarray(group["stress"][()], dtype=float).reshape(n, dimension, dimension)
+    return fields
 
 
 def _frame_material(material: np.ndarray, ids: np.ndarray) -> np.ndarray:

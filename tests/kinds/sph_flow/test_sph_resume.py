@@ -166,6 +166,17 @@ def test_resume_input_refuses_finished_and_unstable_runs(tmp_path, status, words
     assert (run / "out.h5").is_file()  # nothing moved
 
 
+def test_resume_input_refuses_a_solid_run(tmp_path):
+    """A solid's stresses, plastic strain, temperature and damage are not in the engine's particle file: a resumed
+    solid would restart as a virgin material, so --resume refuses it and moves nothing."""
+    run = _stopped_run(tmp_path)
+    with h5py.File(run / "out.h5", "a") as h5:
+        h5["frames/0/solid_state"] = np.zeros((4, 6))
+    with pytest.raises(OrchestratorError, match="a solid's stresses, plastic strain, temperature and damage"):
+        write_resume_input(run)
+    assert (run / "out.h5").is_file() and not (run / "out.1.h5").exists()
+
+
 def test_resume_input_refuses_a_run_without_output(tmp_path):
     run = _stopped_run(tmp_path)
     (run / "out.h5").unlink()

@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 import subprocess
 
+import numpy as np
 import pytest
 from paths import REPO
 
@@ -88,6 +89,19 @@ def test_the_executable_runs_the_rendered_deck(tmp_path):
         last = h5["frames"][str(len(h5["frames"]) - 1)]
         assert last["solid_state"].shape == (60, 6) and last["stress"].shape == (60, 4)
         assert (last["solid_state"][()][:, 3] == 293.0).all()  # a rigid translation: no plastic work
+    # the reader hands the solid's fields to run.h5 by name: stress (n, D, D) Pa and the scalars of solid_state
+    from orchestrator.kinds.sph_flow.sph import read_sph_output
+
+    with h5py.File(tmp_path / "out.h5", "a") as h5:  # known values in the last frame, to see the columns land by name
+        last = h5["frames"][str(len(h5["frames"]) - 1)]
+        last["solid_state"][:, :] = np.arange(6.0)[None, :] + np.arange(60.0)[:, None] * 10
+        last["stress"][:, :] = np.array([1.0, 2.0, 3.0, 4.0])
+    time, frame = read_sph_output(tmp_path, scene).frames[-1]
+    row = int(np.flatnonzero(frame["ids"] == 5)[0])
+    assert frame["stress"].shape == (60, 2, 2) and frame["stress"][row].tolist() == [[1.0, 2.0], [3.0, 4.0]]
+    for k, name in enumerate(("internal_energy", "plastic_strain", "plastic_strain_rate", "temperature", "damage",
+                              "stress_zz")):
+        assert frame[name][row] == 10 * row + k, name
 
 
 ENGINE_BAD = [
