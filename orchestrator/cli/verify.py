@@ -33,6 +33,9 @@ def add_parser(sub) -> None:
                         help="run on this engine only (repeatable; default: every installed engine of the suite)")
     parser.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE",
                         help="override a value of every scene, SI units, e.g. --set numerics.timestep_factor=0.1")
+    parser.add_argument("--preset", metavar="NAME", help="run every scene with its [presets.NAME] overrides (a scene "
+                        "without that preset is an error naming it); every shipped scene has quick: the test "
+                        "suite's shorter runs")
     parser.add_argument("--cases", metavar="DIR", help="directory of scenes (default: the suite's own, e.g. the shipped cases/verification)")
     parser.add_argument("--out", metavar="DIR",
                         help="run directories and the PNG (default: runs/verify-<suite>-<time>)")
@@ -65,7 +68,8 @@ def cmd_verify(args) -> int:
 
     timeout = {} if args.timeout is None else {"timeout_s": args.timeout}
     runs = verify.run_verification(args.suite, engines=args.engines, out_dir=out_dir, cases_dir=args.cases,
-                                   overrides=args.overrides, workers=args.workers, on_done=done, **timeout)
+                                   overrides=args.overrides, workers=args.workers, on_done=done, preset=args.preset,
+                                   **timeout)
     png = verify.draw(args.suite, runs, out_dir / f"verify_{args.suite}.png")
     rows = json_rows(runs)
     failed = sum(not row["passed"] for row in rows)

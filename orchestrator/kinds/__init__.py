@@ -28,6 +28,7 @@ register("ejector_feed", "orchestrator.kinds.ejector_feed")
 register("impact", "orchestrator.kinds.impact")
 register("rheometer", "orchestrator.kinds.rheometer")
 register("sph_flow", "orchestrator.kinds.sph_flow")
+register("taylor_bar", "orchestrator.kinds.taylor_bar")
 
 
 def kind_names() -> list[str]:

@@ -53,6 +53,8 @@ KIND_IMPORTS_ALLOWED = {
     ("ejector_drill", "sph_flow"): "its scenes are sph_flow cases and scenes, written by sph_flow's deck code",
     ("ejector_feed", "sph_flow"): "its scene is an sph_flow case and scene, written by sph_flow's deck code",
     ("rheometer", "sph_flow"): "its sample is an sph_flow case and scene, run by sph_flow's adapter",
+    ("taylor_bar", "sph_flow"): "its bar is an sph_flow case and scene with a johnson_cook material, run by sph_flow's "
+                                "adapter",
 }
 #: The package's root __init__ is its public facade (load_case, run_case): it imports lazily so that
 #: ``import orchestrator`` stays light, and ``from orchestrator import X`` below it names submodules only.
