@@ -7,7 +7,8 @@ dv_a/dt = sum_b m_b (sigma_a/rho_a^2 + sigma_b/rho_b^2 + f_ab^n (R_a + R_b)) . g
 artificial stress R = -epsilon sum_i max(sigma_i, 0)/rho^2 e_i e_i^T and f_ab = W(r_ab)/W(dx), Monaghan's
 artificial viscosity (eqs. 11-12) with the solid's wave speed, the kernel-corrected velocity gradient L = G M^-1
 (eq. T2), the hypoelastic Jaumann rate ds/dt = 2 G dev(D) + W s - s W (2D: plane strain, ds_zz/dt = -2 G tr D / 3),
-de/dt = sigma : D / rho, Monaghan's predictor-corrector (eqs. P1-P4), and after the corrector the radial return,
+de_a/dt = -1/2 sum_b m_b v_ab . f_ab (the work of the pair forces f_ab of the momentum equation, with the artificial
+stress and viscosity: kinetic plus internal energy is conserved; sigma : D / rho in the continuum), Monaghan's predictor-corrector (eqs. P1-P4), and after the corrector the radial return,
 heating and damage of reference.johnson_cook. Every particle is a solid particle; every axis is periodic (box at
 least 4h long). SI units throughout.
 """
@@ -140,7 +141,10 @@ def rates(state: SolidState, scene: SolidScene) -> SolidState:
     dscalars = np.zeros((n, 6))
     if dim == 2:
         dscalars[:, SZZ] = np.where(failed, 0.0, -2.0 * shear * third)
-    dscalars[:, ENERGY] = (np.einsum("nij,nij->n", state.s, stretching) - 3.0 * p * third) / state.rho
+    # de/dt: each pair's force takes m_a m_b v_ab . f from the kinetic energy and gives half to each particle
+    power = np.einsum("pi,pi->p", v_ab, f)
+    np.add.at(dscalars[:, ENERGY], a, -0.5 * state.m[b] * power)
+    np.add.at(dscalars[:, ENERGY], b, -0.5 * state.m[a] * power)
     return replace(state, acc=acc, drho=drho, ds=ds, dscalars=dscalars)
 
 

@@ -127,3 +127,22 @@ def test_artificial_stress_takes_the_tensile_principal_stresses():
     R = ref.artificial_stress(sigma, 0.3)
     np.testing.assert_allclose(R[0], -0.45 * np.ones((2, 2)), atol=1e-14)
     np.testing.assert_allclose(R[1], 0.0, atol=1e-14)
+
+
+@pytest.mark.parametrize("name", sorted(SCENES))
+def test_kinetic_plus_internal_energy_is_conserved_to_the_time_step(name):
+    """The internal energy takes the pair forces' work (stress, artificial stress and viscosity), so kinetic plus
+    internal energy changes only by the time integration's error: below 0.5 % over 20 steps in which the kinetic
+    energy falls by 44-92 % (measured 0.10 %, 0.26 %, 0.44 %), and about four times less at half the step (second
+    order; measured 4.7, 3.9, 3.8 x)."""
+    start, scene, _ = _scene(name)
+
+    def total(state):
+        return 0.5 * np.sum(state.m[:, None] * state.v ** 2) + np.sum(state.m * state.scalars[:, ref.ENERGY])
+
+    e0 = total(start)
+    coarse = total(ref.simulate(start, scene, DT, STEPS)) / e0 - 1.0
+    fine = total(ref.simulate(start, scene, DT / 2, 2 * STEPS)) / e0 - 1.0
+    assert abs(coarse) < 5e-3 and abs(fine) < abs(coarse) / 3.0
+    kinetic = 0.5 * np.sum(start.m[:, None] * ref.simulate(start, scene, DT, STEPS).v ** 2) / e0
+    assert kinetic < 0.6  # not trivial: most of the kinetic energy went into the solid

@@ -288,7 +288,7 @@ class PairLoop {
     const Mat<D> S_a = sigma_rho2[a];
     Mat<D> G_a = Mat<D>::Zero(), M_a = Mat<D>::Zero();
     Vec<D> acc_a = Vec<D>::Zero();
-    double drho_a = 0.0;
+    double drho_a = 0.0, work_a = 0.0;
     for (; e != end; ++e) {
       const int b = static_cast<int>(*e >> List::shift_bits);
       const Vec<D> r = xa - x[b] - shifts[*e & List::shift_mask];  // r_ab to the listed image of b
@@ -320,13 +320,20 @@ class PairLoop {
         if constexpr (AMoves) acc_a.noalias() += m_b * f;
         if constexpr (BMoves) acc[b].noalias() -= m_a * f;
         // Eqs. 11-12: symmetric in a and b, along r_ab.
+        double radial = 0.0;
         if constexpr (has(term::artificial_viscosity)) {  // times 0 or 1 against a fixed particle
-          double radial = 0.0;
           double pi = model.artificial.pi(r2, v_ab.dot(r), rho_a, rho_b, c_a, c[b]);
           if constexpr (!(AMoves && BMoves)) pi *= model.artificial.wall;
           radial -= pi * F;
           if constexpr (AMoves) acc_a.noalias() += (m_b * radial) * r;
           if constexpr (BMoves) acc[b].noalias() -= (m_a * radial) * r;
+        }
+        // A solid's internal energy takes what the pair's force takes from the kinetic energy, m_a m_b v_ab . f
+        // (stress, artificial stress and viscosity), half to each: de_a/dt = -1/2 sum_b m_b v_ab . f_ab.
+        if constexpr (Models::any_solid) {
+          const double power = v_ab.dot(f) + radial * v_ab.dot(r);
+          if constexpr (AMoves) work_a -= 0.5 * m_b * power;
+          if constexpr (BMoves) P_.solid_state.rate[b][slot::energy] -= 0.5 * m_a * power;
         }
         if constexpr (has(term::morris_viscosity))
           morris_pair<AMoves, BMoves>(model, b, F, r2, jump, va, vns_a, vol_a, inv_rho_a, mu_row, acc_a);
@@ -335,7 +342,8 @@ class PairLoop {
     acc[a] += acc_a;
     drho[a] += drho_a;
     grad_v[a] += G_a, shape[a] += M_a;
-    (void)mu_row, (void)jumps;
+    if constexpr (Models::any_solid) P_.solid_state.rate[a][slot::energy] += work_a;
+    (void)mu_row, (void)jumps, (void)work_a;
   }
   // Eq. T1's stress of the pair a, b, sigma_a/rho_a^2 (S_a) + sigma_b/rho_b^2; solids add Monaghan's artificial
   // stress f_ab^n (R_a + R_b), f_ab = W(r_ab) / W(dx) from t = max(1 - q/2, 0) and r_ab^2 (johnson_cook_material.h).

@@ -212,6 +212,7 @@ class Simulation {
     }
     if constexpr (tensor) P_.grad_v[i].setZero(), P_.shape[i].setZero();
     if constexpr (eddy) P_.grad_v[i].setZero();
+    if constexpr (Models::any_solid) P_.solid_state.rate[i].setZero();  // the pair loop sums de/dt into it
   }
   // close_rates of particle a: body force and wall penalty of a fluid particle; the velocity gradient G M^-1
   // (eq. T2) and the rate d tau/dt of its material (constitutive_rates.h); an outlet particle keeps the density

@@ -22,8 +22,9 @@ QUANTITIES: dict[str, tuple[str, str]] = {
     "max_plastic_strain": ("-", "largest equivalent plastic strain in the bar"),
     "max_temperature": ("K", "highest temperature in the bar"),
     "rebound_speed": ("m/s", "the bar's mean velocity along +z at the end (positive: moving off the wall)"),
-    "energy_balance": ("-", "(kinetic + internal energy) at the end over the initial kinetic energy, minus 1: the "
-                            "share the artificial viscosity took (its heat is not in the internal energy)"),
+    "energy_balance": ("-", "(kinetic + internal energy) at the end over the initial kinetic energy, minus 1 (the "
+                            "internal energy holds the elastic energy, the plastic work and the artificial "
+                            "viscosity's heat; the wall's penalty holds none once the bar has left it)"),
 }
 
 

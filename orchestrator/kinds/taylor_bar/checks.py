@@ -30,8 +30,11 @@ def check_run(case, engine: str, run: dict) -> tuple[list[dict], dict]:
     name = case.case.name
     rows = []
     for row in case.expected:
-        published = getattr(case.reference, row.quantity)
         value = measured.get(row.quantity)
+        if row.quantity == "energy_balance":
+            rows.append(_energy_row(name, value, row.tolerance))
+            continue
+        published = getattr(case.reference, row.quantity)
         source = f"{case.reference.source}: {published.low:g} - {published.high:g}"
         if value is None or not math.isfinite(value):
             rows.append(check_row(name, row.quantity, None, published.low, None, row.tolerance, passed=False,
@@ -41,6 +44,15 @@ def check_run(case, engine: str, run: dict) -> tuple[list[dict], dict]:
         rows.append(check_row(name, row.quantity, value, end, error, row.tolerance, source=source,
                               note=f"{row.quantity}: rel_error = distance to the published range over its nearer end"))
     return rows, {"outline": _outline(run), "radius": case.bar.radius, "length": case.bar.length}
+
+
+def _energy_row(scene: str, value, tolerance: float) -> dict:
+    """Kinetic plus internal energy at the end against the initial kinetic energy: rel_error = |energy_balance|."""
+    known = value is not None and math.isfinite(value)
+    return check_row(scene, "energy_balance", value if known else None, 0.0, abs(value) if known else None,
+                     tolerance, passed=None if known else False, source="conservation",
+                     note="energy_balance: (kinetic + internal energy) at the end / initial kinetic energy - 1; "
+                          "rel_error = its magnitude")
 
 
 def _outline(run: dict) -> tuple[list, list]:

@@ -1,7 +1,11 @@
 // The elastic-plastic Johnson-Cook solid of Nutto et al. (section II-B) as a material of the engine: the
 // Cauchy stress sigma = -p I + s, with
 //   ds/dt   = 2 G (D - tr D / 3 I) + W s - s W          (hypoelastic, Jaumann rate; D, W of L = G M^-1, eq. T2)
-//   de/dt   = sigma : D / rho                           (specific internal energy, J/kg)
+//   de/dt   = -1/2 sum_b m_b v_ab . f_ab                (specific internal energy, J/kg: the work of the pair
+//                                                         forces of the momentum equation, f_ab its stress,
+//                                                         artificial stress and viscosity terms, so that kinetic
+//                                                         plus internal energy is conserved; sigma : D / rho in
+//                                                         the continuum)
 //   p       = K mu, or Mie-Grueneisen p(rho, e)         (johnson_cook.h; no Tait: the deck's c0 is not a key)
 // and after the corrector the radial return of johnson_cook.h onto sigma_y of eq. 10 (the trial is the
 // corrected s), the plastic strain and its rate, the heat of eq. 12 and the damage of eqs. 13-14. At D >= 1 the
@@ -82,8 +86,7 @@ struct JohnsonCook {
     const double G = mat.solid.shear_modulus;
     const Mat<D> stretching = 0.5 * (L + L.transpose()), spin = 0.5 * (L - L.transpose());
     const Mat<D>& s = P.tau[a];
-    SolidState& rate = P.solid_state.rate[a];
-    rate.setZero();
+    SolidState& rate = P.solid_state.rate[a];  // its energy rate: the pair loop's sum, kept
     const double third = stretching.trace() / 3.0;
     if (P.solid_state.value[a][slot::damage] >= 1.0) {
       P.dtau[a].setZero();
@@ -91,7 +94,6 @@ struct JohnsonCook {
       P.dtau[a] = 2.0 * G * (stretching - third * Mat<D>::Identity()) + spin * s - s * spin;
       if constexpr (D == 2) rate[slot::szz] = -2.0 * G * third;
     }
-    rate[slot::energy] = (s.cwiseProduct(stretching).sum() - P.p[a] * stretching.trace()) / P.rho[a];
   }
 
   // post_correct of particle i after a step of dt (s): failure, return mapping, plastic strain and its rate,
