@@ -93,7 +93,7 @@ def plot_bar(run: dict, case, path: Path) -> Path:
 
     frames = run.get("frames", {})
     keys = sorted((k for k in frames if k != "attrs"), key=int)
-    fig = Figure(figsize=(4.2, 6.0), dpi=120, layout="constrained")
+    fig = Figure(figsize=(4.6, 6.4), dpi=120, layout="constrained")
     FigureCanvasAgg(fig)
     ax = fig.subplots()
     r0, l0 = case.bar.radius * 1e3, case.bar.length * 1e3
@@ -105,6 +105,8 @@ def plot_bar(run: dict, case, path: Path) -> Path:
         colour = np.asarray(last.get("plastic_strain", np.zeros(len(r))), dtype=float)
         points = ax.scatter(r, z, c=colour, s=2.0, cmap="viridis", vmin=0.0)
         fig.colorbar(points, ax=ax, label="equivalent plastic strain")
+    ax.set_xlim(0.0, 2.6 * r0)  # room for the legend right of the initial outline
+    ax.set_ylim(-0.05 * l0, 1.12 * l0)
     ax.set_xlabel("r, mm")
     ax.set_ylabel("z above the face, mm")
     ax.set_aspect("equal")

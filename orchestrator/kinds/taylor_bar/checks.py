@@ -70,7 +70,7 @@ def plot_suite(runs, path: Path) -> Path:
     from matplotlib.figure import Figure
 
     shown = [run for run in runs if run.picture.get("outline", ([], []))[0]] or list(runs)[:1]
-    fig = Figure(figsize=(3.2 * max(len(shown), 1) + 0.6, 5.2), dpi=110, layout="constrained")
+    fig = Figure(figsize=(3.6 * max(len(shown), 1) + 0.6, 6.0), dpi=110, layout="constrained")
     FigureCanvasAgg(fig)
     axes = np.atleast_1d(fig.subplots(1, max(len(shown), 1)))
     for ax, run in zip(axes, shown):
@@ -78,6 +78,8 @@ def plot_suite(runs, path: Path) -> Path:
         r0, l0 = run.picture.get("radius", 0.0) * 1e3, run.picture.get("length", 0.0) * 1e3
         ax.plot([0, r0, r0, 0], [0, 0, l0, l0], "k--", lw=0.8, label="initial")
         ax.plot(np.asarray(r) * 1e3, np.asarray(z) * 1e3, ".", ms=1.0, color="C0", label=f"{run.engine}, final")
+        ax.set_xlim(0.0, 2.6 * r0)  # room for the legend right of the initial outline
+        ax.set_ylim(-0.05 * l0, 1.12 * l0)
         ax.set_aspect("equal")
         ax.set_xlabel("r, mm")
         ax.set_title(run.scene, fontsize=8)
