@@ -315,25 +315,17 @@ class PairLoop {
       G_a.noalias() -= (F * vol[b]) * vr_outer, M_a.noalias() -= (F * vol[b]) * rr_outer;
       grad_v[b].noalias() -= (F * vol_a) * vr_outer, shape[b].noalias() -= (F * vol_a) * rr_outer;
       if constexpr (AMoves || BMoves) {
-        // Eq. T1: symmetric in a and b; grad_b W_ba = -F r_ab.
-        const Vec<D> f = pair_stress(S_a, a, b, t, r2) * (F * r);
+        // Eq. T1 and eqs. 11-12 (along r_ab): symmetric in a and b; grad_b W_ba = -F r_ab.
+        const double radial = viscous_radial<AMoves, BMoves>(model, r2, v_ab.dot(r), rho_a, rho_b, c_a, c[b], F);
+        const Vec<D> f = pair_stress(S_a, a, b, t, r2) * (F * r) + radial * r;
         if constexpr (AMoves) acc_a.noalias() += m_b * f;
         if constexpr (BMoves) acc[b].noalias() -= m_a * f;
-        // Eqs. 11-12: symmetric in a and b, along r_ab.
-        double radial = 0.0;
-        if constexpr (has(term::artificial_viscosity)) {  // times 0 or 1 against a fixed particle
-          double pi = model.artificial.pi(r2, v_ab.dot(r), rho_a, rho_b, c_a, c[b]);
-          if constexpr (!(AMoves && BMoves)) pi *= model.artificial.wall;
-          radial -= pi * F;
-          if constexpr (AMoves) acc_a.noalias() += (m_b * radial) * r;
-          if constexpr (BMoves) acc[b].noalias() -= (m_a * radial) * r;
-        }
         // A solid's internal energy takes what the pair's force takes from the kinetic energy, m_a m_b v_ab . f
         // (stress, artificial stress and viscosity), half to each: de_a/dt = -1/2 sum_b m_b v_ab . f_ab.
         if constexpr (Models::any_solid) {
-          const double power = v_ab.dot(f) + radial * v_ab.dot(r);
-          if constexpr (AMoves) work_a -= 0.5 * m_b * power;
-          if constexpr (BMoves) P_.solid_state.rate[b][slot::energy] -= 0.5 * m_a * power;
+          const double half_power = 0.5 * v_ab.dot(f);
+          if constexpr (AMoves) work_a -= m_b * half_power;
+          if constexpr (BMoves) P_.solid_state.rate[b][slot::energy] -= m_a * half_power;
         }
         if constexpr (has(term::morris_viscosity))
           morris_pair<AMoves, BMoves>(model, b, F, r2, jump, va, vns_a, vol_a, inv_rho_a, mu_row, acc_a);
@@ -344,6 +336,18 @@ class PairLoop {
     grad_v[a] += G_a, shape[a] += M_a;
     if constexpr (Models::any_solid) P_.solid_state.rate[a][slot::energy] += work_a;
     (void)mu_row, (void)jumps, (void)work_a;
+  }
+  // Eqs. 11-12 of the pair: -Pi_ab F, the factor of m_b r_ab in dv_a/dt (times 0 or 1 against a fixed particle).
+  template <bool AMoves, bool BMoves>
+  inline __attribute__((always_inline)) double viscous_radial(const Model& model, double r2, double vr, double rho_a,
+                                                              double rho_b, double c_a, double c_b, double F) const {
+    if constexpr (!has(term::artificial_viscosity)) {
+      return (void)model, (void)r2, (void)vr, (void)rho_a, (void)rho_b, (void)c_a, (void)c_b, (void)F, 0.0;
+    } else {
+      double pi = model.artificial.pi(r2, vr, rho_a, rho_b, c_a, c_b);
+      if constexpr (!(AMoves && BMoves)) pi *= model.artificial.wall;
+      return -pi * F;
+    }
   }
   // Eq. T1's stress of the pair a, b, sigma_a/rho_a^2 (S_a) + sigma_b/rho_b^2; solids add Monaghan's artificial
   // stress f_ab^n (R_a + R_b), f_ab = W(r_ab) / W(dx) from t = max(1 - q/2, 0) and r_ab^2 (johnson_cook_material.h).

@@ -201,8 +201,7 @@ class Simulation {
   // Gather, per particle: EOS and its sums set to zero (and, with Morris, its Shepard sums).
   void start_rates_at(std::ptrdiff_t i) {
     equation_of_state_at(i);
-    P_.acc[i].setZero();
-    P_.drho[i] = 0.0;
+    P_.acc[i].setZero(), P_.drho[i] = 0.0;
     if constexpr (no_slip) {
       if (has(term::morris_viscosity) || non_fluid_) {  // the no-slip pass runs (compute_rates)
         P_.v_noslip[i].setZero();  // the Shepard sum of the fluid velocities around a boundary particle
