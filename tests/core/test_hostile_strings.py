@@ -112,6 +112,8 @@ def _names(case) -> list[str]:
                                      case.output.flow_planes) for i in group]
     if case.case.kind == "rheometer":
         return []  # a rheometer case names nothing that reaches the deck (its material and block are "sample")
+    if case.case.kind == "taylor_bar":
+        return [case.material.name]
     if case.case.kind in ("ejector_drill", "ejector_feed"):
         return []  # its deck's names (planes, probes, walls) are the layout's own, none from the case file
     return [n for n in case.materials if n != "rigid"]

@@ -12,7 +12,7 @@ from typing import Literal
 
 from pydantic import Field, model_validator
 
-from orchestrator.case.common import CaseMeta, Frozen, NonNegative, Positive
+from orchestrator.case.common import CaseMeta, Frozen, Name, NonNegative, Positive
 from orchestrator.kinds.sph_flow.case_solids import SolidMaterial
 
 #: The quantities a [[expected]] row can check against [reference] (analysis.QUANTITIES has their units), and
@@ -31,7 +31,7 @@ class Bar(Frozen):
 class BarMaterial(Frozen):
     """The bar's Johnson-Cook solid."""
 
-    name: str = Field("bar", pattern=r"^[A-Za-z][A-Za-z0-9_]{0,63}$", description="the material's name")
+    name: Name = Field("bar", description="the material's name (it reaches the deck)")
     density: Positive = Field(description="reference density rho0, kg/m^3")
     solid: SolidMaterial = Field(description="elasticity, equation of state, strength, heating, failure")
 

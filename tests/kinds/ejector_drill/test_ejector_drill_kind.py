@@ -345,6 +345,7 @@ def test_tiny_flow_exit_run(tmp_path):
 
 
 @pytest.mark.sph
+@pytest.mark.slow  # 2 min on 2 cores; the tiny run above keeps the deck and the walls in the default suite
 def test_the_quick_flow_exit_run_keeps_the_fluid_out_of_the_walls(tmp_path):
     """The quick flow-exit preset runs its 0.4 ms (a free jet leaves the holes at ~200 m/s at a tension of ~-400
     bar): no fluid particle lies deeper than one spacing inside a solid in any frame (measured 0.77 dx; the staircase
