@@ -10,11 +10,12 @@ KIND = Kind(
     build_scene="orchestrator.kinds.taylor_bar.scene:build_taylor_bar",
     measure="orchestrator.kinds.taylor_bar.analysis:measure_taylor_bar",
     analyze="orchestrator.kinds.taylor_bar.analysis:analyze_taylor_bar_run",
-    adapters={"sph": "orchestrator.kinds.taylor_bar.sph:SphTaylorBar"},
+    adapters={"sph": "orchestrator.kinds.taylor_bar.sph:SphTaylorBar",
+              "lammps": "orchestrator.kinds.taylor_bar.lammps:LammpsTaylorBar"},
     quantities="orchestrator.kinds.taylor_bar.analysis:QUANTITIES",
     verification=Verification(
         suite="solids", check="orchestrator.kinds.taylor_bar.checks:check_run",
         units="orchestrator.kinds.taylor_bar.checks:UNITS", picture="orchestrator.kinds.taylor_bar.checks:plot_suite",
         description="the Johnson-Cook solids: the Taylor bar's final shape against a published solution",
-        timeout_s=3600.0),
+        timeout_s=3600.0, default_engines=("sph",)),
 )

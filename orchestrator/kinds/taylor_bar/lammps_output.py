@@ -1,0 +1,94 @@
+"""What a LAMMPS MACHDYN Taylor bar run wrote (output/frames.dump, output/series.txt, the screen log), read back into
+the frame and series names of the sph executable's solid runs, so that measure_taylor_bar reads both alike.
+
+Frames: ids (from 0, input order), positions, velocities, plastic_strain (MACHDYN's effective plastic strain) and
+internal_energy (J/kg: MACHDYN's per-particle energy over the particle's mass; it holds the elastic energy, the plastic
+work, the artificial viscosity's heat and the hourglass control's work). No temperature: MACHDYN computes none.
+Series: kinetic_energy and internal_energy of the bar (J) and the wall's force on it along +z (N).
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import numpy as np
+
+from orchestrator.engines.base import Result, Series
+from orchestrator.engines.liggghts_files import read_table
+from orchestrator.runner import LOG_NAME, tail
+
+DUMP = "output/frames.dump"
+SERIES = "output/series.txt"
+#: Columns of the dump, in the deck's order.
+DUMP_COLUMNS = ("id", "x", "y", "z", "vx", "vy", "vz", "c_plastic_strain", "c_energy")
+SERIES_UNITS = {"kinetic_energy": ("J", "kinetic energy of the bar"),
+                "internal_energy": ("J", "MACHDYN's internal energy of the bar (elastic, plastic, viscous, hourglass)"),
+                "wall_force": ("N", "force of the wall on the bar along +z")}
+_LOOP = re.compile(r"Loop time of (\S+) on (\d+) procs for (\d+) steps with (\d+) atoms")
+
+
+def read_frames(path: Path) -> list[tuple[int, np.ndarray]]:
+    """(step, rows (n, 9) in DUMP_COLUMNS order) of every complete record of the dump ([] without one)."""
+    try:
+        text = Path(path).read_text()
+    except OSError:
+        return []
+    records = []
+    for block in text.split("ITEM: TIMESTEP\n")[1:]:
+        lines = block.split("\n")
+        try:
+            step, count = int(lines[0]), int(lines[2])
+            if lines[7].split()[2:] != list(DUMP_COLUMNS):
+                break
+            body = lines[8:8 + count]
+            if len(body) < count or (count and not body[-1].strip()):
+                break  # a record cut off while it was written
+            rows = np.array([line.split() for line in body], dtype=float).reshape(count, len(DUMP_COLUMNS))
+        except (IndexError, ValueError):
+            break
+        records.append((step, rows))
+    return records
+
+
+def frame_arrays(rows: np.ndarray, mass: float) -> dict[str, np.ndarray]:
+    """One record as the sph reader's frame arrays; mass: every particle's, kg (internal_energy J -> J/kg)."""
+    rows = rows[np.argsort(rows[:, 0])]
+    return {"ids": rows[:, 0].astype(np.int64) - 1, "positions": rows[:, 1:4].copy(),
+            "velocities": rows[:, 4:7].copy(), "plastic_strain": rows[:, 7].copy(),
+            "internal_energy": rows[:, 8] / mass}
+
+
+def read_taylor_bar_output(workdir: Path, scene, steps: tuple[int, float, int]) -> Result:
+    """The Result of a MACHDYN Taylor bar run in workdir (complete or partial). steps: lammps.run_steps (planned
+    steps, dt s, steps per frame). Failed on a LAMMPS ERROR, a lost particle count or a missing end."""
+    workdir = Path(workdir)
+    planned, dt, _ = steps
+    n = len(scene.positions)
+    mass = float(np.asarray(scene.masses, dtype=float)[0])
+    log = tail(workdir / LOG_NAME, 400) if (workdir / LOG_NAME).is_file() else ""
+    records = read_frames(workdir / DUMP)
+    result = Result()
+    result.frames = [(step * dt, frame_arrays(rows, mass)) for step, rows in records if len(rows) == n]
+    last = records[-1][0] if records else 0
+    result.attrs.update(n_steps=last, dt=dt, simulated_time=last * dt, dx=float(scene.case.numerics.dx),
+                        h=float(scene.h), dimension=3)
+    loops = _LOOP.findall(log)
+    if loops:
+        wall, _, done, atoms = loops[-1]
+        result.attrs["engine_wall_time_s"] = float(wall)
+        if float(wall) > 0:
+            result.attrs["particle_steps_per_s"] = int(done) * int(atoms) / float(wall)
+    table = read_table(workdir / SERIES)
+    if len(table.get("time", ())):
+        result.time = np.asarray(table["time"], dtype=float)
+        for name, (unit, meaning) in SERIES_UNITS.items():
+            result.series[name] = Series(np.asarray(table[name], dtype=float), unit, meaning)
+    errors = [line.strip() for line in log.splitlines() if line.startswith("ERROR")]
+    if errors:
+        result.status, result.message = "failed", f"LAMMPS stopped with an error: {errors[-1]}"
+    elif any(len(rows) != n for _, rows in records):
+        result.status, result.message = "failed", "MACHDYN lost particles (det F out of range or out of the box)"
+    elif "STATUS finished" not in log or last < planned:
+        result.status, result.message = "failed", "LAMMPS ended without finishing its run (stopped or crashed)"
+    return result
