@@ -31,7 +31,11 @@ import numpy as np
 
 from orchestrator.errors import OrchestratorError
 from orchestrator.kinds.base import Adapter
-from orchestrator.kinds.taylor_bar.lammps_output import DUMP, SERIES, read_taylor_bar_output
+from orchestrator.kinds.taylor_bar.lammps_output import (
+    DUMP,
+    SERIES,
+    read_taylor_bar_output,
+)
 from orchestrator.templating import render
 
 TEMPLATE = Path(__file__).resolve().parent / "templates" / "lammps.in.j2"

@@ -9,6 +9,7 @@ import re
 
 import numpy as np
 import pytest
+from paths import VERIFICATION
 
 from orchestrator.case import load_case
 from orchestrator.errors import OrchestratorError
@@ -21,10 +22,13 @@ from orchestrator.kinds.taylor_bar.lammps import (
     machdyn_parameters,
     run_steps,
 )
-from orchestrator.kinds.taylor_bar.lammps_output import DUMP, SERIES, read_taylor_bar_output
+from orchestrator.kinds.taylor_bar.lammps_output import (
+    DUMP,
+    SERIES,
+    read_taylor_bar_output,
+)
 from orchestrator.kinds.taylor_bar.scene import wall_penalty
 from orchestrator.runner import LOG_NAME
-from paths import VERIFICATION
 
 BAR = VERIFICATION / "taylor_bar_42crmo4.toml"
 
@@ -38,7 +42,7 @@ def _deck(tmp_path, overrides=()):
 
 def _pair_coeff(deck: str) -> dict[str, list[float]]:
     """The pair_coeff card's keyword blocks as numbers, e.g. {'*COMMON': [rho0, E, ...], '*JOHNSON_COOK': [...]}."""
-    text = re.search(r"^pair_coeff\s+1 1 (.*?\*END)", deck.replace("&\n", " "), re.M | re.S).group(1)
+    text = re.search(r"^pair_coeff\s+1 1 (.*?\*END)", deck.replace("&\n", " "), re.MULTILINE | re.DOTALL).group(1)
     blocks, key = {}, None
     for word in text.split():
         if word.startswith("*"):
@@ -74,7 +78,7 @@ def test_the_wall_potential_gives_the_sph_wall_force(tmp_path):
     m = re.search(r'wall/lepton zlo 0\.0 "([^"]+)" (\S+) units box', deck)
     expression, reach = m.group(1), float(m.group(2))
     assert re.fullmatch(r"[0-9eE+\-.*/()^r]+", expression)  # numbers and r only
-    energy = lambda r: eval(expression.replace("^", "**"), {"__builtins__": {}}, {"r": r})  # noqa: S307
+    energy = lambda r: eval(expression.replace("^", "**"), {"__builtins__": {}}, {"r": r})
     wall = wall_penalty(case)
     big_r, s, psi = wall["range"], wall["s"], wall["psi"]
     assert reach == big_r and energy(big_r) == pytest.approx(0.0, abs=1e-20)
@@ -100,8 +104,8 @@ def test_the_data_file_holds_the_scene_particles(tmp_path):
     np.testing.assert_array_equal(rows[:, 10:13], scene.positions)
     steps, dt, per_frame = run_steps(scene)
     assert steps == 8 * per_frame and dt <= scene.timestep and steps * dt == pytest.approx(8e-5, rel=1e-12)
-    assert float(re.search(r"^timestep\s+(\S+)", deck, re.M).group(1)) == dt
-    assert int(re.search(r"^run\s+(\d+)", deck, re.M).group(1)) == steps
+    assert float(re.search(r"^timestep\s+(\S+)", deck, re.MULTILINE).group(1)) == dt
+    assert int(re.search(r"^run\s+(\d+)", deck, re.MULTILINE).group(1)) == steps
 
 
 @pytest.mark.parametrize("override, words", [
@@ -135,8 +139,7 @@ def _stored_output(tmp_path, scene, steps: int, finished: bool = True):
 def test_the_reader_gives_frames_that_measure_taylor_bar_reads(tmp_path):
     case = load_case(BAR, preset="quick").model
     scene = build_scene(case)
-    steps, dt, _ = run_steps(scene)
-    _stored_output(tmp_path, scene, steps)
+    _stored_output(tmp_path, scene, run_steps(scene)[0])
     result = read_taylor_bar_output(tmp_path, scene, run_steps(scene))
     assert result.status == "ok" and len(result.frames) == 2 and result.frames[-1][0] == pytest.approx(8e-5)
     frame = result.frames[-1][1]
