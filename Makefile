@@ -64,7 +64,7 @@ $(DEMO_DIR)/run.h5: $(DEMO_CASE) $(wildcard orchestrator/kinds/*/templates/*.j2)
 
 test: setup lammps
 	@if [ -f engines/sph/CMakeLists.txt ]; then ctest --test-dir engines/sph/build --output-on-failure; fi
-	$(BIN)/python -m pytest -q
+	$(BIN)/python -m pytest -q -n 2 --dist loadscope
 
 # Optional (not part of demo or test): PySPH in .venv, for the side-by-side in 'orchestrator bench sph'.
 # Its sdist builds from source (about 6 minutes; needs Cython >= 3) and caches compiled kernels under $HOME/.pysph.
