@@ -1,5 +1,6 @@
-"""The Taylor bar (Taylor 1948): a Johnson-Cook bar shot onto a rigid, frictionless wall on the sph executable;
-its final length, face diameter, plastic strain and temperature against a published solution (verify solids)."""
+"""The Taylor bar (Taylor 1948): a Johnson-Cook bar shot onto a rigid, frictionless wall, on the sph executable and
+on LAMMPS MACHDYN (the cross-check); its final length, face diameter, plastic strain and temperature against a
+published solution (verify solids)."""
 
 from orchestrator.kinds.base import Kind, Verification
 
