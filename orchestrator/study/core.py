@@ -5,7 +5,7 @@ A run's identity (orchestrator.identity) is sha256 of the resolved case, the eng
 ranks and the rendered engine input files; its directory is <study dir>/<engine>-<id[:12]>. A run whose run.h5
 has status ok and the same identity is reused; a failed, interrupted or
 changed one is run again. Runs go to any concurrent.futures.Executor (a local
-process pool by default, sized so runs never oversubscribe the cores).
+process pool by default, sized so runs never oversubscribe the cores: cores / (threads x MPI ranks) runs at once).
 """
 
 from __future__ import annotations
@@ -44,6 +44,7 @@ class PlannedRun:
     point: dict[str, Any]
     run_dir: Path
     threads: int
+    mpi_ranks: int = 1
 
 
 #: What a study directory says about itself (name, kind, description, case, preset, engines), for its report.
@@ -68,6 +69,7 @@ class Study:
     name: str = "study"
     timeout_s: float | None = None
     description: str = ""
+    mpi_ranks: int | None = None
     _planned: list[PlannedRun] = field(default_factory=list, init=False, repr=False)
     _kind: str = field(default="", init=False, repr=False)
 
@@ -84,7 +86,7 @@ class Study:
         spec, case_path = load_study_spec(path)
         return cls(case=case_path, points=spec.sweep.points(), engines=spec.study.engines, preset=spec.study.preset,
                    out_dir=out_dir, name=spec.study.name, timeout_s=spec.study.timeout,
-                   description=spec.study.description)
+                   description=spec.study.description, mpi_ranks=spec.study.mpi_ranks)
 
     def plan(self) -> list[PlannedRun]:
         """Validate every run's case and engine, and compute identities (raises CaseError / OrchestratorError)."""
@@ -102,17 +104,19 @@ class Study:
                 raise CaseError(f"study run {i + 1} ({_describe(point)}): {exc}") from None
         _check_engines_run(self.engines, cases, self.case)
         self._kind = cases[0].kind
-        versions = {}
+        versions, ranks = {}, {}
+        options = {} if self.mpi_ranks is None else {"mpi_ranks": self.mpi_ranks}
         for engine in self.engines:
-            profile = get_engine(engine)
+            profile = _study_engine(engine, options)
             profile.check_available()
-            versions[engine] = profile.version()
+            versions[engine], ranks[engine] = profile.version(), int(getattr(profile, "mpi_ranks", 1))
         for point, loaded in zip(self.points, cases):
             scene = _build_scene(loaded)
             for engine in self.engines:
-                run_id = run_identity(loaded, engine, versions[engine], bind(loaded.kind, engine, scene), scene)
+                bound = bind(loaded.kind, engine, scene, **options)
+                run_id = run_identity(loaded, engine, versions[engine], bound, scene)
                 planned.append(PlannedRun(run_id, engine, dict(point), self.out_dir / f"{engine}-{run_id[:12]}",
-                                          loaded.model.numerics.threads))
+                                          loaded.model.numerics.threads, ranks[engine]))
         self._planned = planned
         return planned
 
@@ -139,7 +143,7 @@ class Study:
                     todo.append(run)
             bar = _bar(len(planned), len(rows), progress, self.name)
             return [(execute_run, (str(self.case), self.preset, r.point, r.engine, str(r.run_dir), self.timeout_s,
-                                   r.run_id)) for r in todo]
+                                   r.run_id, self.mpi_ranks)) for r in todo]
 
         def on_done(row, _done, _total):
             rows[row["run_id"]] = {**row, "reused": False}
@@ -150,8 +154,8 @@ class Study:
                 bar.update(1)
 
         own_pool = executor is None
-        threads = max((r.threads for r in planned), default=1)
-        workers = max_workers or max(1, (os.cpu_count() or 1) // threads)
+        cores_per_run = max((r.threads * r.mpi_ranks for r in planned), default=1)
+        workers = max_workers or max(1, (os.cpu_count() or 1) // cores_per_run)
         try:
             Workflow(self.name, jobs).run(self.out_dir, workers, on_done, executor,
                                                    signals.install_in_worker if own_pool else None)
@@ -184,6 +188,18 @@ def _build_scene(loaded):
         raise OrchestratorError(f"cannot build the scene of {loaded.name}: {exc}") from None
 
 
+def _study_engine(engine: str, options: dict):
+    """The study engine's profile with the study's options (its MPI ranks); OrchestratorError naming the study key
+    when the engine does not run under MPI."""
+    try:
+        return get_engine(engine, **options)
+    except OrchestratorError as exc:
+        if "mpi_ranks" not in options:
+            raise
+        raise OrchestratorError(f"study.mpi_ranks = {options['mpi_ranks']}: {str(exc).split(': ', 1)[-1]} (leave "
+                                "mpi_ranks out, or run the MPI engines in a study of their own)") from None
+
+
 def _check_engines_run(engines, cases, case_path: Path) -> None:
     """Raise OrchestratorError when a study engine does not run the kind of the study's case."""
     for kind in dict.fromkeys(loaded.kind for loaded in cases):
@@ -210,8 +226,9 @@ def zipped(parameters: dict[str, list]) -> list[dict]:
 
 
 def execute_run(case_path: str, preset: str | None, point: dict, engine: str, run_dir: str,
-                timeout_s: float | None, run_id: str) -> dict:
-    """Run one study point (in a worker process); returns its row. Never raises for a failed run."""
+                timeout_s: float | None, run_id: str, mpi_ranks: int | None = None) -> dict:
+    """Run one study point (in a worker process; timeout_s in s, mpi_ranks None: the engine's default); returns its
+    row. Never raises for a failed run."""
 
     run_path = Path(run_dir)
     if run_path.exists():
@@ -222,7 +239,7 @@ def execute_run(case_path: str, preset: str | None, point: dict, engine: str, ru
         with signals.task():
             loaded = load_case(case_path, preset=preset, overrides=overrides)
             summary = run_case(loaded, engine=engine, out_dir=run_path, timeout_s=timeout_s, progress=False,
-                               force=True, extra_attrs={"run_id": run_id})
+                               force=True, extra_attrs={"run_id": run_id}, mpi_ranks=mpi_ranks)
     except OrchestratorError as exc:
         summary = exc.summary
         if summary is None:

@@ -6,6 +6,7 @@
     preset = "quick"                              # optional
     engines = ["yade"]
     timeout = 3600                                # s per run, optional
+    mpi_ranks = 2                                 # MPI ranks per run (lammps, liggghts), optional
     description = "..."                           # shown in the report, optional
 
     [sweep]
@@ -48,6 +49,8 @@ class StudyMeta(_Frozen):
     preset: str | None = None
     engines: tuple[str, ...] = Field(("yade",), min_length=1)
     timeout: float | None = Field(None, gt=0, description="wall-time limit per run, s")
+    mpi_ranks: int | None = Field(None, ge=1, description="MPI ranks per run (engines that run under MPI: lammps, "
+                                  "liggghts); default: the engine's own (1, or $ORCHESTRATOR_<ENGINE>_MPI)")
     description: str = Field("", description="what the study does and how it departs from the case (shown in the report)")
 
 

@@ -6,9 +6,9 @@ Every input fails during validation, before any engine starts (the engines' vari
 regression could not start Yade, LIGGGHTS or the sph executable either). Exit codes: 2 bad input (CaseError,
 OrchestratorError, argparse), 6 unreadable file (ReadError), 1 a fit the data contradict.
 
-Counts: test_numeric_keys 576 (24 shipped cases x 4 numeric keys x 6 values), test_positive_keys 44,
-test_bad_input 163, test_bad_option 21, test_out_dirs 24 (8 commands x 3 folders), test_read_only_out 6,
-test_hypothesis_values 40 examples: 874 bad inputs in all, over every command.
+Counts: test_numeric_keys 960 (40 shipped cases x 4 numeric keys x 6 values), test_positive_keys 44,
+test_bad_input 174, test_bad_option 21, test_out_dirs 24 (8 commands x 3 folders), test_read_only_out 6,
+test_hypothesis_values 40 examples: 1269 bad inputs in all, over every command.
 """
 
 from __future__ import annotations
@@ -75,6 +75,10 @@ def bad(tmp_path_factory) -> Path:
         "ok_reference": f'[study]\nname = "s"\ncase = "{PLANE}"\nengines = ["reference"]\n'
                         '[sweep.parameters]\n"case.seed" = [1]\n',
         "bad_name": f'[study]\nname = "a/../b"\ncase = "{PLANE}"\n[sweep.parameters]\n"case.seed" = [1]\n',
+        "zero_ranks": f'[study]\nname = "s"\ncase = "{TANK}"\nengines = ["lammps"]\nmpi_ranks = 0\n'
+                      '[sweep.parameters]\n"simulation.duration" = [0.01]\n',
+        "ranks_no_mpi": f'[study]\nname = "s"\ncase = "{PLANE}"\nengines = ["reference"]\nmpi_ranks = 2\n'
+                        '[sweep.parameters]\n"case.seed" = [1]\n',
     }.items():
         w(f"studies/{name}.toml", study)
     rows = [f"{k * 1e-3},{10.0 if k == 50 else 0.0}" for k in range(100)]
@@ -267,7 +271,8 @@ BAD_INPUTS = [
         "neg_timeout": ("study.timeout",), "nostudy": ("study", "missing"), "empty_sweep": ("sweep.parameters",),
         "zip": ("zip",), "list_empty": ("sweep.runs",), "missing_case": ("case file not found",),
         "dir_case": ("is a directory",), "engine": ("fluent",), "sweep_inf": ("simulation.duration", "finite"),
-        "sweep_key": ("simulation.nope",), "bad_name": ("study.name",)}.items()],
+        "sweep_key": ("simulation.nope",), "bad_name": ("study.name",), "zero_ranks": ("study.mpi_ranks",),
+        "ranks_no_mpi": ("study.mpi_ranks = 2", "does not run under MPI")}.items()],
     (["study", "@BAD/missing.toml"], 2, "not found"), (["study", "@BAD/dir.toml"], 2, "is a directory"),
     (["study", "@BAD/binary.toml"], 2, "not a text file"), (["study", "@BAD/deep.toml"], 2, "nested too deeply"),
     (["study", "/dev/null"], 2, "not a regular file"),
@@ -320,10 +325,11 @@ BAD_INPUTS = [
     *[(["run", PLANE, "--engine", "reference", "--timeout", t, "--out", "@OUT"], 2, "--timeout") for t in
       ("0", "-1", "nan", "inf", "-inf")],
     *[(["run", PLANE, "--mpi", n, "--out", "@OUT"], 2, "--mpi") for n in ("0", "-3")],
+    *[(["run", TANK, "--engine", "lammps", "--mpi", n, "--out", "@OUT"], 2, "--mpi") for n in ("0", "-2", "2000")],
 ]
 
 
-# 162 cases (the list above, by command: run 77, analyze 5, export 4, study 20, status 5, report 11, verify 17,
+# 174 cases (the list above, by command: run 81, analyze 5, export 4, study 22, status 5, report 13, verify 21,
 # calibrate 13, compare 6, bench 4; the comprehensions expand to these counts)
 @pytest.mark.parametrize("argv,code,words", [(a, c, w) for a, c, *w in BAD_INPUTS],
                          ids=[" ".join(str(x).rsplit("/", 1)[-1] for x in a)[:80] for a, *_ in BAD_INPUTS])

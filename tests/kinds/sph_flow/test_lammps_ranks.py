@@ -80,3 +80,31 @@ def test_the_rank_count_is_part_of_the_run_identity():
 
     assert identity(1) != identity(2)
     assert identity(2) == identity(2)  # the same inputs on the same ranks: the same run
+
+
+@pytest.mark.lammps
+def test_a_study_gives_each_run_its_ranks(tmp_path):
+    """[study] mpi_ranks = 2: each run starts under the MPI launcher with 2 ranks, and its identity (its folder)
+    differs from the same point's on the engine's default of 1 rank."""
+    import h5py
+
+    from orchestrator.study import Study
+
+    point = [{"simulation.duration": 0.04}]
+    two = Study(CASE, point, engines=("lammps",), out_dir=tmp_path / "two", mpi_ranks=2)
+    one = Study(CASE, point, engines=("lammps",), out_dir=tmp_path / "one")
+    assert [r.mpi_ranks for r in two.plan()] == [2] and [r.mpi_ranks for r in one.plan()] == [1]
+    assert two.plan()[0].run_id != one.plan()[0].run_id
+    rows = two.run(progress=False, max_workers=1)
+    assert [row["status"] for row in rows] == ["ok"], rows
+    with h5py.File(two.plan()[0].run_dir / "run.h5", "r") as h5:
+        assert " -n 2 " in str(h5.attrs["command"])
+
+
+def test_a_study_refuses_ranks_for_an_engine_without_mpi(tmp_path):
+    from orchestrator.errors import OrchestratorError
+    from orchestrator.study import Study
+
+    study = Study(CASE, [{"simulation.duration": 0.04}], engines=("sph",), out_dir=tmp_path / "s", mpi_ranks=2)
+    with pytest.raises(OrchestratorError, match=r"study.mpi_ranks = 2: the sph engine does not run under MPI"):
+        study.plan()
