@@ -151,6 +151,31 @@ def rod_tip_z():
     return min(min(O.bodies[i].state.pos[2] + v[2] for v in O.bodies[i].shape.vertices) for i in ROD_IDS)
 
 
+def vectors(values):
+    """minieigen vectors as an (n, 3) array, component by component: tuple() of one costs about 15 us (it
+    iterates until an IndexError crosses into Python), an index about 0.1 us."""
+    return np.array([(q[0], q[1], q[2]) for q in values], dtype=float).reshape(-1, 3)
+
+
+# the balls the impact test looks at, with their State objects (live views of the scene, so emptied when the
+# scene is reloaded) and radii; rebuilt every IMPACT_REFRESH steps
+impact_near = {}
+IMPACT_REFRESH = 50
+# a ball further than this from the rod at a rebuild cannot touch it before the next one: it would need 3 mm in
+# 50 steps, 0.6 m/s even at a step of 1e-4 s, where the fastest contact starts are about 0.1 m/s
+IMPACT_MARGIN = 3e-3
+
+
+def rod_gaps(p, r, th, tip):
+    """The balls' gaps to the rod (see IMPACT_WINDOW above), m: to the side nearest in angle, gs, whose outward
+    normal points at angle a (rad), and to the tip, ga; th (rad) is the carousel's turn."""
+    c, s = math.cos(th), math.sin(th)
+    dx, dy = p[:, 0] - PATH_RADIUS * c, p[:, 1] - PATH_RADIUS * s
+    phi = np.arctan2(dy * c - dx * s, dx * c + dy * s)
+    a = th + IMPACT_ALPHA0 + IMPACT_SECTOR * np.floor((phi - IMPACT_ALPHA0) / IMPACT_SECTOR + 0.5)
+    return dx * np.cos(a) + dy * np.sin(a) - IMPACT_APOTHEM - r, tip - p[:, 2] - r, a
+
+
 def impacts():
     """Every step in IMPACT_WINDOW: the balls that start touching the rod (see IMPACT_WINDOW above)."""
     t_p = O.time - state["t_process"]
@@ -162,27 +187,22 @@ def impacts():
         return
     axis, angle = O.bodies[ROD_IDS[0]].state.ori.toAxisAngle()  # the carousel's turn so far
     th = angle if axis[2] >= 0 else -angle
-    c, s = math.cos(th), math.sin(th)
-    if O.iter >= state.get("impact_refresh", -1):  # the balls near the rod, again every 50 steps
-        p = np.array([tuple(O.bodies[i].state.pos) for i in SPHERE_IDS])
-        r = np.array([O.bodies[i].shape.radius for i in SPHERE_IDS])
-        near = np.hypot(p[:, 0] - PATH_RADIUS * c, p[:, 1] - PATH_RADIUS * s) - r < IMPACT_APOTHEM / math.cos(
-            0.5 * IMPACT_SECTOR) + 3e-3
-        state["impact_near"] = [SPHERE_IDS[k] for k in np.flatnonzero(near)]
-        state["impact_refresh"] = O.iter + 50
-        state["impact_tip"] = rod_tip_z()
-    ids = state["impact_near"]
+    if O.iter >= state.get("impact_refresh", -1) or not impact_near:
+        tip = rod_tip_z()
+        every = [O.bodies[i] for i in SPHERE_IDS]
+        r = np.array([b.shape.radius for b in every])
+        gs, ga, _ = rod_gaps(vectors([b.state.pos for b in every]), r, th, tip)
+        near = np.flatnonzero(np.maximum(gs, ga) < IMPACT_MARGIN)
+        impact_near.update(ids=[SPHERE_IDS[k] for k in near], states=[every[k].state for k in near],
+                           radius=r[near], tip=tip)
+        state["impact_refresh"] = O.iter + IMPACT_REFRESH
+    ids, states, r = impact_near["ids"], impact_near["states"], impact_near["radius"]
     if not ids:
         return
-    p = np.array([tuple(O.bodies[i].state.pos) for i in ids])
-    v = np.array([tuple(O.bodies[i].state.vel) for i in ids])
-    r = np.array([O.bodies[i].shape.radius for i in ids])
-    dx, dy = p[:, 0] - PATH_RADIUS * c, p[:, 1] - PATH_RADIUS * s
-    phi = np.arctan2(dy * c - dx * s, dx * c + dy * s)
-    a = th + IMPACT_ALPHA0 + IMPACT_SECTOR * np.floor((phi - IMPACT_ALPHA0) / IMPACT_SECTOR + 0.5)
-    gs = dx * np.cos(a) + dy * np.sin(a) - IMPACT_APOTHEM - r
+    p = vectors([x.pos for x in states])
+    v = vectors([x.vel for x in states])
+    gs, ga, a = rod_gaps(p, r, th, impact_near["tip"])
     us = -((v[:, 0] + 2.0 * p[:, 1]) * np.cos(a) + (v[:, 1] - 2.0 * p[:, 0]) * np.sin(a))
-    ga = state["impact_tip"] - p[:, 2] - r
     side = gs > ga
     g, u = np.where(side, gs, ga), np.where(side, us, v[:, 2])
     for k in np.flatnonzero((g <= 0) & (g + u * O.dt > 0)):
@@ -415,6 +435,7 @@ def write_checkpoint():
     # that went on from its memory instead would sum the forces of later contacts in another order (round-off
     # the granular bed amplifies); so a resumed run is the uninterrupted one, step for step
     O.load(path)
+    impact_near.clear()  # its State objects belong to the scene before the reload
 
 
 
