@@ -43,7 +43,8 @@ def add_parser(sub) -> None:
     run.add_argument("--json", action="store_true", help="print one JSON object instead of the text summary")
     run.add_argument("--no-progress", action="store_true", help="no progress bar on stderr")
     run.add_argument("--mpi", type=int, metavar="N",
-                     help="run the engine under 'mpirun -np N' (liggghts; default 1, or $ORCHESTRATOR_LIGGGHTS_MPI)")
+                     help="MPI ranks of the engine (liggghts, lammps; default 1, or $ORCHESTRATOR_LIGGGHTS_MPI / "
+                          "$ORCHESTRATOR_LAMMPS_MPI)")
     run.set_defaults(func=cmd_run)
 
 
