@@ -76,27 +76,7 @@ def template_values(scene) -> dict:
             "output.impact_window, or a rod mesh that is such a prism") from None
     return {"impact_window": (float(window[0]), float(window[1])), "impact_segments": prism["segments"],
             "impact_alpha0": repr(prism["alpha0"]), "impact_apothem": repr(prism["apothem"]),
-            "impact_sector": repr(2 * math.pi / prism["segments"]),
-            "impact_reach": repr(1.0 / math.cos(math.pi / prism["segments"]))}
-
-
-def prism_test(position: np.ndarray, velocity: np.ndarray, radius: np.ndarray, theta: np.ndarray, tip_z: float,
-               path_radius: float, omega: float, alpha0: float, apothem: float, segments: int):
-    """The engines' prism test (module docstring) as numpy: the gap g (m) and approach speed u (m/s) of balls at
-    position (n,3) m with velocity (n,3) m/s and radius (n,) m, the carousel turned by theta (n,) rad from the
-    pose in which the rod's first side faces alpha0 (rad); tip_z (m), path_radius (m), omega (rad/s), apothem (m).
-    The operations are the engines', so the LIGGGHTS reader fills in the g and u its deck does not write."""
-    p, v = np.asarray(position, float).reshape(-1, 3), np.asarray(velocity, float).reshape(-1, 3)
-    sector = 2 * math.pi / segments
-    c, s = np.cos(theta), np.sin(theta)
-    dx, dy = p[:, 0] - path_radius * c, p[:, 1] - path_radius * s
-    phi = np.arctan2(dy * c - dx * s, dx * c + dy * s)
-    a = theta + alpha0 + sector * np.floor((phi - alpha0) / sector + 0.5)
-    gs = dx * np.cos(a) + dy * np.sin(a) - apothem - np.asarray(radius, float)
-    us = -((v[:, 0] + omega * p[:, 1]) * np.cos(a) + (v[:, 1] - omega * p[:, 0]) * np.sin(a))
-    ga = tip_z - p[:, 2] - np.asarray(radius, float)
-    side = gs > ga
-    return np.where(side, gs, ga), np.where(side, us, v[:, 2])
+            "impact_sector": repr(2 * math.pi / prism["segments"])}
 
 
 def impact_events(raw: dict[str, np.ndarray], rod_vertices: np.ndarray, rod_faces: np.ndarray, omega: float,

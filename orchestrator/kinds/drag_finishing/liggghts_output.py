@@ -11,13 +11,7 @@ import numpy as np
 from orchestrator.engines.base import Result, Series
 from orchestrator.engines.liggghts_files import engine_error, read_dump, read_table
 from orchestrator.errors import ReadError
-from orchestrator.kinds.drag_finishing.impacts import (
-    ENGINE_COLUMNS,
-    attach_impacts,
-    impact_rows,
-    prism_test,
-    template_values,
-)
+from orchestrator.kinds.drag_finishing.impacts import ENGINE_COLUMNS, attach_impacts, impact_rows
 from orchestrator.kinds.drag_finishing.liggghts_deck import DEVIATION, NETWORK_COLUMNS
 from orchestrator.kinds.drag_finishing.scene import settling_timestep
 from orchestrator.runner import LOG_NAME
@@ -111,41 +105,31 @@ def read_drag_output(scene, workdir: Path) -> Result:
             result.frames.append(frame)
     result.frames.sort(key=lambda item: item[0])
     result.meshes = _read_meshes(scene, out, cols)
-    raw = _read_impacts(out, time_of, scene, process_start, cols)
+    raw = _read_impacts(out, time_of)
     if raw is not None and (out / "rod_final.vtk").is_file():  # the rod's pose is known at the end only
         attach_impacts(result, raw, case.angular_velocity, result.attrs["simulated_time"])
     result.attrs["deviation"] = DEVIATION
     return result
 
 
-def _read_impacts(out: Path, time_of, scene, process_start: float, cols: dict) -> dict[str, np.ndarray] | None:
-    """The contact starts of output/impacts_<chunk>.dump (id, radius, position, velocity: ENGINE_COLUMNS without
-    gap and speed, which impacts.prism_test recomputes as the deck tested them; a step written at the end of one
-    chunk and the start of the next counts once), or None without such files."""
+def _read_impacts(out: Path, time_of) -> dict[str, np.ndarray] | None:
+    """The contact starts of output/impacts_<chunk>.dump (impacts.ENGINE_COLUMNS; a step written at the end of
+    one chunk and the start of the next counts once), or None without such files."""
     files = sorted(out.glob("impacts_*.dump"), key=lambda p: int(p.stem.split("_")[1]))
     if not files:
         return None
-    written = len(ENGINE_COLUMNS) - 2
     steps, rows = [], []
     for path in files:
         for step, _, block in read_dump(path):
             steps.append(np.full(len(block), step))
-            rows.append(block.reshape(-1, written))
+            rows.append(block.reshape(-1, len(ENGINE_COLUMNS)))
     step = np.concatenate(steps).astype(np.int64) if steps else np.zeros(0, np.int64)
-    table = np.concatenate(rows) if rows else np.zeros((0, written))
+    table = np.concatenate(rows) if rows else np.zeros((0, len(ENGINE_COLUMNS)))
     _, keep = np.unique(np.column_stack([step, table[:, 0].astype(np.int64)]), axis=0, return_index=True)
     keep = np.sort(keep)
-    time = np.array([time_of(int(k)) for k in step[keep]])
-    table = table[keep]
-    case, prism = scene.case, template_values(scene)
-    tip = cols["rod_tip_z"][cols["phase"] == 3] if cols else np.zeros(0)
-    gap, speed = prism_test(table[:, 2:5], table[:, 5:8], table[:, 1], case.angular_velocity * (time - process_start),
-                            float(tip[0]) if len(tip) else math.nan, case.workpiece.path_radius,
-                            case.angular_velocity, float(prism["impact_alpha0"]), float(prism["impact_apothem"]),
-                            int(prism["impact_segments"]))
-    raw = impact_rows(np.column_stack([table, gap, speed]))
+    raw = impact_rows(table[keep])
     raw["ball"] = raw["ball"] - 1  # LIGGGHTS ids count from 1
-    raw["time"] = time
+    raw["time"] = np.array([time_of(int(k)) for k in step[keep]])
     return raw
 
 
