@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from orchestrator.engines.base import Result, Series
+from orchestrator.engines.liggghts_files import read_dump
 from orchestrator.kinds.sph_flow.sph import SERIES_DESCRIPTIONS
 from orchestrator.reference.sph import kernel_value
 from orchestrator.runner import LOG_NAME, tail
@@ -44,27 +45,13 @@ def run_step(scene) -> float:
     return scene.case.simulation.duration / steps if steps == whole else float(scene.timestep)
 
 
-def read_dump(path: Path) -> list[tuple[int, np.ndarray]]:
+def read_records(path: Path) -> list[tuple[int, np.ndarray]]:
     """(step, rows (n, 9) in DUMP_COLUMNS order) of every complete record of a LAMMPS custom dump."""
     records = []
-    try:
-        text = Path(path).read_text()
-    except OSError:
-        return records
-    blocks = text.split("ITEM: TIMESTEP\n")[1:]
-    for block in blocks:
-        lines = block.split("\n")
-        try:
-            step, count = int(lines[0]), int(lines[2])
-            body = lines[8:8 + count]
-            if len(body) < count or (count and not body[-1].strip()):
-                break  # a record cut off while it was written
-            rows = np.array([line.split() for line in body], dtype=float).reshape(count, len(DUMP_COLUMNS))
-        except (IndexError, ValueError):
-            break
+    for step, _, rows in read_dump(path):
         if records and records[-1][0] == step:
             continue  # the deck's final write_dump repeats a record of the last step
-        records.append((step, rows))
+        records.append((step, rows.reshape(len(rows), len(DUMP_COLUMNS))))
     return records
 
 
@@ -103,7 +90,7 @@ def read_lammps_output(workdir: Path, scene) -> Result:
     case = scene.case
     dim, dt = scene.dimension, run_step(scene)
     rho0, c0 = float(case.fluid.density), float(scene.c0)
-    records = read_dump(Path(workdir) / DUMP)
+    records = read_records(Path(workdir) / DUMP)
     log = tail(Path(workdir) / LOG_NAME, 400)
     result = Result()
     result.attrs.update(dt=dt, h=float(scene.h), dx=float(case.numerics.dx), dimension=int(dim),

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from orchestrator.engines.base import Result, Series
-from orchestrator.engines.liggghts_files import read_table
+from orchestrator.engines.liggghts_files import read_dump, read_table
 from orchestrator.runner import LOG_NAME, tail
 
 DUMP = "output/frames.dump"
@@ -29,23 +29,11 @@ _LOOP = re.compile(r"Loop time of (\S+) on (\d+) procs for (\d+) steps with (\d+
 
 
 def read_frames(path: Path) -> list[tuple[int, np.ndarray]]:
-    """(step, rows (n, 9) in DUMP_COLUMNS order) of every complete record of the dump ([] without one)."""
-    try:
-        text = Path(path).read_text()
-    except OSError:
-        return []
+    """(step, rows (n, 9) in DUMP_COLUMNS order) of every complete record of the dump ([] without one); records
+    after one with other columns are dropped."""
     records = []
-    for block in text.split("ITEM: TIMESTEP\n")[1:]:
-        lines = block.split("\n")
-        try:
-            step, count = int(lines[0]), int(lines[2])
-            if lines[7].split()[2:] != list(DUMP_COLUMNS):
-                break
-            body = lines[8:8 + count]
-            if len(body) < count or (count and not body[-1].strip()):
-                break  # a record cut off while it was written
-            rows = np.array([line.split() for line in body], dtype=float).reshape(count, len(DUMP_COLUMNS))
-        except (IndexError, ValueError):
+    for step, columns, rows in read_dump(path):
+        if columns != list(DUMP_COLUMNS):
             break
         records.append((step, rows))
     return records

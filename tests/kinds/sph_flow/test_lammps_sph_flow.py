@@ -14,7 +14,7 @@ import pytest
 from orchestrator.case import load_case
 from orchestrator.kinds import build_scene
 from orchestrator.kinds.sph_flow.lammps import DATA, deck_context, refusal, write_data_file
-from orchestrator.kinds.sph_flow.lammps_output import (planned_steps, probe_pressure, read_dump, read_lammps_output,
+from orchestrator.kinds.sph_flow.lammps_output import (planned_steps, probe_pressure, read_lammps_output, read_records,
                                                        run_step, tait_pressure)
 from orchestrator.runner import LOG_NAME
 from orchestrator.templating import render
@@ -112,7 +112,7 @@ def test_dump_reader_series_and_frames(tmp_path):
     text = _record(0, rows) + _record(last, rows) + _record(last, rows) + _record(last + 9, rows)[:-200]
     (tmp_path / "records.dump").write_text(text)
     (tmp_path / LOG_NAME).write_text("Loop time of 0.5 on 1 procs for 16 steps with 658 atoms\nDONE steps=16\n")
-    assert [step for step, _ in read_dump(tmp_path / "records.dump")] == [0, last]  # repeat and cut record dropped
+    assert [step for step, _ in read_records(tmp_path / "records.dump")] == [0, last]  # repeat and cut record dropped
     result = read_lammps_output(tmp_path, scene)
     assert result.status == "ok", result.message
     assert result.time[-1] == pytest.approx(0.001, rel=1e-12)
