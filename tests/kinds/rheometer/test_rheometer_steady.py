@@ -75,3 +75,24 @@ def test_wi5_follows_the_startup_ode_through_its_overshoot(tmp_path):
     exact = ptt_startup_shear(t, 5.0, load_case(UCM, overrides=STEADY).model.material.modes, 0.01)
     assert np.abs(tau - exact.shear_stress).max() < 1e-3 * exact.peak_shear_stress
     assert math.isclose(m["mode1_first_normal_stress_difference"], 29715.65, rel_tol=0.02)  # near steady at 4 s
+
+
+def test_the_flow_curve_marks_a_stopped_run(tmp_path, monkeypatch):
+    """A point whose run stopped (unstable) is drawn apart, as a grey cross labelled as such, not as a measured SPH
+    point: both panels hold one 'SPH' and one 'run stopped' series with the right rates."""
+    from orchestrator.kinds.rheometer.commands import rheometry_steady as steady
+    from paths import CASES
+
+    drawn = {}
+
+    def keep(fig, path):
+        drawn["axes"] = fig.axes
+        return path
+
+    monkeypatch.setattr(steady, "save_pyplot_figure", keep)
+    points = [steady.FlowCurvePoint(shear_rate=1.0, viscosity=9482.0, n1=41040.0),
+              steady.FlowCurvePoint(shear_rate=100.0, viscosity=636.0, n1=1.44e6, status="failed")]
+    steady.plot_flow_curve(CASES / "rheometry" / "mf20_table3.toml", points, tmp_path / "flow_curve.png")
+    for ax in drawn["axes"]:
+        series = {line.get_label(): line.get_xdata().tolist() for line in ax.get_lines()}
+        assert series["SPH"] == [1.0] and series["SPH, run stopped (its last values)"] == [100.0]

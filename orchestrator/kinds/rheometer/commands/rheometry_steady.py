@@ -161,8 +161,8 @@ def format_flow_curve(points) -> str:
 
 
 def plot_flow_curve(case_file, points, path, overrides=()):
-    """eta(gamma_dot) (Pa s) and N1(gamma_dot) (Pa) of the sweep (markers) against the multi-mode PTT closed form
-    (lines), log-log."""
+    """eta(gamma_dot) (Pa s) and N1(gamma_dot) (Pa) of the sweep (markers; grey crosses: a run that stopped, at its
+    last values) against the multi-mode PTT closed form (lines), log-log."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -175,10 +175,16 @@ def plot_flow_curve(case_file, points, path, overrides=()):
     fig, (left, right) = plt.subplots(1, 2, figsize=(10.0, 4.2))
     left.loglog(line, exact.viscosity + material.solvent_viscosity, "-", color="C0", label="PTT closed form")
     right.loglog(line, exact.first_normal_stress_difference, "-", color="C3", label="PTT closed form")
-    ok = [p for p in points if math.isfinite(p.viscosity)]
-    left.loglog([p.shear_rate for p in ok], [p.viscosity for p in ok], "o", mfc="none", color="C0", label="SPH")
-    right.loglog([p.shear_rate for p in ok if p.n1 > 0], [p.n1 for p in ok if p.n1 > 0], "s", mfc="none",
-                 color="C3", label="SPH")
+    measured = [p for p in points if math.isfinite(p.viscosity)]
+    for status, marker, what in (("ok", "o", "SPH"), ("failed", "x", "SPH, run stopped (its last values)")):
+        shown = [p for p in measured if (p.status == "ok") == (status == "ok")]
+        if not shown:
+            continue
+        left.loglog([p.shear_rate for p in shown], [p.viscosity for p in shown], marker, mfc="none",
+                    color="C0" if status == "ok" else "0.4", label=what)
+        right.loglog([p.shear_rate for p in shown if p.n1 > 0], [p.n1 for p in shown if p.n1 > 0],
+                     "s" if status == "ok" else marker, mfc="none", color="C3" if status == "ok" else "0.4",
+                     label=what)
     for ax, label in ((left, "eta [Pa s]"), (right, "N1 [Pa]")):
         ax.set_xlabel("shear rate [1/s]")
         ax.set_ylabel(label)
