@@ -122,6 +122,7 @@ def test_dump_reader_series_and_frames(tmp_path):
     probe = result.series["pressure_probe_y075"].values[-1]
     assert probe == pytest.approx(float(tait_pressure(1001.0, 1000.0, scene.c0)), rel=1e-12)
     t, frame = result.frames[-1]
+    assert t == pytest.approx(last * dt, rel=1e-12)  # a record's time is its step times LAMMPS's fixed step
     assert frame["pressures"][0] == pytest.approx(scene.c0**2 * 1000.0 / 7 * (1.001**7 - 1))
     assert result.attrs["engine_wall_time_s"] == 0.5
 
