@@ -30,7 +30,7 @@ ENGINE = "sph"
 
 
 @dataclass
-class RheometryPoint:
+class RheometryPoint(steady.SampleRun):
     """One frequency of the sweep: omega rad/s, the fitted and Maxwell moduli (Pa), their relative errors (-),
     the sample's density kg/m^3 and step s (mass scaling), steps, the engine's wall time s, status and message."""
 
@@ -41,13 +41,6 @@ class RheometryPoint:
     maxwell_loss_modulus: float = math.nan
     storage_error: float = math.nan
     loss_error: float = math.nan
-    sample_density: float = math.nan
-    time_step: float = math.nan
-    steps: int = 0
-    wall_time_s: float = math.nan
-    status: str = "ok"
-    message: str = ""
-    run_dir: str = ""
 
 
 def frequencies_of(case_file: Path, frequencies=None, overrides=()) -> list[float]:

@@ -24,8 +24,22 @@ from orchestrator.workflows.base import Workflow
 ENGINE = "sph"
 
 
+@dataclass(kw_only=True)
+class SampleRun:
+    """What every point of a rheometer sweep records of its run (keyword-only, after the point's own fields): the
+    sample's mass-scaled density kg/m^3 and step s, steps, the engine's wall time s, status, message, run folder."""
+
+    sample_density: float = math.nan
+    time_step: float = math.nan
+    steps: int = 0
+    wall_time_s: float = math.nan
+    status: str = "ok"
+    message: str = ""
+    run_dir: str = ""
+
+
 @dataclass
-class FlowCurvePoint:
+class FlowCurvePoint(SampleRun):
     """One shear rate (1/s): the measured and closed-form viscosity (Pa s) and N1 (Pa) with their relative errors
     (-), the start-up overshoot (Pa) against the ODE's, the run's duration (s), density (kg/m^3), step (s), steps,
     the engine's wall time (s), status and message."""
@@ -41,13 +55,6 @@ class FlowCurvePoint:
     peak_expected: float = math.nan
     peak_error: float = math.nan
     duration: float = math.nan
-    sample_density: float = math.nan
-    time_step: float = math.nan
-    steps: int = 0
-    wall_time_s: float = math.nan
-    status: str = "ok"
-    message: str = ""
-    run_dir: str = ""
 
 
 def run_point(loaded, out_dir, timeout_s, point):
