@@ -139,11 +139,7 @@ def check_solid(case, i: int, m) -> None:
         if key in m.model_fields_set:
             raise ValueError(f"{where}.{key} ({m.name}) is a key of the fluids' equation of state; a johnson_cook "
                              f"material's is [materials.solid].eos: remove it")
-    _check_eos(where, s)
-    _check_strength(where, s)
-    if s.heat_fraction > 0.0 and s.heat_capacity is None:
-        raise ValueError(f"{where}.solid.heat_capacity is missing; heat_fraction = {s.heat_fraction} heats the "
-                         "solid by eq. 12, which needs C_p (J/(kg K))")
+    check_solid_table(where, s)
     if s.yield_stress is not None:
         limit = s.yield_stress / (2.0 * s.shear_modulus)
         deviation = case.numerics.max_density_deviation
@@ -158,6 +154,16 @@ def check_solid(case, i: int, m) -> None:
     if "morris_viscosity" in case.physics.terms:
         raise ValueError(f"physics.terms has 'morris_viscosity' with the johnson_cook material {where} ({m.name}); "
                          "a solid takes artificial_viscosity only: remove it")
+
+
+def check_solid_table(where: str, s: SolidMaterial) -> None:
+    """A [<where>.solid] table against itself: its equation of state's keys, the strength keys only with a yield
+    stress, Tm above T0, C_p with heating; ValueError naming the key as <where>.solid.<key>."""
+    _check_eos(where, s)
+    _check_strength(where, s)
+    if s.heat_fraction > 0.0 and s.heat_capacity is None:
+        raise ValueError(f"{where}.solid.heat_capacity is missing; heat_fraction = {s.heat_fraction} heats the "
+                         "solid by eq. 12, which needs C_p (J/(kg K))")
 
 
 def _check_eos(where: str, s: SolidMaterial) -> None:

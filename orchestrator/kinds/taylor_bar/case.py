@@ -13,7 +13,7 @@ from typing import Literal
 from pydantic import Field, model_validator
 
 from orchestrator.case.common import CaseMeta, Frozen, Name, NonNegative, Positive
-from orchestrator.kinds.sph_flow.case_solids import SolidMaterial
+from orchestrator.kinds.sph_flow.case_solids import SolidMaterial, check_solid_table
 
 #: The quantities a [[expected]] row can check against [reference] (analysis.QUANTITIES has their units), and
 #: energy_balance, checked against 0 (conservation of kinetic plus internal energy).
@@ -107,6 +107,7 @@ class TaylorBarCase(Frozen):
 
     @model_validator(mode="after")
     def _consistent(self):
+        check_solid_table("material", self.material.solid)
         layers = self.bar.length / self.numerics.dx
         if abs(layers - round(layers)) > 1e-6 * layers:
             raise ValueError(f"bar.length = {self.bar.length} m is not a whole number of numerics.dx = "

@@ -39,6 +39,8 @@ def test_the_scene_is_the_bar_above_its_wall():
     ('reference={source="a report"}', "expected: final_length needs reference.final_length"),
     ("material.solid.shear_modulus=-1.0", "shear_modulus"),
     ("bar.speed=0", "bar.speed"),
+    ("material.solid.melting_temperature=200", "material.solid.melting_temperature = 200 K is not above"),
+    ("material.solid.hugoniot_slope=1.4", "material.solid.hugoniot_slope is not a key of eos = 'linear'"),
 ])
 def test_bad_bars_are_named(override, words):
     with pytest.raises(CaseError, match=words.replace(".", r"\.")):
