@@ -46,15 +46,15 @@ def test_export_and_analyze_need_a_run(tmp_path):
         assert "Traceback" not in proc.stderr
 
 
-COMMANDS = ("run", "analyze", "study", "status", "report", "verify", "calibrate", "rheometry", "compare", "bench",
-            "doctor", "export")
+COMMANDS = ("run", "analyze", "study", "status", "report", "verify", "calibrate", "network-sensitivity", "rheometry",
+            "compare", "bench", "doctor", "export")
 
 
 def test_help_lists_every_command():
     import re
 
     proc = cli("--help")
-    assert sorted(re.findall(r"^    (\w+)", proc.stdout, re.M)) == sorted(COMMANDS)
+    assert sorted(re.findall(r"^    ([\w-]+)", proc.stdout, re.M)) == sorted(COMMANDS)
 
 
 @pytest.mark.parametrize("command", COMMANDS)

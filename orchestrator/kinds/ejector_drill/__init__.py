@@ -17,4 +17,5 @@ KIND = Kind(
     measure="orchestrator.kinds.ejector_drill.analysis:measure_drill",
     analyze="orchestrator.kinds.ejector_drill.analysis:analyze_drill_run",
     adapters={"sph": "orchestrator.drill.sph:DrillSph"},
+    commands={"network-sensitivity": "orchestrator.kinds.ejector_drill.commands.network_sensitivity:COMMAND"},
 )

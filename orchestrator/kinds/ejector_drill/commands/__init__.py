@@ -1,0 +1,1 @@
+"""The commands the ejector_drill kind contributes to the command line (Kind.commands)."""
