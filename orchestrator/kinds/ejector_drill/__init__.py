@@ -2,7 +2,8 @@
 the flow-exit area (the annular gap, the adduction holes, the clearances to the bore) and the drill-head area (the
 head clearance, the cutting zone, the chip mouth). The case (case.py), where things are (layout.py), the walls
 (walls.py), the scene with its outlets and columns (build.py, columns.py), what is measured (analysis.py) and
-`orchestrator analyze` beside the 1D hydraulic network (comparison.py, analysis.py, pictures.py). The drill's
+`orchestrator analyze` beside the 1D hydraulic network (comparison.py, analysis.py, pictures.py), and what the
+network's feed pressure hangs on, `orchestrator network-sensitivity` (sensitivity.py, commands/). The drill's
 geometry, the SPH scene's shared parts and the sph adapter are orchestrator/drill; the feed with its ejector nozzles
 is the kind ejector_feed. docs/ejector_drill.md."""
 

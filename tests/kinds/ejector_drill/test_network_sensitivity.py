@@ -166,6 +166,17 @@ def test_bad_input_is_one_error_line(tmp_path, capsys, argv, words):
     assert not out.exists()
 
 
+def test_json_reports_what_did_not_solve_as_null(tmp_path, capsys):
+    code = main(["network-sensitivity", str(CASE), "--parameters", "tube_bore", "--factors", "0.75,1.5",
+                 "--map-points", "0", "--json", "--out", str(tmp_path / "j")])
+    result = json.loads(capsys.readouterr().out)
+    assert code == 0 and result["flow_lpm"] == 60.0
+    narrow, wide = result["points"]
+    assert narrow["p_feed_bar"] == pytest.approx(41.05, abs=0.05) and narrow["note"] == ""
+    assert wide["p_feed_bar"] is None and "wider than the bore" in wide["note"]
+    assert result["flows_for_band_lpm"]["20"] == pytest.approx(48.35, abs=0.05)
+
+
 def test_a_bad_case_value_is_refused_by_the_case_loader(tmp_path, capsys):
     assert main(["network-sensitivity", str(CASE), "--set", "drill.d_diff=-1", "--out", str(tmp_path / "no")]) == 2
     err = capsys.readouterr().err
