@@ -302,7 +302,7 @@ RunParameters parse_deck(const json& j, const std::string& deck_dir) {
                      "viscosity", "alpha", "beta", "artificial_viscosity", "h", "dx", "body_force", "meshes", "wall", "periodic", "inlets",
                      "outlets", "dt", "time_step", "t_end", "t_start", "step_start", "max_steps", "stability", "output", "threads",
                      "materials", "lees_edwards", "neighbour_skin", "viscosity_correction", "eddy_viscosity", "open_boundary_list",
-                     "min_pressure"});
+                     "min_pressure", "impactors"});
   RunParameters d;
   parse_basics(j, deck_dir, d);
   parse_fluid(j, d);
@@ -312,6 +312,7 @@ RunParameters parse_deck(const json& j, const std::string& deck_dir) {
   if (j.contains("lees_edwards")) parse_lees_edwards(j["lees_edwards"], d);
   if (j.contains("eddy_viscosity")) parse_eddy_viscosity(j["eddy_viscosity"], j.contains("materials"), d);
   parse_open_boundaries(j, d);
+  if (j.contains("impactors")) parse_impactors(j["impactors"], d);
   parse_time(j, d);
   parse_output(need(j, "", "output"), deck_dir, d);
   parse_run_options(j, d);

@@ -21,6 +21,8 @@ void parse_lees_edwards(const nlohmann::json& j, RunParameters& d);
 // The `inlets` and `outlets` lists into d.inlets, d.outlets (deck_open_boundaries.cpp; d.dx, d.h and the materials
 // must be parsed), and one plane patch of them or of the flow planes (its name must be new in `seen`).
 void parse_open_boundaries(const nlohmann::json& j, RunParameters& d);
+// The `impactors` list into d.impactors (deck_impactors.cpp; d.dimension and d.dx must be parsed).
+void parse_impactors(const nlohmann::json& j, RunParameters& d);
 PlanePatch parse_patch(const nlohmann::json& e, const std::string& path, int dim, std::set<std::string>& seen);
 
 }  // namespace sph

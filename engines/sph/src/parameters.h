@@ -108,6 +108,18 @@ struct LeesEdwardsSpec {
   bool subtract_mean_stress = false;  // momentum takes sigma - <tau>, the cell's mean extra stress (simulation.h)
 };
 
+// A rigid impactor (impactors.h): an ideally hard body whose surface is a union of spheres, free or kinematic.
+struct ImpactorSpec {
+  std::string name;
+  double mass = 0.0;                          // kg
+  std::vector<double> inertia;                // about the centre of mass, world axes at the start, row-major 3 x 3, kg m^2
+  std::vector<double> centre;                 // centre of mass, m
+  std::vector<double> velocity, angular_velocity;  // m/s, rad/s (world)
+  std::vector<std::vector<double>> spheres;   // x, y, z (m, world at the start) and radius (m) of each sphere
+  double stiffness = 0.0;                     // contact spring k_c on a particle's overlap, N/m (eq. I1)
+  bool kinematic = false;                     // prescribed velocity and angular velocity
+};
+
 // Every setting of a run (what the deck parser returns).
 struct RunParameters {
   int dimension = 3;
@@ -132,6 +144,7 @@ struct RunParameters {
   // walls
   std::vector<MeshSpec> meshes;
   double wall_range = 0, wall_s = 0, wall_psi = 0;  // R m, s m, psi N
+  std::vector<ImpactorSpec> impactors;               // rigid impactors (3D)
   // periodic boundaries
   LeesEdwardsSpec lees_edwards;
   std::vector<int> periodic_axes;

@@ -178,7 +178,6 @@ struct FluidModel {
   PressureGradient pressure;
   MorrisViscosity morris;
   ArtificialViscosity artificial;
-  BodyForce<D> body;
 
   // Pair terms acting on a moving (fluid) particle a.
   void pair(const Pair<D>& p, PairRates<D>& out) const {
@@ -204,8 +203,6 @@ FluidModel<D, Terms> fluid_model(const RunParameters& deck, double mu, double rh
   model.morris.rho0 = rho0;
   model.morris.eddy_wall = deck.eddy_walls ? 1.0 : 0.0;
   model.artificial = {deck.alpha, deck.beta, deck.h, eta2, deck.av_walls ? 1.0 : 0.0};
-  if (!deck.body_force.empty())
-    for (int d = 0; d < D; ++d) model.body.g[d] = deck.body_force[d];
   return model;
 }
 

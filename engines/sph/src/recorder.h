@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <string>
+#include <tuple>
 #include <type_traits>
 #include <vector>
 
@@ -15,6 +16,14 @@
 #include "simulation.h"
 
 namespace sph {
+
+// Each impactor's series (impactors.h): its centre, velocity, angular velocity, orientation (the quaternion w, x, y, z
+// turning body axes into world ones), the contact force on it (of the last evaluation: mid-step during a run), its
+// kinetic energy and its contact energy with the particles as they are.
+inline constexpr std::tuple<const char*, int, const char*> impactor_series[] = {
+    {"position", 3, "m"}, {"velocity", 3, "m/s"}, {"angular_velocity", 3, "rad/s"}, {"orientation", 4, "1"},
+    {"force", 3, "N"}, {"kinetic_energy", 0, "J"}, {"contact_energy", 0, "J"}};
+inline constexpr int impactor_columns = 18;
 
 template <int D, class Sim>
 class Recorder {
@@ -57,16 +66,21 @@ class Recorder {
       out.series("shear_strain", 0, "1");
       out.series("shear_rate", 0, "1/s");
     }
+    for (const auto& b : sim.impactors().bodies())
+      for (const auto& [what, cols, units] : impactor_series) out.series("impactor_" + b.name + "_" + what, cols, units);
     const std::size_t extra = (Sim::tensor ? 2 : 0) + (sim.images().lees_edwards() ? 2 : 0);
+    const std::size_t bodies = sim.impactors().bodies().size();
     const std::size_t n = sim.particles().x.capacity();
     const std::size_t scalars = probes_.size() + planes_.size() + open.count() + 2 * open.columns().size();
-    values_.resize(scalars + D * sim.walls().meshes().size() + 2 + extra);
+    values_.resize(scalars + D * sim.walls().meshes().size() + 2 + extra + impactor_columns * bodies);
     std::size_t j = 0;  // where each series' row starts in values_
     for (std::size_t i = 0; i < scalars; ++i) rows_.push_back(&values_[j++]);
     for (std::size_t m = 0; m < sim.walls().meshes().size(); ++m, j += D) rows_.push_back(&values_[j]);
     rows_.push_back(&values_[j++]);
     rows_.push_back(&values_[j++]);
     for (std::size_t e = 0; e < extra; ++e) rows_.push_back(&values_[j++]);
+    for (std::size_t b = 0; b < bodies; ++b)
+      for (const auto& series : impactor_series) rows_.push_back(&values_[j]), j += std::max(1, std::get<1>(series));
     ids_.reserve(n), kind_.reserve(n), x_.reserve(n * D), v_.reserve(n * D), rho_.reserve(n), p_.reserve(n);
     order_.reserve(n);
     if (sim.particles().has_stress) field_.reserve(n * D * D);
@@ -114,6 +128,16 @@ class Recorder {
     if (sim_.images().lees_edwards()) {
       values_[k++] = sim_.images().strain(t);
       values_[k++] = sim_.images().strain_rate(t);
+    }
+    for (std::size_t i = 0; i < sim_.impactors().bodies().size(); ++i) {
+      const auto& b = sim_.impactors().bodies()[i];
+      const auto& q = b.state.orientation;
+      const double row[impactor_columns] = {
+          b.state.position.x(), b.state.position.y(), b.state.position.z(), b.state.velocity.x(), b.state.velocity.y(),
+          b.state.velocity.z(), b.state.angular_velocity.x(), b.state.angular_velocity.y(), b.state.angular_velocity.z(),
+          q.w(), q.x(), q.y(), q.z(), b.wrench.force.x(), b.wrench.force.y(), b.wrench.force.z(),
+          rigid::kinetic_energy(b.body, b.state), sim_.impactors().contact_energy_at(P, static_cast<int>(i))};
+      std::copy(row, row + impactor_columns, values_.begin() + k), k += impactor_columns;
     }
     out_.record(t, rows_);
     last_series_ = t;

@@ -3,8 +3,8 @@
 // pair loop visits a Verlet half list (neighbour_list.h) in block colours, so
 // every particle receives its contributions in an order that does not depend
 // on the OpenMP schedule (bitwise identical results on any thread count).
-// Images come from box_policy.h. Fixed boundary particles keep position and
-// velocity and evolve their density; inlet/outlet buffers move at their velocity.
+// Images come from box_policy.h. Fixed boundary particles keep position and velocity
+// and evolve their density; inlet/outlet buffers move at their velocity.
 #pragma once
 #include <algorithm>
 #include <cmath>
@@ -19,6 +19,7 @@
 #include "parameters.h"
 #include "eddy_viscosity.h"
 #include "extra_stress.h"
+#include "external_forces.h"
 #include "integrator.h"
 #include "kernel.h"
 #include "material.h"
@@ -30,7 +31,6 @@
 #include "stages.h"
 #include "step_maxima.h"
 #include "verlet_skin.h"
-#include "wall_penalty.h"
 
 namespace sph {
 
@@ -46,17 +46,16 @@ class Simulation {
   static constexpr bool no_slip = has(term::morris_viscosity) || tensor;
   static constexpr bool eddy = has(term::eddy_viscosity);  // Smagorinsky's nu_t (eddy_viscosity.h)
 
-  // Cells of half the list range (5^D stencil) test fewer far pairs than cells
-  // of the full range (3^D), and two layers of them make a block of the list.
+  // Cells of half the list range (5^D stencil) test fewer far pairs than cells of the full range (3^D).
   static constexpr int cell_reach = 2;  // the Verlet skin: deck.neighbour_skin (parameters.h)
 
   Simulation(const RunParameters& deck, Particles<D> particles, WallPenalty<D> walls = {})
-      : deck_(deck), P_(std::move(particles)), kernel_(deck.h), walls_(std::move(walls)),
-        pairs_(P_, list_, kernel_, model_, materials_, shepard_) {
+      : deck_(deck), P_(std::move(particles)), kernel_(deck.h),
+        pairs_(P_, list_, kernel_, model_, materials_, shepard_),
+        external_(deck, std::move(walls)) {
     const int modes = add_materials<Models>(deck, materials_);
     model_ = fluid_model<D, Terms>(deck, materials_[0].mu, materials_[0].eos.rho0);
     smagorinsky_.length2 = deck.smagorinsky_cs * deck.smagorinsky_cs * deck.dx * deck.dx;
-    body_force_on_ = deck.terms & term::body_force, walls_on_ = deck.terms & term::wall_penalty;
     hold_inlets_ = deck.inlets_extrapolated();
     const PeriodicBox<D> box = periodic_box<D>(deck);
     images_ = Images(box);
@@ -75,6 +74,7 @@ class Simulation {
     cells_.configure(kernel_.support_radius() + skin_, cell_reach, box, std::max<std::size_t>(64 * n, 1u << 22));
     sort_particles();
     equation_of_state();
+    external_.impactors().check_clear(P_);
   }
   Simulation(const Simulation&) = delete;  // the pair loop holds references to the members
   Simulation& operator=(const Simulation&) = delete;
@@ -86,9 +86,10 @@ class Simulation {
   const MaterialTable& materials() const { return materials_; }
   const TaitEos& eos(std::size_t material = 0) const { return materials_.eos(material); }
   const PeriodicBox<D>& box() const { return images_.box(); }
-  const WallPenalty<D>& walls() const { return walls_; }
+  const WallPenalty<D>& walls() const { return external_.walls(); }
   const NeighbourList<D>& neighbour_list() const { return list_; }
   const StageTimes& stage_times() const { return times_; }
+  const Impactors<D>& impactors() const { return external_.impactors(); }
   // Kernel-corrected velocity gradient (eq. T2; default on): exact for a linear velocity field.
   void set_gradient_correction(bool on) { correct_gradient_ = on; }
 
@@ -132,7 +133,7 @@ class Simulation {
   double time() const { return time_; }  // s, advanced by each step's dt
 
   // Rates of every particle at the current x, v, rho (the Verlet list must hold them): the gather
-  // and close_rates stages in one parallel region, then the per-body reduction.
+  // and close_rates stages in one parallel region.
   void compute_rates() {
     rates_ready_ = true, background_stress_ = background_stress<Models>(P_, sheared && deck_.lees_edwards.subtract_mean_stress);
     maxima_.valid = false;  // acc changes
@@ -143,7 +144,6 @@ class Simulation {
       stamp_time(par, t[0]);
       evaluate_and_correct(par, false, 0.0, t);
     });
-    bodies_.reduce(P_);
     times_.eos += t[1] - t[0], times_.pairs += t[2] - t[1], times_.particle += omp_get_wtime() - t[2];
   }
 
@@ -160,10 +160,9 @@ class Simulation {
       body(false);
     }
   }
-  // The gather (its start pass unless `started`: EOS and zeroed sums), then close_rates; with dt > 0
-  // fused per particle with the corrector, post_correct and the step maxima (into maxima_, on the
-  // threads by finish_maxima). The per-body reduction (NoBodies: none yet) would need its own pass
-  // between the two. Stamps t[1] (EOS, no-slip velocities done), t[2] (pairs done), t[3] (the end).
+  // The gather (its start pass unless `started`: EOS and zeroed sums), the impactors' reactions, then
+  // close_rates; with dt > 0 fused per particle with the corrector, post_correct and the step maxima (into
+  // maxima_, on the threads by finish_maxima). Stamps t[1] (EOS, no-slip velocities done), t[2] (pairs done), t[3].
   void evaluate_and_correct(bool par, bool started, double dt, double* t) {
     const std::ptrdiff_t n = P_.size();
     if (!started) for_each_index(par, n, [this](std::ptrdiff_t i) { start_rates_at(i); });
@@ -176,6 +175,7 @@ class Simulation {
     stamp_time(par, t[1]);
     pairs_.rates(par);  // the pair loop in the block colours (pair_loop.h)
     stamp_time(par, t[2]);
+    if (!external_.impactors().empty()) gather_impactors(par);
     if (dt <= 0.0) {
       for_each_index(par, n, [this](std::ptrdiff_t i) { close_rates_at(i); });
       return;
@@ -190,6 +190,12 @@ class Simulation {
     if (!par) maxima_ = m, maxima_.valid = true, t[3] = omp_get_wtime();
 #pragma omp master
     if (par) maxima_threads_ = omp_get_num_threads();
+  }
+  // The impactors' reactions from the positions the pair loop saw (impactors.h, eq. I2), on one thread.
+  void gather_impactors(bool par) {
+    if (!par) return external_.impactors().gather(P_);
+#pragma omp single
+    external_.impactors().gather(P_);
   }
   // After a region that corrected on the threads: their maxima, in thread order (exact), into maxima_; stamps `at`.
   void finish_maxima(double& at) {
@@ -219,12 +225,7 @@ class Simulation {
   void close_rates_at(std::ptrdiff_t a) {
     if constexpr (eddy) P_.nu_t[a] = P_.moves(a) ? smagorinsky_.nu_t<D>(P_.grad_v[a]) : 0.0;  // eq. SM1, next step's
     if (P_.moves(a)) {
-      if (body_force_on_) model_.body.add(P_.acc[a]);
-      if (walls_on_) {
-        Vec<D> xa = P_.x[a];
-        images_.wrap(xa);  // between list builds positions may lie up to skin/2 outside the box
-        P_.acc[a] += walls_.force(xa) / P_.mass[a];
-      }
+      external_.add(images_, P_.x[a], P_.mass[a], P_.acc[a]);  // body force, walls, impactors
       if constexpr (tensor) close_constitutive_rates<Models>(P_, materials_, a, correct_gradient_);
     } else if (P_.kind[a] == Kind::outlet || (hold_inlets_ && P_.kind[a] == Kind::inlet) || holds_density(P_, a)) {
       P_.drho[a] = 0.0;
@@ -290,6 +291,7 @@ class Simulation {
     }
     const double allowed = allowed_displacement<sheared>(kernel_.support_radius(), skin_, strain);
     rates_ready_ = true, maxima_.valid = false;
+    external_.impactors().predict(dt);  // their mid-step pose (impactors.h, eq. I3)
     ++times_.evaluations;
     double t[5];  // stamps: start, predicted, no-slip velocities, pairs, corrected
     auto region = [&](bool par) {
@@ -322,6 +324,7 @@ class Simulation {
     }
     times_.eos += t[2] - t[1], times_.pairs += t[3] - t[2], times_.correct += t[4] - t[3];
     time_ += dt;
+    external_.impactors().correct(dt);
     if constexpr (!std::is_same_v<std::decay_t<Crossed>, NoCrossings>) step_displacements(P_, images_, materials_, dt, crossed);
     return true;
   }
@@ -372,12 +375,10 @@ class Simulation {
   Model model_;
   Images images_;
   CellList<D> cells_;
-  WallPenalty<D> walls_;
   NeighbourList<D> list_;
   std::vector<double> shepard_;  // Shepard weight sums of the boundary particles (Morris)
   PairLoop<D, Terms, Models> pairs_;
-  NoBodies bodies_;
-  bool body_force_on_ = false, walls_on_ = false;
+  ExternalForces<D> external_;
   bool hold_inlets_ = false;  // every inlet extrapolates: its particles' density rate is 0 (close_rates_at)
   bool walls_together_ = false;  // every fixed boundary particle has the same velocity
   bool non_fluid_ = true;  // tensor path: a particle is not fluid (the no-slip pass runs), at the last list build

@@ -40,12 +40,4 @@ struct StageTimes {
   long evaluations = 0;     // rate evaluations
 };
 
-// The per-body reduction between close_rates and the corrector (rigid grains
-// made of particles: sum force and torque per body in a fixed order, then
-// set the particles' rates to the body's rigid motion). None yet.
-struct NoBodies {
-  template <class P>
-  void reduce(P&) const {}
-};
-
 }  // namespace sph
