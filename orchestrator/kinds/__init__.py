@@ -23,6 +23,7 @@ def register(name: str, module: str) -> None:
 
 
 register("cantilever_plate", "orchestrator.kinds.cantilever_plate")
+register("crater", "orchestrator.kinds.crater")
 register("drag_finishing", "orchestrator.kinds.drag_finishing")
 register("ejector_drill", "orchestrator.kinds.ejector_drill")
 register("ejector_feed", "orchestrator.kinds.ejector_feed")

@@ -103,16 +103,16 @@ def renamed_sph(case, suffix: str):
                                             "flow_planes": rename(case.output.flow_planes)})
     return case.model_copy(update={"blocks": rename(case.blocks), "walls": rename(case.walls),
                                    "inlets": rename(case.inlets), "outlets": rename(case.outlets),
-                                   "output": output})
+                                   "impactors": rename(case.impactors), "output": output})
 
 
 def _names(case) -> list[str]:
     if case.case.kind == "sph_flow":
-        return [i.name for group in (case.blocks, case.walls, case.inlets, case.outlets, case.output.probes,
-                                     case.output.flow_planes) for i in group]
+        return [i.name for group in (case.blocks, case.walls, case.inlets, case.outlets, case.impactors,
+                                     case.output.probes, case.output.flow_planes) for i in group]
     if case.case.kind == "rheometer":
         return []  # a rheometer case names nothing that reaches the deck (its material and block are "sample")
-    if case.case.kind in ("taylor_bar", "cantilever_plate"):
+    if case.case.kind in ("taylor_bar", "cantilever_plate", "crater"):
         return [case.material.name]
     if case.case.kind in ("ejector_drill", "ejector_feed"):
         return []  # its deck's names (planes, probes, walls) are the layout's own, none from the case file

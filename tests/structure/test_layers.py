@@ -52,6 +52,8 @@ FILES = {
 KIND_IMPORTS_ALLOWED = {
     ("cantilever_plate", "sph_flow"): "its plate is an sph_flow case and scene with a johnson_cook material, run by "
                                       "sph_flow's adapter",
+    ("crater", "sph_flow"): "its target is an sph_flow case and scene with a johnson_cook material and a rigid "
+                            "impactor, run by sph_flow's adapter",
     ("ejector_drill", "sph_flow"): "its scenes are sph_flow cases and scenes, written by sph_flow's deck code",
     ("ejector_feed", "sph_flow"): "its scene is an sph_flow case and scene, written by sph_flow's deck code",
     ("rheometer", "sph_flow"): "its sample is an sph_flow case and scene, run by sph_flow's adapter",

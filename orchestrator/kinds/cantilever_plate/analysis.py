@@ -5,10 +5,13 @@ balance. The tip is the plate's last column of particles (its mean y). Lengths i
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 
+from orchestrator.kinds.cantilever_plate.pictures import plot_plate
 from orchestrator.kinds.cantilever_plate.theory import plate_theory
+from orchestrator.kinds.sph_flow.checks_base import frames_of
 
 #: The measured quantities (measure_cantilever_plate): name -> (SI unit, meaning).
 QUANTITIES: dict[str, tuple[str, str]] = {
@@ -124,3 +127,24 @@ def expected_cantilever_plate(case) -> dict[str, float]:
     """Thin-plate theory's period (s) and the tip amplitude of the mode at that frequency, V c0 / omega (m)."""
     theory = plate_theory(case)
     return {"period": theory["period"], "tip_amplitude": theory["amplitude"]}
+
+
+def analyze_cantilever_plate_run(run_dir: Path, run: dict, case, render: bool = True) -> dict:
+    """`orchestrator analyze` of a cantilever plate run: print the measured quantities beside thin-plate theory and
+    write cantilever_plate.png. Returns {name: path}."""
+    attrs = run["attrs"]
+    measured = run.get("measured", {}).get("attrs", {})
+    theory = plate_theory(case)
+    print(f"run {run_dir}: status {attrs['status']}, {attrs['n_particles']} particles, {attrs['n_steps']} steps, "
+          f"{attrs['wall_time_s']:.1f} s")
+    beside = {"period": theory["period"], "tip_amplitude": theory["amplitude"]}
+    for name, value in measured.items():
+        note = f"   thin-plate theory {beside[name]:.6g}" if name in beside else ""
+        print(f"{name:<20} {value:.6g} {QUANTITIES.get(name, ('', ''))[0]}{note}")
+    if not render:
+        return {}
+    frames = frames_of(run)
+    tip = tip_series(frames, case.plate.length, case.numerics.dx) if len(frames) >= 2 else None
+    path = plot_plate(frames, tip, case, Path(run_dir) / "cantilever_plate.png")
+    print(f"{'picture':<20} {path}")
+    return {"picture": path}

@@ -7,33 +7,12 @@ from pathlib import Path
 
 import numpy as np
 
-from orchestrator.kinds.cantilever_plate.analysis import QUANTITIES, tip_series
 from orchestrator.kinds.cantilever_plate.theory import plate_theory
-from orchestrator.kinds.sph_flow.checks_base import frames_of
 from orchestrator.outputs import save_figure
 
 
-def analyze_cantilever_plate_run(run_dir: Path, run: dict, case, render: bool = True) -> dict:
-    """`orchestrator analyze` of a cantilever plate run: print the measured quantities beside thin-plate theory and
-    write cantilever_plate.png. Returns {name: path}."""
-    attrs = run["attrs"]
-    measured = run.get("measured", {}).get("attrs", {})
-    theory = plate_theory(case)
-    print(f"run {run_dir}: status {attrs['status']}, {attrs['n_particles']} particles, {attrs['n_steps']} steps, "
-          f"{attrs['wall_time_s']:.1f} s")
-    beside = {"period": theory["period"], "tip_amplitude": theory["amplitude"]}
-    for name, value in measured.items():
-        note = f"   thin-plate theory {beside[name]:.6g}" if name in beside else ""
-        print(f"{name:<20} {value:.6g} {QUANTITIES.get(name, ('', ''))[0]}{note}")
-    if not render:
-        return {}
-    path = plot_plate(frames_of(run), case, Path(run_dir) / "cantilever_plate.png")
-    print(f"{'picture':<20} {path}")
-    return {"picture": path}
-
-
-def plot_plate(frames, case, path: Path, title: str | None = None) -> Path:
-    """Two panels: the tip's displacement over t / T (T theory's period) with A sin(omega t), A = V c0 / omega; the
+def plot_plate(frames, tip, case, path: Path, title: str | None = None) -> Path:
+    """Two panels (`tip`: the tip's (t s, y m) series, analysis.tip_series): the tip's displacement over t / T (T theory's period) with A sin(omega t), A = V c0 / omega; the
     plate at the frame of the largest tip displacement, every particle coloured by sigma_xx = s_xx - p (kPa)."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
@@ -43,7 +22,7 @@ def plot_plate(frames, case, path: Path, title: str | None = None) -> Path:
     FigureCanvasAgg(fig)
     top, bottom = fig.subplots(2, 1, height_ratios=(1.0, 1.1))
     if len(frames) >= 2:
-        t, y = tip_series(frames, case.plate.length, case.numerics.dx)
+        t, y = tip
         fine = np.linspace(0.0, t[-1], 2000)
         top.plot(fine / theory["period"], theory["amplitude"] * np.sin(theory["omega"] * fine) * 1e3, "k--", lw=0.8,
                  label="thin-plate theory, A sin(omega t)")

@@ -11,9 +11,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from orchestrator.kinds.sph_flow.case import SphFlowCase, Wall
+from orchestrator.kinds.sph_flow.case_impactors import check_clear
+from orchestrator.kinds.sph_flow.case_limits import sph_timestep
 from orchestrator.kinds.sph_flow.case_materials import (RunMaterial, block_materials, largest_c0_and_viscosity,
                                                        run_materials)
-from orchestrator.kinds.sph_flow.case_limits import sph_timestep
 from orchestrator.scene.geometry import read_mesh
 
 #: Particle kinds of the sph executable's input (engines/sph/src/physics_terms.h).
@@ -179,6 +180,7 @@ def build_sph_flow(case: SphFlowCase) -> SphScene:
     c0 = max(m.c0 for m in materials)
     positions, velocities, masses, densities, kind, block, material, wall_point = _particles(case, materials)
     meshes = {wall.name: wall_mesh(wall, case.dimension) for wall in case.walls}
+    check_clear(case.impactors, positions, kind == FLUID, case.numerics.dx)
     h = case.numerics.h
     dt = sph_timestep(case, *largest_c0_and_viscosity(materials))  # fixed, or the adaptive step at rest
     return SphScene(case=case, positions=positions, velocities=velocities, masses=masses, densities=densities,

@@ -10,6 +10,7 @@ import numpy as np
 
 from orchestrator.engines.base import Result, Series
 from orchestrator.kinds.base import Adapter
+from orchestrator.kinds.sph_flow.case_impactors import stiffness_scale
 from orchestrator.kinds.sph_flow.case_open import rest_pressure
 from orchestrator.kinds.sph_flow.resume import FRAME_ARRAYS, merge_parts, part_files, write_resume_input
 from orchestrator.runh5 import _plain
@@ -102,6 +103,7 @@ def deck_context(scene, threads: int = 1) -> dict:
         "progress_interval": num(PROGRESS_INTERVAL_S),
         "probes": [json.dumps({"name": p.name, "point": [float(c) for c in p.point]}) for p in output.probes],
         "flow_planes": [_patch_json(p) for p in output.flow_planes],
+        "impactors": [json.dumps(imp.deck(stiffness_scale(scene.materials, numerics.dx))) for imp in case.impactors],
     }
 
 
@@ -164,6 +166,8 @@ SERIES_DESCRIPTIONS = {
     "first_normal_stress_difference": "volume average over the fluid of tau_xx - tau_yy (PTT materials)",
     "shear_strain": "Lees-Edwards strain gamma(t) of the cell",
     "shear_rate": "Lees-Edwards shear rate gamma_dot(t) of the cell",
+    "impactor_": "a rigid impactor's centre, velocity, angular velocity, orientation (quaternion w, x, y, z), the "
+                 "particles' contact force on it, its kinetic and contact energy (engines/sph/README.md)",
 }
 #: Root attributes of out.h5 copied into run.h5 (engine name -> run.h5 name).
 ENGINE_ATTRS = {"n_steps": "n_steps", "dt_mean": "dt", "t_final": "simulated_time", "wall_time_s": "engine_wall_time_s",

@@ -17,6 +17,7 @@ KIND = Kind(
     verification=Verification(
         suite="solids", check="orchestrator.kinds.taylor_bar.checks:check_run",
         units="orchestrator.kinds.taylor_bar.checks:UNITS", picture="orchestrator.kinds.taylor_bar.checks:plot_suite",
-        description="the Johnson-Cook solids: the Taylor bar's final shape against a published solution",
+        description="the Johnson-Cook solids: the Taylor bar's final shape against a published solution, Hutchings' "
+                    "crater against eq. 20, the oscillating cantilever plate against thin-plate theory",
         timeout_s=3600.0, default_engines=("sph",)),
 )

@@ -1,0 +1,123 @@
+"""The Hutchings crater case (kind "crater"): a hard sphere shot normally onto the top of a Johnson-Cook box whose
+bottom rests on a held particle layer (Nutto et al., section III, Fig. 4). The box's top face is z = 0, its axis
+the z axis through the sphere's centre. SI units (m, kg, s, Pa, K).
+
+[material] is the target's johnson_cook material (kinds/sph_flow/case_solids.py); [sweep] lists the impact speeds
+`verify solids` runs (one run each, sphere.speed set to it); [[expected]] rows check each run against Hutchings'
+eq. 20 with the measured mean contact pressure and against energy conservation.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import Field, model_validator
+
+from orchestrator.case.common import CaseMeta, Frozen, Name, NonNegative, Positive
+from orchestrator.kinds.sph_flow.case_solids import SolidMaterial, check_solid_table
+
+#: The quantities an [[expected]] row can check (analysis.QUANTITIES has their meaning).
+CHECKED = ("hutchings_diameter", "energy_balance")
+
+
+class Sphere(Frozen):
+    """The ideally hard sphere: its size, density and impact speed (it starts just clear of the top, moving -z)."""
+
+    diameter: Positive = Field(description="diameter 2r, m")
+    density: Positive = Field(description="density rho_s, kg/m^3 (it enters eq. 20 through the sphere's energy)")
+    speed: Positive = Field(le=2000.0, description="impact speed v, m/s")
+
+
+class Target(Frozen):
+    """The box: its size (each a whole number of numerics.dx) and the held layers under it."""
+
+    size: tuple[Positive, Positive, Positive] = Field(description="x, y and z extent of the box, m")
+    held_layers: int = Field(3, ge=1, le=10, description="layers of fixed particles under the box (the support), -")
+
+
+class TargetMaterial(Frozen):
+    """The target's Johnson-Cook solid."""
+
+    name: Name = Field("target", description="the material's name (it reaches the deck)")
+    density: Positive = Field(description="reference density rho0, kg/m^3")
+    solid: SolidMaterial = Field(description="elasticity, equation of state, strength, heating, failure")
+
+
+class ArtificialViscosity(Frozen):
+    """Monaghan's artificial viscosity against the impact's shock."""
+
+    alpha: NonNegative = Field(0.5, description="linear coefficient alpha, -")
+    beta: NonNegative = Field(1.0, description="quadratic coefficient beta, -")
+
+
+class CraterNumerics(Frozen):
+    """Resolution, kernel and the contact's stiffness."""
+
+    dx: Positive = Field(description="particle spacing, m")
+    h_over_dx: float = Field(1.5, ge=1.0, le=3.0, description="smoothing length over spacing, -")
+    artificial_viscosity: ArtificialViscosity = ArtificialViscosity()
+    contact_stiffness: float = Field(1.0, gt=0.0, le=20.0, description="the sphere's contact spring over rho0 c_L^2 "
+                                     "dx of the target (engines/sph/README.md, eq. I1), -")
+    threads: int = Field(1, ge=1, le=256, description="OpenMP threads of the engine")
+
+
+class CraterSimulation(Frozen):
+    """How long the impact runs and what it records."""
+
+    duration: Positive = Field(description="simulated time, s")
+    frames: int = Field(8, ge=1, le=1000, description="particle frames over the run (and the start), -")
+    series_per_frame: int = Field(20, ge=1, le=1000, description="series records per frame interval, -")
+
+
+class Sweep(Frozen):
+    """The impact speeds of the verification (one run each)."""
+
+    speeds: tuple[Positive, ...] = Field(min_length=1, max_length=20, description="impact speeds, m/s")
+
+
+class CraterReference(Frozen):
+    """What the paper reports beside the checks."""
+
+    source: str = Field(description="where the numbers come from")
+    diameter_at_100: Positive | None = Field(None, description="the crater diameter at 100 m/s, m")
+
+
+class CraterExpected(Frozen):
+    """One [[expected]] row: a quantity against its reference, passing within tolerance."""
+
+    quantity: Literal[CHECKED] = Field(description="hutchings_diameter: the contact diameter at the deepest "
+                                       "penetration against eq. 20 with the measured mean contact pressure; "
+                                       "energy_balance: against 0")
+    tolerance: float = Field(gt=0, lt=1, description="largest relative error, -")
+
+
+class CraterCase(Frozen):
+    """A validated Hutchings crater case in SI units."""
+
+    case: CaseMeta
+    sphere: Sphere
+    target: Target
+    material: TargetMaterial
+    numerics: CraterNumerics
+    simulation: CraterSimulation
+    sweep: Sweep | None = Field(None, description="the speeds verify solids runs")
+    reference: CraterReference | None = None
+    expected: tuple[CraterExpected, ...] = Field((), description="the verification checks (verify solids)")
+
+    @model_validator(mode="after")
+    def _consistent(self):
+        check_solid_table("material", self.material.solid)
+        dx = self.numerics.dx
+        for axis, length in zip("xyz", self.target.size):
+            layers = length / dx
+            if abs(layers - round(layers)) > 1e-6 * layers:
+                raise ValueError(f"target.size along {axis} = {length} m is not a whole number of numerics.dx = "
+                                 f"{dx} m ({layers:.4g} layers)")
+        radius = 0.5 * self.sphere.diameter
+        if radius < 4.0 * dx:
+            raise ValueError(f"sphere.diameter = {self.sphere.diameter} m spans fewer than 8 particles of "
+                             f"numerics.dx = {dx} m: refine dx")
+        if 2.0 * radius > min(self.target.size[:2]):
+            raise ValueError(f"sphere.diameter = {self.sphere.diameter} m is wider than the target "
+                             f"({min(self.target.size[:2])} m): the crater would reach its sides")
+        return self

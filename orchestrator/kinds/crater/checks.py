@@ -1,0 +1,59 @@
+"""The crater's verification rows (`verify solids`, one run per [sweep] speed): the crater diameter (the plastic
+zone's rim at the surface) against Hutchings' eq. 20 with the run's own mean contact pressure, and the energy
+balance."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from orchestrator.kinds.crater.analysis import QUANTITIES
+from orchestrator.kinds.sph_flow.checks_base import check_row
+
+#: Units of the checked quantities in the table.
+UNITS = {name: unit for name, (unit, _) in QUANTITIES.items()}
+
+
+def sweep_runs(case, stem: str) -> list[tuple[str, tuple[str, ...]]]:
+    """(run folder, overrides) of each run: one, or one per [sweep] speed (sphere.speed set to it, m/s)."""
+    if case.sweep is None:
+        return [(stem, ())]
+    return [(f"{stem}/v_{v:g}", (f"sphere.speed={v!r}",)) for v in case.sweep.speeds]
+
+
+def check_run(case, engine: str, run: dict) -> tuple[list[dict], dict]:
+    """The crater's rows (one per [[expected]] row; a quantity the run did not measure fails) and its picture data."""
+    measured = run.get("measured", {}).get("attrs", {}) if run else {}
+    name = f"{case.case.name} at {case.sphere.speed:g} m/s"
+    rows = []
+    for row in case.expected:
+        if row.quantity == "energy_balance":
+            value = measured.get("energy_balance")
+            known = value is not None and math.isfinite(value)
+            rows.append(check_row(name, "energy_balance", value if known else None, 0.0, abs(value) if known else None,
+                                  row.tolerance, passed=None if known else False, source="conservation",
+                                  note="energy_balance: (kinetic + internal + contact energy) at the end / initial "
+                                       "kinetic energy - 1"))
+            continue
+        value, expected = measured.get("crater_diameter"), measured.get("hutchings_diameter")
+        if value is None or expected is None:
+            rows.append(check_row(name, "crater_diameter", None, expected, None, row.tolerance, passed=False,
+                                  source="Hutchings eq. 20", note="crater_diameter: not measured (no contact?)"))
+            continue
+        rows.append(check_row(name, "crater_diameter", value, expected, abs(value / expected - 1.0), row.tolerance,
+                              source="Hutchings eq. 20 with the measured mean contact pressure",
+                              note=f"mean contact pressure {measured.get('mean_pressure', math.nan) / 1e9:.3g} GPa"))
+    picture = {"speed": case.sphere.speed, "diameter": measured.get("crater_diameter", math.nan),
+               "contact": measured.get("contact_diameter", math.nan),
+               "hutchings": measured.get("hutchings_diameter", math.nan)}
+    return rows, picture
+
+
+def speed_slope(speeds, diameters) -> float:
+    """The slope of log d against log v (eq. 20: 1/2) by least squares; nan with fewer than two finite points."""
+    v, d = np.asarray(speeds, dtype=float), np.asarray(diameters, dtype=float)
+    ok = np.isfinite(v) & np.isfinite(d) & (v > 0) & (d > 0)
+    if ok.sum() < 2:
+        return math.nan
+    return float(np.polyfit(np.log(v[ok]), np.log(d[ok]), 1)[0])
