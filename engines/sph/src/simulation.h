@@ -267,8 +267,7 @@ class Simulation {
   }
   // Whether the list will probably be rebuilt within a step (3/4 of the allowed displacement used up).
   bool rebuild_near() const { return list_stale_ || last_moved_ > 0.75 * last_allowed_; }
-  // Rates of the initial state before the first step (later: the last half step's); cells must be binned.
-  void ensure_rates() { rates_ready_ ? void() : compute_rates(); }
+  void ensure_rates() { rates_ready_ ? void() : compute_rates(); }  // the initial state's rates (cells binned)
 
   // One full step (stages.h), one rate evaluation at the half step. While the
   // Verlet list stays valid (verlet_skin.h) the step is one parallel region:
