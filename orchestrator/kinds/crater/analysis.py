@@ -14,7 +14,11 @@ Definitions (the top face is z = 0; r the sphere's radius):
 - mean_pressure: the time average of F / (pi a^2), a^2 = 2 r delta - delta^2, while the sphere goes in (from the
   first contact force to delta_max): the mean contact pressure H of Hutchings' model;
 - hutchings_diameter: eq. 20, d = 2 r sqrt(2 v) (2 rho_s / 3 H)^(1/4) with H = mean_pressure and rho_s the sphere's
-  density (the derivation: docs/solids.md, "Hutchings' crater").
+  density (the derivation: docs/solids.md, "Hutchings' crater");
+- hertz_modulus (an indenter, sphere.kinematic): Hertz's F = 4/3 E* sqrt(r) delta^(3/2) for a rigid sphere on an
+  elastic half-space, so F^(2/3) is linear in delta; the least-squares line through (delta, F^(2/3)) of the
+  records with F above HERTZ_FROM of the last force gives E* = 3/4 slope^(3/2) / sqrt(r) (its intercept takes up
+  where the surface is, within a particle's extent).
 """
 
 from __future__ import annotations
@@ -29,6 +33,9 @@ from orchestrator.kinds.crater.pictures import plot_crater
 #: The equivalent plastic strain that marks the plastic zone's rim at the surface, -.
 PLASTIC_RIM = 0.01
 
+#: Hertz's fit starts where the force exceeds this fraction of the last one (the first touches are single particles).
+HERTZ_FROM = 0.05
+
 #: The measured quantities: name -> (SI unit, meaning).
 QUANTITIES: dict[str, tuple[str, str]] = {
     "crater_diameter": ("m", "the rim crest: where the top layer's pile-up stands highest at the end"),
@@ -41,6 +48,9 @@ QUANTITIES: dict[str, tuple[str, str]] = {
     "peak_force": ("N", "largest contact force"),
     "hutchings_diameter": ("m", "eq. 20 with the measured mean_pressure and the sphere's density"),
     "rebound_speed": ("m/s", "the sphere's speed along +z at the end"),
+    "hertz_modulus": ("Pa", "an indenter's contact modulus E* fitted to Hertz's F = 4/3 E* sqrt(r) delta^(3/2)"),
+    "hertz_fit_residual": ("-", "largest |F - Hertz's fit| over the last force in the fitted records"),
+    "elastic_modulus": ("Pa", "E / (1 - nu^2) of the target from its G and K (Hertz's E* for a rigid sphere)"),
     "restitution": ("-", "rebound speed over impact speed"),
     "plastic_work_fraction": ("-", "the target's internal energy at the end over the sphere's initial kinetic energy"),
     "max_plastic_strain": ("-", "largest equivalent plastic strain in the target"),
@@ -156,6 +166,28 @@ def rim_radius(r: np.ndarray, value: np.ndarray, ring: float, level: float) -> f
     return float(centres[above] + (m0 - level) / (m0 - m1) * (centres[above + 1] - centres[above]))
 
 
+def hertz_fit(radius: float, delta: np.ndarray, force: np.ndarray) -> dict[str, float]:
+    """Hertz's contact modulus E* (Pa) from the force F (N) against the penetration delta (m) of a rigid sphere of
+    `radius` (m): the line through (delta, F^(2/3)) where F > HERTZ_FROM max F, and its largest residual in F."""
+    use = force > HERTZ_FROM * force.max()
+    if use.sum() < 3:
+        return {}
+    slope, intercept = np.polyfit(delta[use], force[use] ** (2.0 / 3.0), 1)
+    if not slope > 0.0:
+        return {}
+    fitted = np.clip(slope * delta[use] + intercept, 0.0, None) ** 1.5
+    return {"hertz_modulus": 0.75 * slope**1.5 / math.sqrt(radius),
+            "hertz_fit_residual": float(np.max(np.abs(force[use] - fitted)) / force.max())}
+
+
+def contact_modulus(case) -> float:
+    """E / (1 - nu^2) of the target, Pa, from its shear modulus G and bulk modulus K (E = 9 K G / (3 K + G))."""
+    solid, density = case.material.solid, case.material.density
+    g, k = solid.shear_modulus, solid.bulk(density)
+    e, nu = 9.0 * k * g / (3.0 * k + g), (3.0 * k - 2.0 * g) / (2.0 * (3.0 * k + g))
+    return e / (1.0 - nu * nu)
+
+
 def measure_crater(case, result) -> dict[str, float]:
     """Measured quantities of a crater run (QUANTITIES); empty without its series."""
     if "impactor_sphere_position" not in result.series or len(result.time) < 2:
@@ -163,16 +195,19 @@ def measure_crater(case, result) -> dict[str, float]:
     h = sphere_history(case, result)
     radius, speed = 0.5 * case.sphere.diameter, case.sphere.speed
     measured = loading(case, h)
+    if case.sphere.kinematic:
+        measured.update(hertz_fit(radius, h["delta"], h["force"]))
+        measured["elastic_modulus"] = contact_modulus(case)
     measured["rebound_speed"] = float(h["v"][-1])
     measured["restitution"] = float(h["v"][-1] / speed)
-    if "mean_pressure" in measured:
+    if "mean_pressure" in measured and not case.sphere.kinematic:
         measured["hutchings_diameter"] = hutchings_diameter(radius, speed, case.sphere.density,
                                                             measured["mean_pressure"])
     if len(result.frames) >= 2:
         first, last = result.frames[0][1], result.frames[-1][1]
         measured.update(surface(case, first, last))
         kinetic0 = float(h["kinetic"][0])
-        if "internal_energy" in last and kinetic0 > 0.0:
+        if "internal_energy" in last and kinetic0 > 0.0 and not case.sphere.kinematic:
             moving = np.asarray(last["kind"]) == 0
             mass = case.material.density * case.numerics.dx**3
             v = np.asarray(last["velocities"], dtype=float)[moving]

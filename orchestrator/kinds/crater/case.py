@@ -17,7 +17,7 @@ from orchestrator.case.common import CaseMeta, Frozen, Name, NonNegative, Positi
 from orchestrator.kinds.sph_flow.case_solids import SolidMaterial, check_solid_table
 
 #: The quantities an [[expected]] row can check (analysis.QUANTITIES has their meaning).
-CHECKED = ("hutchings_diameter", "energy_balance")
+CHECKED = ("hutchings_diameter", "energy_balance", "hertz_modulus")
 
 
 class Sphere(Frozen):
@@ -26,6 +26,8 @@ class Sphere(Frozen):
     diameter: Positive = Field(description="diameter 2r, m")
     density: Positive = Field(description="density rho_s, kg/m^3 (it enters eq. 20 through the sphere's energy)")
     speed: Positive = Field(le=2000.0, description="impact speed v, m/s")
+    kinematic: bool = Field(False, description="true: an indenter that keeps its speed throughout (the force it "
+                                               "needs is recorded: Hertz's check); false: a free sphere")
 
 
 class Target(Frozen):
@@ -85,9 +87,10 @@ class CraterReference(Frozen):
 class CraterExpected(Frozen):
     """One [[expected]] row: a quantity against its reference, passing within tolerance."""
 
-    quantity: Literal[CHECKED] = Field(description="hutchings_diameter: the contact diameter at the deepest "
-                                       "penetration against eq. 20 with the measured mean contact pressure; "
-                                       "energy_balance: against 0")
+    quantity: Literal[CHECKED] = Field(description="hutchings_diameter: the crater's rim crest against eq. 20 "
+                                       "with the measured mean contact pressure; energy_balance: against 0; "
+                                       "hertz_modulus: the contact modulus E* fitted to the force against "
+                                       "penetration, against E / (1 - nu^2) of the target")
     tolerance: float = Field(gt=0, lt=1, description="largest relative error, -")
 
 
@@ -117,7 +120,11 @@ class CraterCase(Frozen):
         if radius < 4.0 * dx:
             raise ValueError(f"sphere.diameter = {self.sphere.diameter} m spans fewer than 8 particles of "
                              f"numerics.dx = {dx} m: refine dx")
-        if 2.0 * radius > min(self.target.size[:2]):
+        if not self.sphere.kinematic and 2.0 * radius > min(self.target.size[:2]):
             raise ValueError(f"sphere.diameter = {self.sphere.diameter} m is wider than the target "
                              f"({min(self.target.size[:2])} m): the crater would reach its sides")
+        if any(row.quantity == "hertz_modulus" for row in self.expected):
+            if not self.sphere.kinematic or self.material.solid.yield_stress is not None:
+                raise ValueError("expected: hertz_modulus needs sphere.kinematic = true and an elastic target "
+                                 "(no material.solid.yield_stress)")
         return self

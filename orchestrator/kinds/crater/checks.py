@@ -8,7 +8,7 @@ import math
 
 import numpy as np
 
-from orchestrator.kinds.crater.analysis import QUANTITIES
+from orchestrator.kinds.crater.analysis import QUANTITIES, contact_modulus
 from orchestrator.kinds.sph_flow.checks_base import check_row
 
 #: Units of the checked quantities in the table.
@@ -35,6 +35,14 @@ def check_run(case, engine: str, run: dict) -> tuple[list[dict], dict]:
                                   row.tolerance, passed=None if known else False, source="conservation",
                                   note="energy_balance: (kinetic + internal + contact energy) at the end / initial "
                                        "kinetic energy - 1"))
+            continue
+        if row.quantity == "hertz_modulus":
+            value, expected = measured.get("hertz_modulus"), contact_modulus(case)
+            known = value is not None and math.isfinite(value)
+            rows.append(check_row(name, "hertz_modulus", value if known else None, expected,
+                                  abs(value / expected - 1.0) if known else None, row.tolerance,
+                                  passed=None if known else False, source="Hertz: E / (1 - nu^2) of the target",
+                                  note="hertz_modulus: E* of the line through (delta, F^(2/3))"))
             continue
         value, expected = measured.get("crater_diameter"), measured.get("hutchings_diameter")
         if value is None or expected is None:
