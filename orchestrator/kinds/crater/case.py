@@ -13,8 +13,8 @@ from typing import Literal
 
 from pydantic import Field, model_validator
 
-from orchestrator.case.common import CaseMeta, Frozen, Name, NonNegative, Positive
-from orchestrator.kinds.sph_flow.case_solids import SolidMaterial, check_solid_table
+from orchestrator.case.common import CaseMeta, Frozen, Name, Positive
+from orchestrator.kinds.sph_flow.case_solids import ImpactViscosity, SolidBody, check_solid_table
 
 #: The quantities an [[expected]] row can check (analysis.QUANTITIES has their meaning).
 CHECKED = ("hutchings_diameter", "energy_balance", "hertz_modulus")
@@ -37,19 +37,10 @@ class Target(Frozen):
     held_layers: int = Field(3, ge=1, le=10, description="layers of fixed particles under the box (the support), -")
 
 
-class TargetMaterial(Frozen):
+class TargetMaterial(SolidBody):
     """The target's Johnson-Cook solid."""
 
     name: Name = Field("target", description="the material's name (it reaches the deck)")
-    density: Positive = Field(description="reference density rho0, kg/m^3")
-    solid: SolidMaterial = Field(description="elasticity, equation of state, strength, heating, failure")
-
-
-class ArtificialViscosity(Frozen):
-    """Monaghan's artificial viscosity against the impact's shock."""
-
-    alpha: NonNegative = Field(0.5, description="linear coefficient alpha, -")
-    beta: NonNegative = Field(1.0, description="quadratic coefficient beta, -")
 
 
 class CraterNumerics(Frozen):
@@ -57,7 +48,7 @@ class CraterNumerics(Frozen):
 
     dx: Positive = Field(description="particle spacing, m")
     h_over_dx: float = Field(1.5, ge=1.0, le=3.0, description="smoothing length over spacing, -")
-    artificial_viscosity: ArtificialViscosity = ArtificialViscosity()
+    artificial_viscosity: ImpactViscosity = ImpactViscosity()
     contact_stiffness: float = Field(1.0, gt=0.0, le=20.0, description="the sphere's contact spring over rho0 c_L^2 "
                                      "dx of the target (engines/sph/README.md, eq. I1), -")
     threads: int = Field(1, ge=1, le=256, description="OpenMP threads of the engine")

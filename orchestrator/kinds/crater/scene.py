@@ -28,8 +28,6 @@ def flow_case(case: CraterCase) -> SphFlowCase:
     top = sphere_centre_z(case) + 0.5 * case.sphere.diameter
     duration = case.simulation.duration
     frame = duration / case.simulation.frames
-    material = {"name": m.name, "model": "johnson_cook", "density": m.density,
-                "solid": m.solid.model_dump(exclude_none=True)}
     av = case.numerics.artificial_viscosity
     data = {
         "case": {"kind": "sph_flow", "name": case.case.name, "engine": "sph",
@@ -37,7 +35,7 @@ def flow_case(case: CraterCase) -> SphFlowCase:
         "domain": {"dimension": 3, "lo": [-0.5 * lx - 2 * dx, -0.5 * ly - 2 * dx, -lz - support - 2 * dx],
                    "hi": [0.5 * lx + 2 * dx, 0.5 * ly + 2 * dx, top + 2 * dx]},
         "fluid": {"max_speed": case.sphere.speed},
-        "materials": [material],
+        "materials": [m.case_material()],
         "physics": {"terms": ["artificial_viscosity"],
                     "artificial_viscosity": {"alpha": av.alpha, "beta": av.beta}},
         "blocks": [{"name": "target", "kind": "fluid", "material": m.name, "lo": [-0.5 * lx, -0.5 * ly, -lz],

@@ -41,7 +41,7 @@ import math
 
 from pydantic import Field
 
-from orchestrator.case.common import Frozen, NonNegative, Positive
+from orchestrator.case.common import Frozen, Name, NonNegative, Positive
 from orchestrator.kinds.sph_flow.case_parts import Finite
 
 #: Equations of state of a solid (engines/sph/src/materials/solid_parameters.h).
@@ -122,6 +122,26 @@ class SolidMaterial(Frozen):
         if self.artificial_stress is not None:
             item["artificial_stress"] = self.artificial_stress.model_dump()
         return item
+
+
+class SolidBody(Frozen):
+    """The Johnson-Cook solid of a solid scene (a Taylor bar, a crater's target): name, density, [solid] table."""
+
+    name: Name = Field("solid", description="the material's name (it reaches the deck)")
+    density: Positive = Field(description="reference density rho0, kg/m^3")
+    solid: SolidMaterial = Field(description="elasticity, equation of state, strength, heating, failure")
+
+    def case_material(self) -> dict:
+        """The solid as an sph_flow case's [[materials]] table."""
+        return {"name": self.name, "model": "johnson_cook", "density": self.density,
+                "solid": self.solid.model_dump(exclude_none=True)}
+
+
+class ImpactViscosity(Frozen):
+    """Monaghan's artificial viscosity (eqs. 11-12 of the engine) against an impact's shock."""
+
+    alpha: NonNegative = Field(0.5, description="linear coefficient alpha, -")
+    beta: NonNegative = Field(1.0, description="quadratic coefficient beta, -")
 
 
 def check_solid(case, i: int, m) -> None:

@@ -12,8 +12,8 @@ from typing import Literal
 
 from pydantic import Field, model_validator
 
-from orchestrator.case.common import CaseMeta, Frozen, Name, NonNegative, Positive
-from orchestrator.kinds.sph_flow.case_solids import SolidMaterial, check_solid_table
+from orchestrator.case.common import CaseMeta, Frozen, Name, Positive
+from orchestrator.kinds.sph_flow.case_solids import ImpactViscosity, SolidBody, check_solid_table
 
 #: The quantities a [[expected]] row can check against [reference] (analysis.QUANTITIES has their units), and
 #: energy_balance, checked against 0 (conservation of kinetic plus internal energy).
@@ -28,19 +28,11 @@ class Bar(Frozen):
     speed: Positive = Field(le=2000.0, description="impact speed, m/s")
 
 
-class BarMaterial(Frozen):
+class BarMaterial(SolidBody):
     """The bar's Johnson-Cook solid."""
 
     name: Name = Field("bar", description="the material's name (it reaches the deck)")
-    density: Positive = Field(description="reference density rho0, kg/m^3")
-    solid: SolidMaterial = Field(description="elasticity, equation of state, strength, heating, failure")
 
-
-class ArtificialViscosity(Frozen):
-    """Monaghan's artificial viscosity (eqs. 11-12 of the engine) against the impact's shock."""
-
-    alpha: NonNegative = Field(0.5, description="linear coefficient alpha, -")
-    beta: NonNegative = Field(1.0, description="quadratic coefficient beta, -")
 
 
 class TaylorNumerics(Frozen):
@@ -48,7 +40,7 @@ class TaylorNumerics(Frozen):
 
     dx: Positive = Field(description="particle spacing, m (a cubic lattice cut to the bar's radius)")
     h_over_dx: float = Field(1.5, ge=1.0, le=3.0, description="smoothing length over spacing, -")
-    artificial_viscosity: ArtificialViscosity = ArtificialViscosity()
+    artificial_viscosity: ImpactViscosity = ImpactViscosity()
     wall_load_factor: float = Field(16.0, ge=2.0, le=1000.0, description="the wall's penalty force at zero distance "
                                     "over the impact load of one face particle, rho0 c_L v dx^2 (the elastic impact "
                                     "pressure): 16 holds that load at half the range, -")

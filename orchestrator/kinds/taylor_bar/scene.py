@@ -28,15 +28,13 @@ def flow_case(case: TaylorBarCase) -> SphFlowCase:
     reach = 3.0 * bar.radius + 4.0 * dx  # the mushroomed face stays well inside
     duration = case.simulation.duration
     frame = duration / case.simulation.frames
-    material = {"name": m.name, "model": "johnson_cook", "density": m.density,
-                "solid": m.solid.model_dump(exclude_none=True)}
     av = case.numerics.artificial_viscosity
     data = {
         "case": {"kind": "sph_flow", "name": case.case.name, "engine": "sph",
                  "description": case.case.description or "Taylor bar"},
         "domain": {"dimension": 3, "lo": [-reach, -reach, -4.0 * dx], "hi": [reach, reach, 1.3 * bar.length]},
         "fluid": {"max_speed": bar.speed},
-        "materials": [material],
+        "materials": [m.case_material()],
         "physics": {"terms": ["artificial_viscosity", "wall_penalty"],
                     "artificial_viscosity": {"alpha": av.alpha, "beta": av.beta},
                     "wall_penalty": wall_penalty(case)},
