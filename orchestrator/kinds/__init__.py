@@ -29,6 +29,7 @@ register("ejector_drill", "orchestrator.kinds.ejector_drill")
 register("ejector_feed", "orchestrator.kinds.ejector_feed")
 register("impact", "orchestrator.kinds.impact")
 register("rheometer", "orchestrator.kinds.rheometer")
+register("scratch", "orchestrator.kinds.scratch")
 register("sph_flow", "orchestrator.kinds.sph_flow")
 register("taylor_bar", "orchestrator.kinds.taylor_bar")
 

@@ -112,7 +112,7 @@ def _names(case) -> list[str]:
                                      case.output.probes, case.output.flow_planes) for i in group]
     if case.case.kind == "rheometer":
         return []  # a rheometer case names nothing that reaches the deck (its material and block are "sample")
-    if case.case.kind in ("taylor_bar", "cantilever_plate", "crater"):
+    if case.case.kind in ("taylor_bar", "cantilever_plate", "crater", "scratch"):
         return [case.material.name]
     if case.case.kind in ("ejector_drill", "ejector_feed"):
         return []  # its deck's names (planes, probes, walls) are the layout's own, none from the case file

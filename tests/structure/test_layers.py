@@ -57,6 +57,8 @@ KIND_IMPORTS_ALLOWED = {
     ("ejector_drill", "sph_flow"): "its scenes are sph_flow cases and scenes, written by sph_flow's deck code",
     ("ejector_feed", "sph_flow"): "its scene is an sph_flow case and scene, written by sph_flow's deck code",
     ("rheometer", "sph_flow"): "its sample is an sph_flow case and scene, run by sph_flow's adapter",
+    ("scratch", "sph_flow"): "its target is an sph_flow case and scene with a johnson_cook material and a rigid "
+                             "grain, run by sph_flow's adapter",
     ("taylor_bar", "sph_flow"): "its bar is an sph_flow case and scene with a johnson_cook material, run by sph_flow's "
                                 "adapter",
 }
