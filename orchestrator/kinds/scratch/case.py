@@ -12,8 +12,12 @@ from __future__ import annotations
 
 from pydantic import Field, model_validator
 
-from orchestrator.case.common import CaseMeta, Frozen, Name, NonNegative, Positive
-from orchestrator.kinds.sph_flow.case_solids import SolidMaterial, check_solid_table
+from orchestrator.case.common import CaseMeta, Frozen, Name, Positive
+from orchestrator.kinds.sph_flow.case_solids import (
+    ImpactViscosity,
+    SolidBody,
+    check_solid_table,
+)
 
 
 class Grain(Frozen):
@@ -26,7 +30,7 @@ class Grain(Frozen):
     density: Positive = Field(description="density of the grain, kg/m^3")
     speed: Positive = Field(le=2000.0, description="impact speed, m/s")
     angle: float = Field(gt=0.0, le=90.0, description="angle of incidence measured from the surface (90: normal "
-                         "impact), degrees")
+                         "impact), deg")
 
 
 class Target(Frozen):
@@ -39,21 +43,19 @@ class Target(Frozen):
     held_layers: int = Field(3, ge=1, le=10, description="layers of fixed particles under the box (the support), -")
 
 
-class TargetMaterial(Frozen):
-    """The target's Johnson-Cook solid."""
+class TargetMaterial(SolidBody):
+    """The target's Johnson-Cook solid, with or without its failure table."""
 
     name: Name = Field("target", description="the material's name (it reaches the deck)")
-    density: Positive = Field(description="reference density rho0, kg/m^3")
-    solid: SolidMaterial = Field(description="elasticity, equation of state, strength, heating, failure")
     fails: bool = Field(True, description="false: the solid's failure table is left out of the run (the target "
                         "only deforms), -")
 
-
-class ArtificialViscosity(Frozen):
-    """Monaghan's artificial viscosity against the impact's shock."""
-
-    alpha: NonNegative = Field(0.5, description="linear coefficient alpha, -")
-    beta: NonNegative = Field(1.0, description="quadratic coefficient beta, -")
+    def case_material(self) -> dict:
+        """The solid as an sph_flow case's [[materials]] table (without its failure table unless it fails)."""
+        item = super().case_material()
+        if not self.fails:
+            item["solid"].pop("failure", None)
+        return item
 
 
 class ScratchNumerics(Frozen):
@@ -61,7 +63,7 @@ class ScratchNumerics(Frozen):
 
     dx: Positive = Field(description="particle spacing, m")
     h_over_dx: float = Field(1.5, ge=1.0, le=3.0, description="smoothing length over spacing, -")
-    artificial_viscosity: ArtificialViscosity = ArtificialViscosity()
+    artificial_viscosity: ImpactViscosity = ImpactViscosity()
     contact_stiffness: float = Field(1.0, gt=0.0, le=20.0, description="the grain's contact spring over rho0 c_L^2 "
                                      "dx of the target (engines/sph/README.md, eq. I1), -")
     max_density_deviation: float = Field(0.9, gt=0.0, lt=1.0, description="the run stops as unstable when a target "

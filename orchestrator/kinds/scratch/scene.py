@@ -74,10 +74,6 @@ def flow_case(case: ScratchCase) -> SphFlowCase:
     spheres = grain_spheres(case)
     duration = case.simulation.duration
     frame = duration / case.simulation.frames
-    solid = m.solid.model_dump(exclude_none=True)
-    if not m.fails:
-        solid.pop("failure", None)
-    material = {"name": m.name, "model": "johnson_cook", "density": m.density, "solid": solid}
     av = case.numerics.artificial_viscosity
     lo = np.minimum((spheres[:, :3] - spheres[:, 3:]).min(axis=0), [-0.5 * lx, -0.5 * ly, -lz - support])
     hi = np.maximum((spheres[:, :3] + spheres[:, 3:]).max(axis=0), [0.5 * lx, 0.5 * ly, 0.0])
@@ -86,7 +82,7 @@ def flow_case(case: ScratchCase) -> SphFlowCase:
                  "description": case.case.description or "grain scratch"},
         "domain": {"dimension": 3, "lo": (lo - 2 * dx).tolist(), "hi": (hi + 2 * dx).tolist()},
         "fluid": {"max_speed": case.grain.speed},
-        "materials": [material],
+        "materials": [m.case_material()],
         "physics": {"terms": ["artificial_viscosity"],
                     "artificial_viscosity": {"alpha": av.alpha, "beta": av.beta}},
         "blocks": [{"name": "target", "kind": "fluid", "material": m.name, "lo": [-0.5 * lx, -0.5 * ly, -lz],
