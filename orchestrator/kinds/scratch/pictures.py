@@ -58,7 +58,7 @@ def plot_scratch(run: dict, case, path: Path) -> Path:
     for axes in (top, side):
         axes.set_aspect("equal")
         axes.set_xlabel("x, um")
-        axes.legend(loc="lower right", fontsize=7)
+        axes.legend(loc="lower right" if axes is top else "upper right", fontsize=7)
     top.set_ylabel("y, um")
     side.set_ylabel("z, um")
     g = case.grain
