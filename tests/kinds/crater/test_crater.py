@@ -159,10 +159,10 @@ def test_a_hertz_row_needs_an_elastic_indenter():
 @pytest.mark.sph
 def test_the_quick_indenter_follows_hertz(tmp_path):
     """0.2 mm spacing (the contact radius reaches 3.9 dx): E* fitted to F(delta) within 10 % of E / (1 - nu^2)
-    (measured -0.3 %; +9.1 % at the case's 0.1 mm, where the block's finite depth stiffens it)."""
+    (measured +4.1 %, the fit's largest residual 2 % of F; +8.3 % at the case's 0.1 mm, which fails its 3 %)."""
     assert main(["run", str(HERTZ), "--preset", "quick", "--out", str(tmp_path / "h")]) == 0
     from orchestrator.runh5 import read_run
 
     m = read_run(tmp_path / "h")["measured"]["attrs"]
     assert m["hertz_modulus"] == pytest.approx(m["elastic_modulus"], rel=0.10)
-    assert m["max_penetration"] == pytest.approx(1.25e-4, rel=0.02)
+    assert m["max_penetration"] == pytest.approx(1.25e-4, rel=0.02) and m["hertz_fit_residual"] < 0.05
