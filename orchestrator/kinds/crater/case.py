@@ -14,7 +14,12 @@ from typing import Literal
 from pydantic import Field, model_validator
 
 from orchestrator.case.common import CaseMeta, Frozen, Name, Positive
-from orchestrator.kinds.sph_flow.case_solids import ImpactViscosity, SolidBody, check_solid_table
+from orchestrator.kinds.sph_flow.case_impact import (
+    ImpactNumerics,
+    ImpactSimulation,
+    ImpactTarget,
+)
+from orchestrator.kinds.sph_flow.case_solids import SolidBody, check_solid_table
 
 #: The quantities an [[expected]] row can check (analysis.QUANTITIES has their meaning).
 CHECKED = ("hutchings_diameter", "energy_balance", "hertz_modulus")
@@ -30,36 +35,10 @@ class Sphere(Frozen):
                                                "needs is recorded: Hertz's check); false: a free sphere")
 
 
-class Target(Frozen):
-    """The box: its size (each a whole number of numerics.dx) and the held layers under it."""
-
-    size: tuple[Positive, Positive, Positive] = Field(description="x, y and z extent of the box, m")
-    held_layers: int = Field(3, ge=1, le=10, description="layers of fixed particles under the box (the support), -")
-
-
 class TargetMaterial(SolidBody):
     """The target's Johnson-Cook solid."""
 
     name: Name = Field("target", description="the material's name (it reaches the deck)")
-
-
-class CraterNumerics(Frozen):
-    """Resolution, kernel and the contact's stiffness."""
-
-    dx: Positive = Field(description="particle spacing, m")
-    h_over_dx: float = Field(1.5, ge=1.0, le=3.0, description="smoothing length over spacing, -")
-    artificial_viscosity: ImpactViscosity = ImpactViscosity()
-    contact_stiffness: float = Field(1.0, gt=0.0, le=20.0, description="the sphere's contact spring over rho0 c_L^2 "
-                                     "dx of the target (engines/sph/README.md, eq. I1), -")
-    threads: int = Field(1, ge=1, le=256, description="OpenMP threads of the engine")
-
-
-class CraterSimulation(Frozen):
-    """How long the impact runs and what it records."""
-
-    duration: Positive = Field(description="simulated time, s")
-    frames: int = Field(8, ge=1, le=1000, description="particle frames over the run (and the start), -")
-    series_per_frame: int = Field(20, ge=1, le=1000, description="series records per frame interval, -")
 
 
 class Sweep(Frozen):
@@ -90,10 +69,10 @@ class CraterCase(Frozen):
 
     case: CaseMeta
     sphere: Sphere
-    target: Target
+    target: ImpactTarget
     material: TargetMaterial
-    numerics: CraterNumerics
-    simulation: CraterSimulation
+    numerics: ImpactNumerics
+    simulation: ImpactSimulation
     sweep: Sweep | None = Field(None, description="the speeds verify solids runs")
     reference: CraterReference | None = None
     expected: tuple[CraterExpected, ...] = Field((), description="the verification checks (verify solids)")
@@ -102,11 +81,7 @@ class CraterCase(Frozen):
     def _consistent(self):
         check_solid_table("material", self.material.solid)
         dx = self.numerics.dx
-        for axis, length in zip("xyz", self.target.size):
-            layers = length / dx
-            if abs(layers - round(layers)) > 1e-6 * layers:
-                raise ValueError(f"target.size along {axis} = {length} m is not a whole number of numerics.dx = "
-                                 f"{dx} m ({layers:.4g} layers)")
+        self.target.check_lattice(dx)
         radius = 0.5 * self.sphere.diameter
         if radius < 4.0 * dx:
             raise ValueError(f"sphere.diameter = {self.sphere.diameter} m spans fewer than 8 particles of "

@@ -13,11 +13,12 @@ from __future__ import annotations
 from pydantic import Field, model_validator
 
 from orchestrator.case.common import CaseMeta, Frozen, Name, Positive
-from orchestrator.kinds.sph_flow.case_solids import (
-    ImpactViscosity,
-    SolidBody,
-    check_solid_table,
+from orchestrator.kinds.sph_flow.case_impact import (
+    ImpactNumerics,
+    ImpactSimulation,
+    ImpactTarget,
 )
+from orchestrator.kinds.sph_flow.case_solids import SolidBody, check_solid_table
 
 
 class Grain(Frozen):
@@ -33,14 +34,12 @@ class Grain(Frozen):
                          "impact), deg")
 
 
-class Target(Frozen):
+class Target(ImpactTarget):
     """The box: its size (each a whole number of numerics.dx), where the grain's lowest point meets its top face,
     and the held layers under it."""
 
-    size: tuple[Positive, Positive, Positive] = Field(description="x, y and z extent of the box, m")
     entry: Positive = Field(description="distance from the box's -x face to where the grain's lowest point meets "
                             "the top face, m")
-    held_layers: int = Field(3, ge=1, le=10, description="layers of fixed particles under the box (the support), -")
 
 
 class TargetMaterial(SolidBody):
@@ -58,26 +57,12 @@ class TargetMaterial(SolidBody):
         return item
 
 
-class ScratchNumerics(Frozen):
-    """Resolution, kernel and the contact's stiffness."""
+class ScratchNumerics(ImpactNumerics):
+    """Resolution, kernel, the contact's stiffness and the engine's stop on density."""
 
-    dx: Positive = Field(description="particle spacing, m")
-    h_over_dx: float = Field(1.5, ge=1.0, le=3.0, description="smoothing length over spacing, -")
-    artificial_viscosity: ImpactViscosity = ImpactViscosity()
-    contact_stiffness: float = Field(1.0, gt=0.0, le=20.0, description="the grain's contact spring over rho0 c_L^2 "
-                                     "dx of the target (engines/sph/README.md, eq. I1), -")
     max_density_deviation: float = Field(0.9, gt=0.0, lt=1.0, description="the run stops as unstable when a target "
                                          "particle has |rho/rho0 - 1| above this; failed particles carry no tension, "
                                          "so a chip tearing off thins by 30 % and more, -")
-    threads: int = Field(1, ge=1, le=256, description="OpenMP threads of the engine")
-
-
-class ScratchSimulation(Frozen):
-    """How long the scratch runs and what it records."""
-
-    duration: Positive = Field(description="simulated time, s")
-    frames: int = Field(6, ge=1, le=1000, description="particle frames over the run (and the start), -")
-    series_per_frame: int = Field(20, ge=1, le=1000, description="series records per frame interval, -")
 
 
 class ScratchCase(Frozen):
@@ -88,17 +73,13 @@ class ScratchCase(Frozen):
     target: Target
     material: TargetMaterial
     numerics: ScratchNumerics
-    simulation: ScratchSimulation
+    simulation: ImpactSimulation
 
     @model_validator(mode="after")
     def _consistent(self):
         check_solid_table("material", self.material.solid)
         dx = self.numerics.dx
-        for axis, length in zip("xyz", self.target.size):
-            layers = length / dx
-            if abs(layers - round(layers)) > 1e-6 * layers:
-                raise ValueError(f"target.size along {axis} = {length} m is not a whole number of numerics.dx = "
-                                 f"{dx} m ({layers:.4g} layers)")
+        self.target.check_lattice(dx)
         corner = self.grain.size * self.grain.corner / (2.0 * (1.0 + self.grain.corner))
         if corner < 0.5 * dx:
             raise ValueError(f"grain.size = {self.grain.size} m gives corner spheres of radius {corner:.4g} m, "

@@ -13,6 +13,7 @@ import numpy as np
 
 from orchestrator.kinds.scratch.case import ScratchCase
 from orchestrator.kinds.sph_flow.case import SphFlowCase
+from orchestrator.kinds.sph_flow.case_impact import impact_case
 from orchestrator.kinds.sph_flow.case_impactors import mass_properties
 from orchestrator.kinds.sph_flow.scene import SphScene, build_sph_flow
 
@@ -69,35 +70,9 @@ def grain_mass(case: ScratchCase) -> float:
 
 def flow_case(case: ScratchCase) -> SphFlowCase:
     """The sph_flow case of the target, its held support and the grain."""
-    dx, m, (lx, ly, lz) = case.numerics.dx, case.material, case.target.size
-    support = case.target.held_layers * dx
-    spheres = grain_spheres(case)
-    duration = case.simulation.duration
-    frame = duration / case.simulation.frames
-    av = case.numerics.artificial_viscosity
-    lo = np.minimum((spheres[:, :3] - spheres[:, 3:]).min(axis=0), [-0.5 * lx, -0.5 * ly, -lz - support])
-    hi = np.maximum((spheres[:, :3] + spheres[:, 3:]).max(axis=0), [0.5 * lx, 0.5 * ly, 0.0])
-    data = {
-        "case": {"kind": "sph_flow", "name": case.case.name, "engine": "sph",
-                 "description": case.case.description or "grain scratch"},
-        "domain": {"dimension": 3, "lo": (lo - 2 * dx).tolist(), "hi": (hi + 2 * dx).tolist()},
-        "fluid": {"max_speed": case.grain.speed},
-        "materials": [m.case_material()],
-        "physics": {"terms": ["artificial_viscosity"],
-                    "artificial_viscosity": {"alpha": av.alpha, "beta": av.beta}},
-        "blocks": [{"name": "target", "kind": "fluid", "material": m.name, "lo": [-0.5 * lx, -0.5 * ly, -lz],
-                    "hi": [0.5 * lx, 0.5 * ly, 0.0]},
-                   {"name": "support", "kind": "boundary", "material": m.name,
-                    "lo": [-0.5 * lx, -0.5 * ly, -lz - support], "hi": [0.5 * lx, 0.5 * ly, -lz]}],
-        "impactors": [{"name": "grain", "spheres": spheres.tolist(), "density": case.grain.density,
-                       "velocity": (case.grain.speed * direction(case)).tolist(),
-                       "stiffness_factor": case.numerics.contact_stiffness}],
-        "numerics": {"dx": dx, "h_over_dx": case.numerics.h_over_dx, "threads": case.numerics.threads,
-                     "max_density_deviation": case.numerics.max_density_deviation},
-        "simulation": {"duration": duration},
-        "output": {"frame_interval": frame, "series_interval": frame / case.simulation.series_per_frame},
-    }
-    return SphFlowCase.model_validate(data)
+    impactor = {"name": "grain", "spheres": grain_spheres(case).tolist(), "density": case.grain.density,
+                "velocity": (case.grain.speed * direction(case)).tolist()}
+    return impact_case(case, impactor, case.grain.speed, "grain scratch")
 
 
 def build_scratch(case: ScratchCase) -> SphScene:
