@@ -30,14 +30,13 @@ class Impactors {
   struct Body {
     std::string name;
     rigid::RigidBody body;
-    rigid::RigidState state, start;  // now, and at the start of the step
+    rigid::RigidState state;
     std::vector<Vec<3>> offsets;     // sphere centres, body frame, m
     std::vector<Vec<3>> centres;     // sphere centres, world, at the pose of the last placement, m
     std::vector<double> radii;       // m
     double stiffness = 0.0;          // k_c, N/m
     double reach = 0.0;              // largest |c_k - X| + R_k, m (a cheap bound before the spheres)
     rigid::Wrench wrench{Vec<3>::Zero(), Vec<3>::Zero()};  // the reaction of the last evaluation (I2)
-    double energy = 0.0;             // contact energy of the last evaluation, J
   };
 
   Impactors() = default;
@@ -64,7 +63,6 @@ class Impactors {
         b.reach = std::max(b.reach, (c - b.state.position).norm() + sphere[3]);
       }
       b.centres.resize(b.offsets.size());
-      b.start = b.state;
       bodies_.push_back(std::move(b));
     }
     place();
@@ -73,9 +71,9 @@ class Impactors {
   bool empty() const { return bodies_.empty(); }
   const std::vector<Body>& bodies() const { return bodies_; }
 
-  // Start of a step of dt (s): keep the state, drift every body by dt/2 (I3).
+  // Start of a step of dt (s): drift every body by dt/2 (I3).
   void predict(double dt) {
-    for (auto& b : bodies_) b.start = b.state, rigid::drift(b.body, b.state, 0.5 * dt);
+    for (auto& b : bodies_) rigid::drift(b.body, b.state, 0.5 * dt);
     place();
   }
 
@@ -116,17 +114,16 @@ class Impactors {
                          ": it must start clear of the particles (their extent dx/2 included)");
   }
 
-  // The reactions (I2) on the bodies and the contact energy, from the particles P that move, at their current
+  // The reactions (I2) on the bodies from the particles P that move, at their current
   // positions (the mid-step ones during a step), in index order: the same overlaps force() gives the particles,
   // so momentum balances to rounding. Serial; call between the predictor and the particles' close_rates.
   template <class Particles>
   void gather(const Particles& P) {
-    for (auto& b : bodies_) b.wrench = {Vec<3>::Zero(), Vec<3>::Zero()}, b.energy = 0.0;
+    for (auto& b : bodies_) b.wrench = {Vec<3>::Zero(), Vec<3>::Zero()};
     each_overlap(bodies_, particle_radius_, P, [](Body& b, const Vec<3>& x, const Vec<3>& r, double d, double delta) {
       const Vec<3> f = b.stiffness * delta / d * r;
       b.wrench.force -= f;
       b.wrench.torque -= (x - b.state.position).cross(f);
-      b.energy += 0.5 * b.stiffness * delta * delta;
     });
   }
 
@@ -150,22 +147,11 @@ class Impactors {
     place();
   }
 
-  // The sum of the bodies' kinetic energies (J) and contact energies (J) of the last evaluation.
+  // The sum of the bodies' kinetic energies, J.
   double kinetic_energy() const {
     double e = 0.0;
     for (const auto& b : bodies_) e += rigid::kinetic_energy(b.body, b.state);
     return e;
-  }
-  double contact_energy() const {
-    double e = 0.0;
-    for (const auto& b : bodies_) e += b.energy;
-    return e;
-  }
-  // The largest speed of a body's surface, m/s (the time step's speed bound).
-  double max_speed() const {
-    double v = 0.0;
-    for (const auto& b : bodies_) v = std::max(v, b.state.velocity.norm() + b.state.angular_velocity.norm() * b.reach);
-    return v;
   }
 
  private:
