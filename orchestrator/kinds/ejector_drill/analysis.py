@@ -16,6 +16,7 @@ from orchestrator.kinds.ejector_drill.flows import (STILL_SHARE, balance, ejecto
                                                        stored_volume_rate, window_balance, zones)
 from orchestrator.kinds.ejector_drill.comparison import (comparison_rows, element_flows, elements_at_flow,
                                                          network_at_gap_flow, stored_volume)
+from orchestrator.kinds.ejector_drill.head_flow import edge_flow, head_finding, pad_flow
 from orchestrator.kinds.ejector_drill.layout import drill_layout
 from orchestrator.kinds.ejector_drill.pictures import draw_run_pictures
 from orchestrator.reference.drill_network import LITRE_PER_MIN, solve
@@ -74,6 +75,31 @@ def print_zones(layout, frames: dict, v_in: float) -> None:
         n, mean, top, name, r, z = found["peak"]
         print(f"  highest pressure (top {n} particles): mean {mean / 1e5:.3g} bar, max {top / 1e5:.3g} bar, mostly "
               f"in {name}, at r {r * 1e3:.3g} mm, z {z * 1e3:.3g} mm")
+
+
+def _cells(values, scale: float, fmt: str) -> str:
+    return "/".join(format(v * scale, fmt) if math.isfinite(v) else "-" for v in values) or "-"
+
+
+def print_head_flow(case, frames: dict) -> None:
+    """Print the flow at the guide pads and the cutting edges (head_flow.py) in every frame, and the paper's
+    finding for Figs. 3-4 measured on the last; nothing for a head without them."""
+    keys = sorted((k for k in frames if k != "attrs"), key=int)
+    if not keys or not (case.head.pad_angles or case.head.edge_angles):
+        return
+    print("\nguide pads and cutting edges (paper Figs. 3-4; pads in the order of head.pad_angles; still: |v| < "
+          f"{STILL_SHARE * 100:g} % of v_in):")
+    print(f"{'t ms':>6}{'v m/s':>7}{'q bar':>7}  {'pad rise bar':<14}{'wake still %':<14}{'open %':>7}  "
+          f"{'edge dp bar':<12}{'faces %':<9}{'gap %':>6}{'mouth m/s':>10}")
+    for k in keys:
+        f = frames[k]
+        pads, edges = pad_flow(case, f), edge_flow(case, f)
+        print(f"{float(f['attrs']['time']) * 1e3:6.3g}{pads['approach']:7.3g}{pads['dynamic'] / 1e5:7.3g}  "
+              f"{_cells(pads['rise'], 1e-5, '.3g'):<14}{_cells(pads['wake_still'], 100, '.3g'):<14}"
+              f"{_cells([pads['open_still']], 100, '.3g'):>7}  {_cells(edges['jump'], 1e-5, '+.2g'):<12}"
+              f"{_cells(edges['face_still'], 100, '.3g'):<9}{_cells([edges['gap_still']], 100, '.3g'):>6}"
+              f"{_cells(edges['mouth_speed'], 1, '.3g'):>10}")
+    print("finding: " + head_finding(case, frames[keys[-1]]))
 
 
 def print_element_flows(net, sph: dict, scene, layout, p_a: float, where: str) -> None:
@@ -200,6 +226,7 @@ def analyze_drill_run(run_dir, run: dict, case, render: bool = True) -> dict:
     bal, stored = print_balance(case, layout, time, flows, frames)
     if frames:
         print_zones(layout, frames, case.scene.inlet_velocity)
+        print_head_flow(case, frames)
     sph, rows = print_comparison(case, layout, series, time, bal)
     beside = print_beside_jets(case, layout, sph, frames, time)
     print_columns(series, time, layout)

@@ -14,6 +14,7 @@ from pydantic import Field, ValidationInfo, field_validator, model_validator
 
 from orchestrator.case.common import Frozen, Positive, mesh_file
 from orchestrator.drill.case import DrillCase, check_fits, check_resolved
+from orchestrator.kinds.ejector_drill.head import check_head
 from orchestrator.kinds.sph_flow.case_parts import Finite, Fluid
 
 #: The geometry's parts a user mesh may replace (drill/geometry.DrillGeometry.meshes).
@@ -85,11 +86,35 @@ class DrillScene(Frozen):
         return value
 
 
+class DrillHead(Frozen):
+    """The drill head's guide pads and cutting edges (head.py); angles from the main cutting edge, counted against
+    the tool's rotation. Empty angle lists leave the head a plain body of revolution."""
+
+    pad_angles: tuple[float, ...] = Field((), description="the guide pads' middle angles behind the main cutting "
+                                                         "edge (empty: no pads), deg")
+    pad_width: Positive = Field(5.0e-3, description="a guide pad's width, the arc it covers at the bore, m")
+    pad_length: Positive = Field(12.0e-3, description="a guide pad's axial length, m")
+    pad_offset: float = Field(0.0, ge=0.0, description="from the head's face rearward to the pads' front ends, m")
+    pad_height: Positive | None = Field(None, description="a pad's radial height above the head body (none: to "
+                                                          "the bore, bearing on it as guide pads do), m")
+    edge_angles: tuple[float, ...] = Field((), description="the cutting edges' angles, the main edge at 0 (empty: "
+                                                          "no cutting edges), deg")
+    edge_width: Positive = Field(4.0e-3, description="a cutting edge's blade (insert) thickness, the arc at the "
+                                                     "bore; the blade, a sector, is thinner toward the axis, m")
+    edge_mouth_angle: Positive = Field(40.0, lt=180.0, description="the angle each edge's chip mouth spans ahead of "
+                                                                   "its rake face, deg")
+    edge_mouth_radius: Positive = Field(11.0e-3, description="the outer radius of each edge's chip mouth in the "
+                                                             "head's face, m")
+    edge_mouth_depth: Positive = Field(2.0e-3, description="each edge's chip mouth's depth into the face, where it "
+                                                           "opens into the central chip mouth, m")
+
+
 class EjectorDrillCase(DrillCase):
     """A validated ejector-drill case (the flow-exit or the drill-head scene) in SI units."""
 
     parts: dict[Literal[PARTS], PartMesh] = Field(default_factory=dict)
     scene: DrillScene
+    head: DrillHead = Field(default_factory=DrillHead)
 
     @model_validator(mode="after")
     def _consistent(self):
@@ -106,6 +131,11 @@ class EjectorDrillCase(DrillCase):
         else:
             check_fits(0.5 * (net.d_bore - net.d_head_body), dx, "the head clearance (d_bore - d_head_body) / 2")
         self._check_start()
+        g = self.geometry()
+        if self.scene.area == "flow_exit":
+            check_head(self, g.hole_z - 0.5 * net.d_hole, "the adduction holes' lower edge")
+        else:
+            check_head(self, g.hole_z - self.scene.inlet_distance - self.scene.prefill, "the inlet's prefill")
         return self
 
     def _check_start(self) -> None:

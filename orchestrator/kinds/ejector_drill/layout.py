@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from orchestrator.drill.regions import Hole, Plane, Ring, inlet_layers, union_contains
+from orchestrator.kinds.ejector_drill.head import clearance_regions, front_regions
 
 
 @dataclass(frozen=True)
@@ -25,7 +26,8 @@ class Layout:
     """The scene's regions, patches, planes and sensors (see the module docstring)."""
 
     area: str
-    regions: tuple  # Ring and Hole, disjoint except where a hole crosses the groove (counted once: see volume)
+    regions: tuple  # Ring, Hole and head.Sector, disjoint except where a hole crosses the groove (counted once:
+    # see volume)
     wetted: tuple  # the regions with the inlet's channel and the outlets' rings carried on through their buffers:
     # where fluid (and inlet and outlet particles) can be, which the boundary particles surround (walls.py)
     channel: Ring  # the inlet's channel (prefilled from the inlet plane downstream)
@@ -63,7 +65,7 @@ def drill_layout(case) -> Layout:
     n, sc = g.network, case.scene
     r_m, r_b = n.d_chip_mouth / 2, n.d_bore / 2
     mouth = Ring("chip_mouth", 0.0, r_m, 0.0, sc.mouth_depth)
-    front = Ring("front_gap", 0.0, r_b, -g.front_clearance, 0.0)
+    front = front_regions(case)
     part = AREAS[sc.area](case, g, mouth, front)
     # the deck lists the outlets, planes and probes in these orders
     part["outlets"] = {"mouth": Plane("mouth", (0.0, 0.0, sc.mouth_depth), (0.0, 0.0, 1.0), r_m), **part["outlets"]}
@@ -91,10 +93,10 @@ def _mid_clearance(n) -> float:
     return 0.5 * (n.d_head_body / 2 + n.d_bore / 2)
 
 
-def _flow_exit(case, g, mouth: Ring, front: Ring) -> dict:
+def _flow_exit(case, g, mouth: Ring, front: tuple) -> dict:
     """The flow-exit area's own parts of the Layout (paper Fig. 2; the module docstring): the gap from its inlet,
-    the collector, the holes with their planes, the head and tube/bore clearances with the leak outlet, AG and
-    rear planes, sensors A and B."""
+    the collector, the holes with their planes, the head (with the pads: head.py) and tube/bore clearances with the
+    leak outlet, AG and rear planes, sensors A and B; front: the front gap's regions (head.front_regions)."""
     n, sc, dx, h = g.network, case.scene, case.numerics.dx, case.numerics.h
     r_io, r_oi, r_oo = n.d_inner_tube_od / 2, n.d_outer_tube_id / 2, n.d_outer_tube_od / 2
     r_h, r_b, L, z_hole = n.d_head_body / 2, n.d_bore / 2, g.head_length, g.hole_z
@@ -104,7 +106,8 @@ def _flow_exit(case, g, mouth: Ring, front: Ring) -> dict:
     r_g = g.groove_outer_radius
     holes = tuple(Hole(f"hole{k}", 2 * math.pi * k / n.n_holes, z_hole, n.d_hole, r_g, r_h) for k in range(n.n_holes))
     collector = (Ring("collector", r_oi, r_g, g.groove_start, g.collector_top),) if r_g > r_oi else ()
-    regions = (channel, *collector, *holes, Ring("head_clearance", r_h, r_b, 0.0, L), front, mouth,
+    clearance, pad_pieces = clearance_regions(case, L)
+    regions = (channel, *collector, *holes, clearance, *pad_pieces, *front, mouth,
                Ring("tube_clearance", r_oo, r_b, L, z_leak))
     z_ag = z_in - 0.5 * (z_in - L)
     # the AG disc reaches into the outer tube's wall, which holds no fluid, so that it counts the gap's particles
@@ -128,16 +131,16 @@ def _flow_exit(case, g, mouth: Ring, front: Ring) -> dict:
                 extended={"annular_gap": z_in + (inlet_layers(dx, h) * dx + 2 * h), "tube_clearance": z_leak + buffer})
 
 
-def _drill_head(case, g, mouth: Ring, front: Ring) -> dict:
-    """The drill-head area's own parts of the Layout (Figs. 3-4): the head clearance from its inlet forward,
-    sensors A and B."""
+def _drill_head(case, g, mouth: Ring, front: tuple) -> dict:
+    """The drill-head area's own parts of the Layout (Figs. 3-4): the head clearance from its inlet forward (split
+    round the guide pads: head.py), the front gap's regions (head.front_regions), sensors A and B."""
     n, sc, dx, h = g.network, case.scene, case.numerics.dx, case.numerics.h
     r_h, r_b = n.d_head_body / 2, n.d_bore / 2
     z_in = g.hole_z - sc.inlet_distance
-    channel = Ring("head_clearance", r_h, r_b, 0.0, z_in)
+    channel, pad_pieces = clearance_regions(case, z_in)
     sensors = {"A": (_mid_clearance(n), 0.0, min(g.hole_z, z_in - 2 * dx)),
                "B": (_mid_gap(n), 0.0, g.head_length + 0.5 * sc.inlet_distance)}
-    return dict(regions=(channel, front, mouth), channel=channel,
+    return dict(regions=(channel, *pad_pieces, *front, mouth), channel=channel,
                 inlet=Plane("clearance_inlet", (0.0, 0.0, z_in), (0.0, 0.0, -1.0), r_b), inlet_inner_radius=r_h,
                 outlets={}, planes={}, sensors=sensors, z_front=0.5 * (sc.mouth_depth + z_in),
                 extended={"head_clearance": z_in + (inlet_layers(dx, h) * dx + 2 * h)})

@@ -1,6 +1,7 @@
 """The flow-exit and drill-head scenes' walls: fixed boundary particles (drill/walls.boundary_particles) inside the
-drill's solids, the workpiece, the head with its adduction holes drilled out, the outer and the inner tube, each
-tested in closed form on its (r, z) polygon, or with trimesh where a user's mesh replaces it ([parts]). SI units."""
+drill's solids, the workpiece, the head with its adduction holes and the cutting edges' chip mouths cut out and its
+guide pads and cutting edges' blades added (head.py), the outer and the inner tube, each tested in closed form on its
+(r, z) polygon or sectors, or with trimesh where a user's mesh replaces it ([parts]). SI units."""
 
 from __future__ import annotations
 
@@ -8,6 +9,7 @@ import numpy as np
 
 from orchestrator.drill.regions import Hole
 from orchestrator.drill.walls import WallParticles, boundary_particles, in_solid
+from orchestrator.kinds.ejector_drill.head import edge_mouths, edge_solids, pad_solids
 
 #: The parts that are walls (the passages are cut out of the head; the nozzles are at the feed, outside both
 #: scenes).
@@ -15,7 +17,8 @@ WALL_PARTS = ("workpiece", "head", "outer_tube", "inner_tube")
 
 
 def solid_masks(points: np.ndarray, case, layout, cut_meshes: dict | None = None) -> dict[str, np.ndarray]:
-    """part name -> mask of the points (n, 3) m inside that solid (the head without its holes); a part replaced by a
+    """part name -> mask of the points (n, 3) m inside that solid (the head with its pads and blades, without its
+    holes and chip mouths); a part replaced by a
     user mesh is tested with trimesh's `contains` (cut_meshes: name -> trimesh, build.wall_meshes; it needs rtree,
     which the environment may lack: the case refuses user meshes with boundary-particle walls)."""
     eps = 1e-6 * case.numerics.dx
@@ -28,7 +31,9 @@ def solid_masks(points: np.ndarray, case, layout, cut_meshes: dict | None = None
         else:
             out[name] = in_solid(points, profiles[name], eps)
     holes = [r for r in layout.regions if isinstance(r, Hole)]
-    for hole in holes:  # the holes are cut out of the head (from the gap's outer wall out through the body)
+    for solid in (*pad_solids(case), *edge_solids(case)):
+        out["head"] |= solid.contains(points)
+    for hole in (*holes, *edge_mouths(case)):  # cut out of the head (a hole from the gap's outer wall out)
         out["head"] &= ~hole.contains(points)
     return out
 
