@@ -87,18 +87,18 @@ def print_head_flow(case, frames: dict) -> None:
     keys = sorted((k for k in frames if k != "attrs"), key=int)
     if not keys or not (case.head.pad_angles or case.head.edge_angles):
         return
-    print("\nguide pads and cutting edges (paper Figs. 3-4; pads in the order of head.pad_angles; still: |v| < "
-          f"{STILL_SHARE * 100:g} % of v_in):")
-    print(f"{'t ms':>6}{'v m/s':>7}{'q bar':>7}  {'pad rise bar':<14}{'wake still %':<14}{'open %':>7}  "
-          f"{'edge dp bar':<12}{'faces %':<9}{'gap %':>6}{'mouth m/s':>10}")
+    print("\nguide pads and cutting edges (paper Figs. 3-4; pads in the order of head.pad_angles; dead: the share of "
+          f"a window without moving fluid, empty or slower than {STILL_SHARE * 100:g} % of v_in):")
+    print(f"{'t ms':>6}{'v m/s':>7}{'q bar':>7}  {'pad rise bar':<14}{'past m/s':<12}{'lee dead %':<12}{'open %':>7}  "
+          f"{'edge dp bar':<12}{'faces %':>8}{'gap %':>7}{'mouth m/s':>10}")
     for k in keys:
         f = frames[k]
         pads, edges = pad_flow(case, f), edge_flow(case, f)
         print(f"{float(f['attrs']['time']) * 1e3:6.3g}{pads['approach']:7.3g}{pads['dynamic'] / 1e5:7.3g}  "
-              f"{_cells(pads['rise'], 1e-5, '.3g'):<14}{_cells(pads['wake_still'], 100, '.3g'):<14}"
-              f"{_cells([pads['open_still']], 100, '.3g'):>7}  {_cells(edges['jump'], 1e-5, '+.2g'):<12}"
-              f"{_cells(edges['face_still'], 100, '.3g'):<9}{_cells([edges['gap_still']], 100, '.3g'):>6}"
-              f"{_cells(edges['mouth_speed'], 1, '.3g'):>10}")
+              f"{_cells(pads['rise'], 1e-5, '.3g'):<14}{_cells(pads['past'], 1, '.3g'):<12}"
+              f"{_cells(pads['wake_dead'], 100, '.3g'):<12}{_cells([pads['open_dead']], 100, '.3g'):>7}  "
+              f"{_cells(edges['jump'], 1e-5, '+.2g'):<12}{_cells(edges['face_dead'], 100, '.3g'):>8}"
+              f"{_cells([edges['gap_dead']], 100, '.3g'):>7}{_cells(edges['mouth_speed'], 1, '.3g'):>10}")
     print("finding: " + head_finding(case, frames[keys[-1]]))
 
 

@@ -33,16 +33,20 @@ UNROLL_FROM = -120.0
 
 
 def draw_head_sections(frames: dict, case, path_of) -> dict:
-    """head_sections_<t in ms>.png (path_of(name) -> path) at each of case.output.picture_times that has a frame,
-    for a head with guide pads or cutting edges: the speed and pressure of the fluid in the head clearance unrolled
-    (its angle from the main cutting edge against z: a section through the pads) and in the front gap's middle
-    layer seen from the face (a section through the cutting edges). Returns {name: path}."""
+    """head_sections_<t in ms>.png (path_of(name) -> path) at each of case.output.picture_times that has a frame
+    and at the last frame (a run resumed past its duration), for a head with guide pads or cutting edges: the speed
+    and pressure of the fluid in the head clearance unrolled (its angle from the main cutting edge against z: a
+    section through the pads) and in the front gap's middle layer seen from the face (a section through the cutting
+    edges). Returns {name: path}."""
     if not (case.head.pad_angles or case.head.edge_angles):
         return {}
     by_time = {round(float(f["attrs"]["time"]) * 1e9): f for k, f in frames.items() if k != "attrs"}
     out = {}
-    for t in case.output.picture_times:
-        frame = by_time.get(round(t * 1e9))
+    times = {round(t * 1e9): t for t in case.output.picture_times}
+    if by_time:
+        times.setdefault(max(by_time), max(by_time) * 1e-9)
+    for key, t in sorted(times.items()):
+        frame = by_time.get(key)
         if frame is not None:
             name = f"head_sections_{t * 1e3:.2f}ms"
             out[name] = _draw_head_frame(frame, case, t, path_of(name))
@@ -92,6 +96,8 @@ def _draw_head_frame(frame: dict, case, t: float, path: Path) -> Path:
         right.scatter(x[layer, 0] * 1e3, x[layer, 1] * 1e3, c=values[layer], s=6, vmin=lo, vmax=hi, cmap="viridis")
         for solid, style in ([(e, "-") for e in edge_solids(case)] + [(m, "--") for m in edge_mouths(case)]):
             _outline(right, solid, style)
+        right.set_xlim(-1.08e3 * r_b, 1.08e3 * r_b)
+        right.set_ylim(-1.08e3 * r_b, 1.08e3 * r_b)
         right.set_aspect("equal")
         right.set_xlabel("x [mm]")
         right.set_ylabel("y [mm]")
