@@ -1,0 +1,166 @@
+"""LAMMPS runs the crater with its MACHDYN package: the target box of the sph scene (the same particles, its held
+support layers) in total-Lagrangian SPH (`pair_style smd/tlsph`) and the sphere as a rigid body of particles,
+touching through MACHDYN's `pair_style smd/hertz`. The deck is
+templates/lammps.in.j2, the particles a data file; the reader is lammps_output.py, engines.lammps starts the program.
+
+The target's material is mapped by kinds/sph_flow/machdyn.py (shared with the Taylor bar: elasticity, the shock EOS
+for Mie-Grueneisen, Johnson-Cook, viscosity, hourglass control, the fixed step). What is the crater's own:
+
+- the held support: its layers are particles of the target's body (bonded to it, as ours are glued), left out of
+  the time integration, so they stay where they start at rest;
+- the sphere: the particles of a cubic lattice of spacing dx (aligned with the target's in x and y) whose centres lie
+  inside the sphere, its lowest layer half a dx above the sphere's lowest point, so that with contact radius dx/2 the
+  sphere's particles reach down to the same gap of a quarter dx above the target as the sph engine's sphere; each
+  carries the sphere's mass and volume over the particle count (the body's mass is the case's exactly). Free, it
+  translates as one rigid body: `fix aveforce` gives every particle the body's mean force and `fix nve` moves them
+  alike (RIGID's `fix rigid` stops LAMMPS on MACHDYN's finite-size particles); it does not turn, as neither
+  engine's sphere does in a normal impact on the axis. Kinematic, it moves at its speed (`fix move linear`). Ours
+  is a smooth sphere; MACHDYN's is a sphere of particles, its surface stepped by dx;
+- the contact: smd/hertz between a sphere particle and a target particle, F = 16/15 E_c sqrt(r_g) d^(3/2) for the
+  overlap d of their contact radii (dx/2 each, r_g = dx/4), repulsive only and without friction, as ours; E_c is
+  numerics.contact_stiffness times rho0 c_L^2 of the target, the scale of the sph engine's spring rho0 c_L^2 dx;
+- what is recorded: the sphere's centre of mass, its velocity and the total force on it (the contact force) in the
+  series, with its kinetic energy and the contact's elastic energy; the target's particles (not the sphere's) in
+  the frames.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from orchestrator.errors import OrchestratorError
+from orchestrator.kinds.base import Adapter
+from orchestrator.kinds.crater.lammps_output import DUMP, SERIES, read_crater_output
+from orchestrator.kinds.sph_flow.machdyn import (
+    deviations,
+    finite,
+    machdyn_parameters,
+    material_cards,
+    refusal,
+    run_steps,
+    solid_material,
+)
+from orchestrator.templating import render
+
+TEMPLATE = Path(__file__).resolve().parent / "templates" / "lammps.in.j2"
+DECK = "in.lammps"
+DATA = "crater.data"
+#: Neighbour skin over dx (the total-Lagrangian pairs are fixed; the skin serves the contact's list).
+SKIN_OVER_DX = 0.3
+#: Series records per run at most.
+MAX_SERIES = 1000
+#: Molecule ids of the data file: the target, its held support, the sphere.
+TARGET, SUPPORT, SPHERE = 1, 2, 3
+
+
+class LammpsCrater(Adapter):
+    """The crater as a LAMMPS MACHDYN deck (templates/lammps.in.j2) with the particles in crater.data."""
+
+    engine = "lammps"
+    templates = (TEMPLATE,)
+
+    def check_scene(self, profile, scene) -> None:
+        """OrchestratorError naming what MACHDYN lacks for this target (exit 2 at the command line)."""
+        reason = refusal(solid_material(scene).solid, eos=("linear", "mie_gruneisen"), elastic=True)
+        if reason:
+            raise OrchestratorError(f"LAMMPS MACHDYN cannot run this crater: {reason}; run it with --engine sph")
+
+    def write_input(self, profile, scene, workdir: Path) -> None:
+        workdir = Path(workdir)
+        (workdir / "output").mkdir(exist_ok=True)
+        write_data_file(scene, workdir / DATA)
+        (workdir / DECK).write_text(render(TEMPLATE, deck_context(scene)))
+
+    def command(self, profile, scene, workdir: Path) -> tuple[list[str], dict[str, str]]:
+        return profile.command(DECK)
+
+    def read_output(self, profile, scene, workdir: Path):
+        return read_crater_output(Path(workdir), scene, run_steps(scene))
+
+    def planned_steps(self, profile, scene) -> int:
+        return run_steps(scene)[0]
+
+
+def sphere(scene):
+    """The scene's one impactor (the sphere: spheres[0] = centre x, y, z and radius, m)."""
+    return scene.case.impactors[0]
+
+
+def sphere_particles(scene) -> np.ndarray:
+    """Centres (n, 3) m of the sphere's lattice: spacing dx, at (i + 1/2) dx in x and y from the axis and at
+    (k + 1/2) dx above the sphere's lowest point in z, inside the sphere."""
+    dx = finite("numerics.dx", scene.case.numerics.dx)
+    cx, cy, cz, radius = (finite("sphere", v) for v in sphere(scene).spheres[0])
+    half = int(np.ceil(radius / dx))
+    offsets = (np.arange(-half, half) + 0.5) * dx
+    heights = (np.arange(2 * half) + 0.5) * dx - radius
+    grid = np.stack(np.meshgrid(offsets, offsets, heights, indexing="ij"), axis=-1).reshape(-1, 3)
+    inside = np.einsum("ij,ij->i", grid, grid) < radius * radius
+    return grid[inside] + np.array([cx, cy, cz])
+
+
+def contact_modulus(scene) -> float:
+    """E_c of smd/hertz, Pa: the impactor's stiffness_factor times rho0 c_L^2 of the target."""
+    m = solid_material(scene)
+    factor = finite("numerics.contact_stiffness", sphere(scene).stiffness_factor)
+    return factor * m.density * m.solid.wave_speed(m.density) ** 2
+
+
+def deck_context(scene) -> dict:
+    """The template's values (SI): numbers as repr, words chosen here; see the module's mapping."""
+    case = scene.case
+    steps, dt, per_frame = run_steps(scene)
+    records = max(1, round(case.output.frame_interval / (case.output.series_interval or case.output.frame_interval)))
+    body = sphere(scene)
+    return {
+        "deviation": deviations(solid_material(scene).solid),
+        "data_file": DATA,
+        "common": " ".join(repr(machdyn_parameters(scene)[k]) for k in ("rho0", "E", "nu", "Q1", "Q2", "hg", "Cp")),
+        "cards": material_cards(scene),
+        "contact_modulus": repr(contact_modulus(scene)),
+        "kinematic": bool(body.kinematic),
+        "sphere_velocity": [repr(finite("sphere velocity", v)) for v in body.velocity],
+        "centre_offset": [repr(float(c - m)) for c, m in zip(body.spheres[0][:3], sphere_particles(scene).mean(axis=0))],
+        "molecules": {"target": TARGET, "support": SUPPORT, "sphere": SPHERE},
+        "skin": repr(SKIN_OVER_DX * finite("numerics.dx", case.numerics.dx)),
+        "dt": repr(dt),
+        "steps": steps,
+        "frame_every": per_frame,
+        "series_every": max(1, per_frame // records, steps // MAX_SERIES),
+        "dump_file": DUMP,
+        "series_file": SERIES,
+    }
+
+
+def write_data_file(scene, path: Path) -> None:
+    """The read_data file (atom_style smd: id type molecule volume mass kernel-radius contact-radius x0 y0 z0 x y z;
+    Velocities: id vx vy vz): the scene's particles first (type 1, molecule TARGET or SUPPORT, in input order), then
+    the sphere's (type 2, molecule SPHERE); numbers as repr."""
+    dx = finite("numerics.dx", scene.case.numerics.dx)
+    x = np.asarray(scene.positions, dtype=float)
+    v = np.asarray(scene.velocities, dtype=float)
+    ball = sphere_particles(scene)
+    if not (np.all(np.isfinite(x)) and np.all(np.isfinite(v))):
+        raise OrchestratorError("the crater's scene holds a position or velocity that is not finite")
+    radius = float(sphere(scene).spheres[0][3])
+    density = finite("material.density", solid_material(scene).density)
+    ball_volume = 4.0 / 3.0 * np.pi * radius**3 / len(ball)
+    ball_mass = finite("sphere.density", sphere(scene).density) * ball_volume
+    molecule = np.where(np.asarray(scene.kind) == 0, TARGET, SUPPORT)
+    rows = [(1, int(mol), dx**3, density * dx**3, p) for mol, p in zip(molecule, x.tolist())]
+    rows += [(2, SPHERE, ball_volume, ball_mass, p) for p in ball.tolist()]
+    every = np.vstack([x, ball])
+    lo, hi = (every.min(axis=0) - 4.0 * dx).tolist(), (every.max(axis=0) + 4.0 * dx).tolist()
+    lines = ["Crater particles (SI units)", "", f"{len(rows)} atoms", "2 atom types", "",
+             f"{lo[0]!r} {hi[0]!r} xlo xhi", f"{lo[1]!r} {hi[1]!r} ylo yhi", f"{lo[2]!r} {hi[2]!r} zlo zhi",
+             "", "Atoms # smd", ""]
+    kernel, contact = repr(float(scene.h)), repr(0.5 * dx)
+    for i, (kind, mol, volume, mass, p) in enumerate(rows):
+        site = f"{p[0]!r} {p[1]!r} {p[2]!r}"
+        lines.append(f"{i + 1} {kind} {mol} {volume!r} {mass!r} {kernel} {contact} {site} {site}")
+    velocities = v.tolist() + [list(sphere(scene).velocity)] * len(ball)
+    lines += ["", "Velocities", ""]
+    lines += [f"{i + 1} {float(u[0])!r} {float(u[1])!r} {float(u[2])!r}" for i, u in enumerate(velocities)]
+    Path(path).write_text("\n".join(lines) + "\n")
