@@ -132,7 +132,9 @@ class Verification:
     picture: what the suite's picture draws of this run, a dict); units: 'module:TABLE' of the checked quantities,
     {name: unit or (unit, meaning)} (a row's quantity 'name(t=0.1 s)' or 'name[source]' takes name's);
     runs: 'module:function(case, stem) -> [(folder, overrides)]' when one scene runs several times (a frequency
-    sweep), else one run in folder stem. Suite-wide, given by the one kind that owns the suite: picture:
+    sweep), else one run in folder stem; sweep_check: 'module:function(case, engine, runs) -> rows', the rows that
+    need every run of one scene's sweep on one engine (runs: its CheckedRuns in sweep order; e.g. how a crater grows
+    with speed), shown as one more run of the scene. Suite-wide, given by the one kind that owns the suite: picture:
     'module:function(runs, path) -> path' (runs: workflows.base.CheckedRun with .picture); description: what the
     suite checks, for --help; timeout_s: each run's default wall-time limit, s; timestep_key: the case key that
     `verify <suite> --timestep-factors` sweeps ('' when the suite has none); cases: the folder of the scenes, a
@@ -146,6 +148,7 @@ class Verification:
     check: Lazy | str
     units: Lazy | str
     runs: Lazy | str | None = None
+    sweep_check: Lazy | str | None = None
     picture: Lazy | str | None = None
     description: str = ""
     timeout_s: float = 600.0
@@ -154,7 +157,7 @@ class Verification:
     default_engines: tuple[str, ...] = ()
 
     def __post_init__(self):
-        for name in ("check", "units", "runs", "picture"):
+        for name in ("check", "units", "runs", "sweep_check", "picture"):
             object.__setattr__(self, name, lazy(getattr(self, name)))
 
     @property

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import importlib.util
 import math
+import os
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -250,7 +251,33 @@ def run_verification(suite: str, engines=None, out_dir=None, cases_dir=None, ove
     """Run the suite's verification (see there) into out_dir; workers: parallel runs (default: the number of
     cores); on_done(run, done, total) as each run ends. Returns the CheckedRuns in the order scene x engine."""
     workflow = verification(get_suite(suite), engines, cases_dir, overrides, timeout_s, preset, only)
-    return workflow.run(out_dir, workers, on_done)[1]
+    return with_sweep_checks(workflow.run(out_dir, workers, on_done)[1])
+
+
+def with_sweep_checks(runs: list[CheckedRun]) -> list[CheckedRun]:
+    """The runs, then one CheckedRun '<scene> over its sweep' per scene and engine whose kind has a sweep_check
+    (kinds.base.Verification), with the rows that need every run of the sweep (e.g. the crater's speed exponent);
+    its wall time is the sweep's."""
+    groups: dict[tuple[str, str], list[CheckedRun]] = {}
+    for run in runs:
+        groups.setdefault((run.scene, run.engine), []).append(run)
+    extra = []
+    for (scene, engine), group in groups.items():
+        written = group[0].run_dir / "case.toml"
+        if len(group) < 2 or not written.is_file():  # a run that wrote no case failed in its own rows
+            continue
+        loaded = load_case(written)
+        check = get_kind(loaded.kind).verification.sweep_check
+        if check is None:
+            continue
+        rows = check(loaded.model, engine, group)
+        for row in rows:
+            row["engine"] = engine
+        status = "ok" if all(run.status == "ok" for run in group) else "failed"
+        folder = Path(os.path.commonpath([run.run_dir for run in group]))
+        extra.append(CheckedRun(f"{scene} over its sweep", engine, status, "", folder, rows,
+                                wall_time_s=sum(run.wall_time_s for run in group)))
+    return runs + extra
 
 
 def default_out_dir(suite: str, root: Path = Path("runs")) -> Path:

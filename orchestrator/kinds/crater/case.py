@@ -22,7 +22,7 @@ from orchestrator.kinds.sph_flow.case_impact import (
 from orchestrator.kinds.sph_flow.case_solids import SolidBody, check_solid_table
 
 #: The quantities an [[expected]] row can check (analysis.QUANTITIES has their meaning).
-CHECKED = ("hutchings_diameter", "energy_balance", "hertz_modulus")
+CHECKED = ("hutchings_diameter", "energy_balance", "hertz_modulus", "speed_exponent")
 
 
 class Sphere(Frozen):
@@ -60,8 +60,12 @@ class CraterExpected(Frozen):
     quantity: Literal[CHECKED] = Field(description="hutchings_diameter: the crater's rim crest against eq. 20 "
                                        "with the measured mean contact pressure; energy_balance: against 0; "
                                        "hertz_modulus: the contact modulus E* fitted to the force against "
-                                       "penetration, against E / (1 - nu^2) of the target")
-    tolerance: float = Field(gt=0, lt=1, description="largest relative error, -")
+                                       "penetration, against E / (1 - nu^2) of the target; speed_exponent: the "
+                                       "slope of log crater_diameter against log speed over the [sweep], against "
+                                       "eq. 20's 1/2 (a hardness that does not change with speed), when the sweep has two "
+                                       "speeds or more")
+    tolerance: float = Field(gt=0, lt=1, description="largest relative error, - (speed_exponent: of the slope "
+                                                     "against 1/2, so 0.1 is 0.5 +- 0.05)")
 
 
 class CraterCase(Frozen):

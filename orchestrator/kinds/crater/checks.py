@@ -28,6 +28,8 @@ def check_run(case, engine: str, run: dict) -> tuple[list[dict], dict]:
     name = f"{case.case.name} at {case.sphere.speed:g} m/s"
     rows = []
     for row in case.expected:
+        if row.quantity == "speed_exponent":  # over the sweep: check_sweep
+            continue
         if row.quantity == "energy_balance":
             value = measured.get("energy_balance")
             known = value is not None and math.isfinite(value)
@@ -65,3 +67,23 @@ def speed_slope(speeds, diameters) -> float:
     if ok.sum() < 2:
         return math.nan
     return float(np.polyfit(np.log(v[ok]), np.log(d[ok]), 1)[0])
+
+
+def check_sweep(case, engine: str, runs) -> list[dict]:
+    """The speed_exponent row over one sweep's runs (workflows.base.CheckedRun, their check_run pictures): the
+    slope of log crater_diameter against log speed against eq. 20's 1/2, its relative error against the row's
+    tolerance; the note gives the slopes of the contact chord and of eq. 20 at each run's own mean pressure."""
+    rows = []
+    for row in (r for r in case.expected if r.quantity == "speed_exponent"):
+        speeds = [run.picture.get("speed", math.nan) for run in runs]
+        slopes = {key: speed_slope(speeds, [run.picture.get(key, math.nan) for run in runs])
+                  for key in ("diameter", "contact", "hutchings")}
+        value = slopes["diameter"]
+        known = math.isfinite(value) and all(math.isfinite(run.picture.get("diameter", math.nan)) for run in runs)
+        rows.append(check_row(f"{case.case.name} over {len(runs)} speeds", "speed_exponent",
+                              value if known else None, 0.5, abs(value / 0.5 - 1.0) if known else None,
+                              row.tolerance, passed=None if known else False,
+                              source="Hutchings eq. 20 at a constant hardness: d ~ v^(1/2)",
+                              note=f"speed_exponent: log crater_diameter on log v; contact chord "
+                                   f"{slopes['contact']:.3f}, eq. 20 at each run's own H {slopes['hutchings']:.3f}"))
+    return rows
