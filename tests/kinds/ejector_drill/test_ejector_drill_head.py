@@ -181,3 +181,24 @@ def test_the_flow_at_the_pads_and_the_edge_is_measured_where_it_was_put(quick, l
     moving = _frame(case, scene.layout, "moving")
     assert max(pad_flow(case, moving)["wake_dead"]) < 0.1
     assert "no dead zone beyond the open flow's own by more than 10 points" in head_finding(case, moving)
+
+
+def test_analyze_prints_the_table_and_the_finding_and_draws_the_sections(quick, tmp_path, capsys):
+    """print_head_flow prints a row per frame and the finding; draw_head_sections draws the picture time 1.5 ms and
+    the last frame, 2.5 ms (a resumed run's), and nothing for a head without pads and edges."""
+    from orchestrator.kinds.ejector_drill.analysis import print_head_flow
+    from orchestrator.kinds.ejector_drill.pictures import draw_head_sections
+
+    case, scene = quick
+    first, last = _frame(case, scene.layout, "moving"), _frame(case, scene.layout, "empty")
+    last = {**last, "attrs": {"time": 2.5e-3}}
+    frames = {"3": first, "5": last}
+    print_head_flow(case, frames)
+    text = capsys.readouterr().out
+    assert "   1.5     10    0.5  0.5/0.5" in text and "   2.5     10    0.5  0.5/0.5" in text
+    assert "finding: at 2.5 ms the guide pads raise the pressure" in text
+    drawn = draw_head_sections(frames, case, lambda name: tmp_path / f"{name}.png")
+    assert sorted(drawn) == ["head_sections_1.50ms", "head_sections_2.50ms"]
+    assert all(path.stat().st_size > 50_000 for path in drawn.values())
+    plain = load_case(CASE, preset="drill_head_quick", overrides=["head.pad_angles=[]", "head.edge_angles=[]"]).model
+    assert draw_head_sections(frames, plain, lambda name: tmp_path / f"{name}.png") == {}
