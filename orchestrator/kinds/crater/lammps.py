@@ -6,10 +6,10 @@ templates/lammps.in.j2, the particles a data file; the reader is lammps_output.p
 The target's material is mapped by kinds/sph_flow/machdyn.py (shared with the Taylor bar: elasticity, the shock EOS
 for Mie-Grueneisen, Johnson-Cook, viscosity, hourglass control, the fixed step). What is the crater's own:
 
-- the held support: its layers are particles of the target's body (bonded to it, as ours are glued), left out of
-  the time integration, so they stay where they start at rest;
+- the held support: its layers are particles of the target's body (one molecule, so bonded to it, as ours are
+  glued), left out of the time integration, so they stay where they start at rest;
 - the sphere: the particles of a cubic lattice of spacing dx (aligned with the target's in x and y) whose centres lie
-  inside the sphere, its lowest layer half a dx above the sphere's lowest point, so that with contact radius dx/2 the
+  inside the sphere within two dx of its surface, its lowest layer half a dx above the sphere's lowest point, so that with contact radius dx/2 the
   sphere's particles reach down to the same gap of a quarter dx above the target as the sph engine's sphere; each
   carries the sphere's mass and volume over the particle count (the body's mass is the case's exactly). Free, it
   translates as one rigid body: `fix aveforce` gives every particle the body's mean force and `fix nve` moves them
@@ -51,8 +51,11 @@ DATA = "crater.data"
 SKIN_OVER_DX = 0.3
 #: Series records per run at most.
 MAX_SERIES = 1000
-#: Molecule ids of the data file: the target, its held support, the sphere.
-TARGET, SUPPORT, SPHERE = 1, 2, 3
+#: The sphere's particles: those within this many dx of its surface (a target particle reaches none deeper).
+SHELL_LAYERS = 2.0
+#: Molecule ids of the data file: the target with its held support (smd/tlsph bonds only particles of one
+#: molecule), the sphere.
+TARGET, SPHERE = 1, 2
 
 
 class LammpsCrater(Adapter):
@@ -90,15 +93,29 @@ def sphere(scene):
 
 def sphere_particles(scene) -> np.ndarray:
     """Centres (n, 3) m of the sphere's lattice: spacing dx, at (i + 1/2) dx in x and y from the axis and at
-    (k + 1/2) dx above the sphere's lowest point in z, inside the sphere."""
+    (k + 1/2) dx above the sphere's lowest point in z, inside the sphere and within SHELL_LAYERS dx of its surface
+    (the body only translates, so its inner particles would add work and nothing else); an indenter's lower half
+    only (its motion is prescribed)."""
     dx = finite("numerics.dx", scene.case.numerics.dx)
     cx, cy, cz, radius = (finite("sphere", v) for v in sphere(scene).spheres[0])
     half = int(np.ceil(radius / dx))
     offsets = (np.arange(-half, half) + 0.5) * dx
     heights = (np.arange(2 * half) + 0.5) * dx - radius
     grid = np.stack(np.meshgrid(offsets, offsets, heights, indexing="ij"), axis=-1).reshape(-1, 3)
-    inside = np.einsum("ij,ij->i", grid, grid) < radius * radius
-    return grid[inside] + np.array([cx, cy, cz])
+    distance = np.sqrt(np.einsum("ij,ij->i", grid, grid))
+    keep = (distance < radius) & (distance > radius - SHELL_LAYERS * dx)
+    if sphere(scene).kinematic:
+        keep &= grid[:, 2] <= 0.0
+    return grid[keep] + np.array([cx, cy, cz])
+
+
+def support_ids(scene) -> str:
+    """The held particles as a LAMMPS id range 'first:last' (the scene lists them after the moving ones, in one run);
+    OrchestratorError otherwise."""
+    held = np.flatnonzero(np.asarray(scene.kind) != 0)
+    if not len(held) or held[-1] - held[0] + 1 != len(held) or held[-1] != len(scene.kind) - 1:
+        raise OrchestratorError("the crater's scene does not list its held support as one run after the target")
+    return f"{held[0] + 1}:{held[-1] + 1}"
 
 
 def contact_modulus(scene) -> float:
@@ -123,7 +140,8 @@ def deck_context(scene) -> dict:
         "kinematic": bool(body.kinematic),
         "sphere_velocity": [repr(finite("sphere velocity", v)) for v in body.velocity],
         "centre_offset": [repr(float(c - m)) for c, m in zip(body.spheres[0][:3], sphere_particles(scene).mean(axis=0))],
-        "molecules": {"target": TARGET, "support": SUPPORT, "sphere": SPHERE},
+        "molecules": {"target": TARGET, "sphere": SPHERE},
+        "support_ids": support_ids(scene),
         "skin": repr(SKIN_OVER_DX * finite("numerics.dx", case.numerics.dx)),
         "dt": repr(dt),
         "steps": steps,
@@ -136,8 +154,8 @@ def deck_context(scene) -> dict:
 
 def write_data_file(scene, path: Path) -> None:
     """The read_data file (atom_style smd: id type molecule volume mass kernel-radius contact-radius x0 y0 z0 x y z;
-    Velocities: id vx vy vz): the scene's particles first (type 1, molecule TARGET or SUPPORT, in input order), then
-    the sphere's (type 2, molecule SPHERE); numbers as repr."""
+    Velocities: id vx vy vz): the scene's particles first (type 1, molecule TARGET, in input order), then the
+    sphere's (type 2, molecule SPHERE); numbers as repr."""
     dx = finite("numerics.dx", scene.case.numerics.dx)
     x = np.asarray(scene.positions, dtype=float)
     v = np.asarray(scene.velocities, dtype=float)
@@ -148,8 +166,7 @@ def write_data_file(scene, path: Path) -> None:
     density = finite("material.density", solid_material(scene).density)
     ball_volume = 4.0 / 3.0 * np.pi * radius**3 / len(ball)
     ball_mass = finite("sphere.density", sphere(scene).density) * ball_volume
-    molecule = np.where(np.asarray(scene.kind) == 0, TARGET, SUPPORT)
-    rows = [(1, int(mol), dx**3, density * dx**3, p) for mol, p in zip(molecule, x.tolist())]
+    rows = [(1, TARGET, dx**3, density * dx**3, p) for p in x.tolist()]
     rows += [(2, SPHERE, ball_volume, ball_mass, p) for p in ball.tolist()]
     every = np.vstack([x, ball])
     lo, hi = (every.min(axis=0) - 4.0 * dx).tolist(), (every.max(axis=0) + 4.0 * dx).tolist()

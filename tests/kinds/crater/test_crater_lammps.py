@@ -83,16 +83,20 @@ def test_the_data_file_holds_the_target_its_support_and_the_sphere(tmp_path):
     n, dx = len(scene.positions), case.numerics.dx
     target, ball = rows[:n], rows[n:]
     np.testing.assert_array_equal(target[:, 10:13], scene.positions)
-    np.testing.assert_array_equal(target[:, 2], np.where(scene.kind == 0, 1, 2))  # molecule: moving, held
+    assert set(target[:, 2]) == {1.0}  # one molecule: smd/tlsph bonds the support to the target
+    first, last = (int(v) for v in re.search(r"^group\s+support id (\d+):(\d+)$", deck, re.M).groups())
+    np.testing.assert_array_equal(np.flatnonzero(scene.kind == 1), np.arange(first - 1, last))
     np.testing.assert_allclose(target[:, 4], 7810.0 * dx**3, rtol=1e-15)
     np.testing.assert_allclose(rows[:, 5], 1.5 * dx, rtol=1e-15)
     np.testing.assert_allclose(rows[:, 6], 0.5 * dx, rtol=1e-15)
-    assert set(ball[:, 1]) == {2.0} and set(ball[:, 2]) == {3.0}
+    assert set(ball[:, 1]) == {2.0} and set(ball[:, 2]) == {2.0}
     radius, centre = 300e-6, np.array([0.0, 0.0, 300e-6 + 0.25 * dx])
     assert ball[:, 4].sum() == pytest.approx(2500.0 * 4.0 / 3.0 * math.pi * radius**3, rel=1e-12)
-    assert np.all(np.linalg.norm(ball[:, 10:13] - centre, axis=1) < radius)
+    distance = np.linalg.norm(ball[:, 10:13] - centre, axis=1)
+    assert np.all(distance < radius) and np.all(distance > radius - 2.0 * dx)  # a shell two dx deep
     assert ball[:, 12].min() - 0.5 * dx == pytest.approx(0.25 * dx, rel=1e-9)  # the same start gap as the sph sphere
-    assert len(ball) == pytest.approx(4.0 / 3.0 * math.pi * radius**3 / dx**3, rel=0.02)
+    shell = 4.0 / 3.0 * math.pi * (radius**3 - (radius - 2.0 * dx) ** 3)
+    assert len(ball) == pytest.approx(shell / dx**3, rel=0.03)
     offset = [float(re.search(rf"xcm\(sphere,{a}\)\+(\S+)", deck).group(1)) for a in "xyz"]
     np.testing.assert_allclose(ball[:, 10:13].mean(axis=0) + offset, centre, atol=1e-12 * radius)
     velocities = (tmp_path / DATA).read_text().split("Velocities")[1].split()
@@ -104,7 +108,8 @@ def test_an_indenter_moves_at_its_speed_into_an_elastic_block(tmp_path):
     assert list(_pair_coeff(deck)) == ["*COMMON", "*EOS_LINEAR", "*STRENGTH_LINEAR", "*END"]
     motion = re.search(r"^fix\s+sphere_motion sphere move linear (\S+) (\S+) (\S+) units box$", deck, re.M)
     assert [float(v) for v in motion.groups()] == [0.0, 0.0, -0.2] and "aveforce" not in deck
-    assert len(sphere_particles(scene)) > 0
+    ball, centre = sphere_particles(scene), scene.case.impactors[0].spheres[0][2]
+    assert len(ball) > 0 and ball[:, 2].max() <= centre  # the lower half: what can touch the block
 
 
 @pytest.mark.parametrize("override, words", [
