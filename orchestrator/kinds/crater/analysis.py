@@ -152,11 +152,13 @@ def crest_radius(r: np.ndarray, height: np.ndarray, ring: float) -> float:
 
 def rim_radius(r: np.ndarray, value: np.ndarray, ring: float, level: float) -> float:
     """The radius (m) where the mean of `value` in rings of width `ring` (m) first falls below `level` going out
-    from the axis, interpolated linearly between the ring centres; nan when even the centre is below it."""
+    from the axis (from the highest ring where the axis is below it: a plastic zone that begins under the surface),
+    interpolated linearly between the ring centres; nan when every ring is below it."""
     centres, means = ring_means(r, value, ring)
-    if not means.size or means[0] < level:
+    if not means.size or means.max() < level:
         return math.nan
-    below = np.flatnonzero(means < level)
+    start = 0 if means[0] >= level else int(np.argmax(means))
+    below = np.flatnonzero(means[start:] < level) + start
     if not below.size:
         return float(centres[-1])
     above = below[0] - 1

@@ -14,7 +14,7 @@ from paths import VERIFICATION
 from orchestrator.case import load_case
 from orchestrator.errors import OrchestratorError
 from orchestrator.kinds import build_scene
-from orchestrator.kinds.crater.analysis import measure_crater
+from orchestrator.kinds.crater.analysis import measure_crater, rim_radius
 from orchestrator.kinds.crater.lammps import DATA, DECK, LammpsCrater, sphere_particles
 from orchestrator.kinds.crater.lammps_output import DUMP, SERIES, read_crater_output
 from orchestrator.kinds.sph_flow.machdyn import run_steps
@@ -146,6 +146,14 @@ def _stored_output(tmp_path, scene, steps: int, finished: bool = True):
     (tmp_path / SERIES).write_text(header + "".join(lines))
     log = f"Loop time of 12.5 on 1 procs for {steps} steps with {n} atoms\n"
     (tmp_path / LOG_NAME).write_text(log + ("STATUS finished step=1 t=1.5e-06\n" if finished else ""))
+
+
+def test_a_plastic_rim_that_begins_off_the_axis_is_measured_outward_from_its_peak():
+    """MACHDYN's top layer stays below eps_p = 0.01 on the axis and yields in a ring round it: the rim is where the
+    ring means fall below the level outside the peak."""
+    r = np.linspace(0.0, 10.0, 401)
+    value = np.where(r < 3.0, 0.005 + 0.01 * r, 0.035 - 0.01 * (r - 3.0))  # peak 0.035 at r = 3, 0.01 at r = 5.5
+    assert rim_radius(r, value, 0.5, 0.01) == pytest.approx(5.5, abs=0.05)
 
 
 def test_the_reader_gives_what_measure_crater_reads(tmp_path):
