@@ -1,14 +1,24 @@
 """Normal impact speeds of the balls on the rod at contact start (Uhlmann et al. 2015: "number, type and intensity
 of contacts"), recorded by both engines in output.impact_window (s of process time).
 
-How the engines find a contact start (the same test in the LIGGGHTS deck and the Yade script, every step): the
-generated rod is a regular prism of ``segments`` sides about its axis with a flat tip, so the gap g (m) between a
-ball (centre p, radius r) and the rod is the larger of the side gap, (p - axis) . n_k - a - r with n_k the
-outward normal of the side nearest in angle and a the apothem, and the tip gap z_tip - z - r (exact where the ball
-faces a side or the tip, a slight underestimate near an edge). u = -dg/dt is the normal approach speed relative to
-the rod surface, which moves with the carousel: v_rod(p) = omega e_z x p. A ball starts a contact at the step where
-g <= 0 < g + u dt: it overlaps now and did not one step earlier (to first order). The engine writes the ball's id,
-radius, position and velocity and its g and u at that step.
+The prism test (Yade's script, every step; the reader for LIGGGHTS's rows): the generated rod is a regular prism
+of ``segments`` sides about its axis with a flat tip, so the gap g (m) between a ball (centre p, radius r) and the
+rod is the larger of the side gap, (p - axis) . n_k - a - r with n_k the outward normal of the side nearest in
+angle and a the apothem, and the tip gap z_tip - z - r (exact where the ball faces a side or the tip, a slight
+underestimate near an edge). u = -dg/dt is the normal approach speed relative to the rod surface, which moves
+with the carousel: v_rod(p) = omega e_z x p. Yade records a contact start at the step where g <= 0 < g + u dt: it
+overlaps now and did not one step earlier (to first order), with the ball's id, radius, position and velocity and
+its g and u at that step.
+
+LIGGGHTS takes its own contact detection instead (the deck's fixes and thresholds, no per-ball formula): a ball
+starts a wall contact at the step where the force its wall fix stores is non-zero and was zero the step before;
+it writes the ball's id, radius, position and velocity (LIGGGHTS_COLUMNS). The reader keeps the starts that
+overlap the rod (the others are on the bowl: a ball cannot touch both, liggghts_deck checks the clearance) and
+approach it (a zero force does not always mean no contact: a separating contact's normal force is held at zero by
+limitForce, and then its friction too, so such a contact can seem to start again), and gives each the prism
+test's u as its engine speed. The two tests differ where the first-order g + u dt and the
+real previous step disagree (a graze of a step or two) and at an edge, where the prism test's gap is a little
+short of the mesh's.
 
 What is kept in run.h5 (/events, one row per contact start; the same names for both engines): time and
 process_time (s), ball (index), position (n,3) m and velocity (n,3) m/s at the step, facet (index of the rod
@@ -33,30 +43,55 @@ from orchestrator.kinds.drag_finishing.chains import path_of
 from orchestrator.kinds.drag_finishing.intensity import point_triangle_distance, sector_sums, turn_z
 from orchestrator.reference.dem_geometry import closest_points_on_triangles
 
-#: The columns the engines write for each contact start (SI units).
+#: The columns the engines write for each contact start (SI units): Yade's with its prism test's g and u,
+#: LIGGGHTS's without.
 ENGINE_COLUMNS = ("id", "radius", "x", "y", "z", "vx", "vy", "vz", "gap", "speed")
+LIGGGHTS_COLUMNS = ENGINE_COLUMNS[:-2]
+#: A wall contact start is on the rod when the ball's gap to the rod mesh is below this, m: it overlaps (the
+#: stored mesh's six digits move the gap by up to about 0.05 um); a ball on the bowl is farther (liggghts_deck).
+ROD_GAP = 1e-6
+#: How far from exact the rod mesh stored in run.h5 (six digits, from LIGGGHTS's VTK) is a prism (rod_prism).
+STORED_TOL = 1e-4
 
 
-def rod_prism(vertices: np.ndarray, faces: np.ndarray) -> dict:
+def rod_prism(vertices: np.ndarray, faces: np.ndarray, tol: float = 1e-9) -> dict:
     """The generated rod as the engines test it: segments, alpha0 (rad, the direction of the first side's outward
     normal from the axis), apothem (m) and the axis (x, y) of the mesh as given. ValueError when the mesh is not a
-    regular prism about a vertical axis."""
+    regular prism about a vertical axis to tol (of a unit normal; 1e-4 for a mesh stored to 6 digits)."""
     tri = np.asarray(vertices, float)[np.asarray(faces, int)]
     normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
     normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), 1e-300)
-    side = np.abs(normal[:, 2]) < 1e-9
+    side = np.abs(normal[:, 2]) < tol
     v = np.asarray(vertices, float)
     axis = 0.5 * (v[:, :2].min(axis=0) + v[:, :2].max(axis=0))
     raw = np.mod(np.arctan2(normal[side, 1], normal[side, 0]), 2 * math.pi)
-    angles = np.unique(np.round(raw, 9))
+    ordered = np.sort(raw)
+    angles = ordered[np.r_[True, np.diff(ordered) > 10 * tol]]  # one per side, within tol of each other
+    if len(angles) > 1 and angles[-1] > 2 * math.pi - 10 * tol + angles[0]:  # the same side either side of 0
+        angles = angles[:-1]
     segments = len(angles)
-    if segments < 3 or not np.allclose(np.diff(angles), 2 * math.pi / segments, atol=1e-7):
+    if segments < 3 or not np.allclose(np.diff(angles), 2 * math.pi / segments, atol=100 * tol):
         raise ValueError("the rod mesh is not a regular vertical prism: impacts cannot be tested by its faces")
     sector = 2 * math.pi / segments
     alpha0 = float(angles[0] + np.mean(np.mod(raw - angles[0] + 0.5 * sector, sector) - 0.5 * sector))
     centre = tri[side].mean(axis=1)[:, :2] - axis
     apothem = float(np.mean(np.einsum("ij,ij->i", centre, normal[side, :2])))
     return {"segments": segments, "alpha0": alpha0, "apothem": apothem, "axis": axis}
+
+
+def prism_speed(position: np.ndarray, velocity: np.ndarray, radius: np.ndarray, prism: dict,
+                tip_z: float) -> np.ndarray:
+    """The prism test's approach speed u (m/s, see the module docstring) of balls at position (n,3) m with
+    velocity (n,3) m/s relative to the rod surface and radius (n,) m, against the rod prism (rod_prism of the mesh
+    in the same pose) with its tip at tip_z (m)."""
+    sector = 2 * math.pi / prism["segments"]
+    d = position[:, :2] - prism["axis"]
+    angle = prism["alpha0"] + sector * np.floor((np.arctan2(d[:, 1], d[:, 0]) - prism["alpha0"]) / sector + 0.5)
+    normal = np.column_stack([np.cos(angle), np.sin(angle)])
+    side_gap = np.einsum("ij,ij->i", d, normal) - prism["apothem"] - radius
+    tip_gap = tip_z - position[:, 2] - radius
+    side_speed = -np.einsum("ij,ij->i", velocity[:, :2], normal)
+    return np.where(side_gap > tip_gap, side_speed, velocity[:, 2])
 
 
 def template_values(scene) -> dict:
@@ -79,6 +114,39 @@ def template_values(scene) -> dict:
             "impact_sector": repr(2 * math.pi / prism["segments"])}
 
 
+def _in_stored_pose(raw: dict[str, np.ndarray], tri: np.ndarray, omega: float, stored_time: float):
+    """Positions and velocities relative to the rod surface turned to the rod's stored pose (n,3), the nearest
+    facet (n,) and the gap to it minus the radius (n,) m (see impact_events)."""
+    t = np.asarray(raw["time"], float)
+    p = np.asarray(raw["position"], float).reshape(-1, 3)
+    v = np.asarray(raw["velocity"], float).reshape(-1, 3)
+    w = v - omega * np.column_stack([-p[:, 1], p[:, 0], np.zeros(len(p))])  # relative to the rod surface
+    turn = omega * (stored_time - t)
+    p_s, w_s = turn_z(p, turn), turn_z(w, turn)
+    facet = np.zeros(len(p), dtype=np.int64)
+    gap = np.zeros(len(p))
+    for lo in range(0, len(p), 2000):  # (n, faces) distances in blocks
+        d = point_triangle_distance(p_s[lo:lo + 2000], tri)
+        facet[lo:lo + 2000] = np.argmin(d, axis=1)
+        gap[lo:lo + 2000] = d[np.arange(len(d)), facet[lo:lo + 2000]]
+    return p_s, w_s, facet, gap - np.asarray(raw["radius"], float)
+
+
+def rod_starts(raw: dict[str, np.ndarray], rod_vertices: np.ndarray, rod_faces: np.ndarray, omega: float,
+               stored_time: float) -> dict[str, np.ndarray]:
+    """LIGGGHTS's wall contact starts (raw as impact_events, without engine_speed) reduced to those on the rod
+    (gap to the mesh below ROD_GAP), in order of time, with the prism test's u as
+    engine_speed (m/s)."""
+    tri = np.asarray(rod_vertices, float)[np.asarray(rod_faces, int)]
+    p_s, w_s, _, gap = _in_stored_pose(raw, tri, omega, stored_time)
+    radius = np.asarray(raw["radius"], float)
+    keep = np.flatnonzero(gap < ROD_GAP)
+    keep = keep[np.argsort(np.asarray(raw["time"], float)[keep], kind="stable")]
+    prism = rod_prism(rod_vertices, rod_faces, tol=STORED_TOL)
+    speed = prism_speed(p_s[keep], w_s[keep], radius[keep], prism, float(np.min(np.asarray(rod_vertices)[:, 2])))
+    return {**{k: np.asarray(val)[keep] for k, val in raw.items()}, "engine_speed": speed}
+
+
 def impact_events(raw: dict[str, np.ndarray], rod_vertices: np.ndarray, rod_faces: np.ndarray, omega: float,
                   process_start: float, stored_time: float) -> dict[str, Series]:
     """The /events of a drag-finishing run from the engine's rows (see the module docstring).
@@ -90,19 +158,10 @@ def impact_events(raw: dict[str, np.ndarray], rod_vertices: np.ndarray, rod_face
     t = np.asarray(raw["time"], float)
     p = np.asarray(raw["position"], float).reshape(-1, 3)
     v = np.asarray(raw["velocity"], float).reshape(-1, 3)
-    w = v - omega * np.column_stack([-p[:, 1], p[:, 0], np.zeros(len(p))])  # relative to the rod surface
-    turn = omega * (stored_time - t)
-    p_s, w_s = turn_z(p, turn), turn_z(w, turn)
     tri = np.asarray(rod_vertices, float)[np.asarray(rod_faces, int)]
     normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
     normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), 1e-300)
-    facet = np.zeros(len(p), dtype=np.int64)
-    gap = np.zeros(len(p))
-    for lo in range(0, len(p), 2000):  # (n, faces) distances in blocks
-        d = point_triangle_distance(p_s[lo:lo + 2000], tri)
-        facet[lo:lo + 2000] = np.argmin(d, axis=1)
-        gap[lo:lo + 2000] = d[np.arange(len(d)), facet[lo:lo + 2000]]
-    gap -= np.asarray(raw["radius"], float)
+    p_s, w_s, facet, gap = _in_stored_pose(raw, tri, omega, stored_time)
     # the contact normal: from the nearest point of the facet to the centre (the facet's normal on its face, the
     # direction from the edge or corner where the ball meets one)
     chosen = tri[facet]
@@ -120,7 +179,7 @@ def impact_events(raw: dict[str, np.ndarray], rod_vertices: np.ndarray, rod_face
         "facet": Series(facet, "-", "rod face nearest to the ball (/meshes/rod, its stored pose)"),
         "gap": Series(gap, "m", "distance to that face minus the ball radius (< 0: overlapping)"),
         "impact_speed": Series(speed, "m/s", "normal speed towards the face, relative to the moving rod"),
-        "engine_speed": Series(np.asarray(raw["engine_speed"], float), "m/s", "the engine's prism-test speed u"),
+        "engine_speed": Series(np.asarray(raw["engine_speed"], float), "m/s", "the prism test's speed u"),
     }
 
 
@@ -136,21 +195,30 @@ def facet_impacts(facet: np.ndarray, speed: np.ndarray, n_faces: int) -> dict[st
 
 
 def attach_impacts(result, raw: dict[str, np.ndarray], omega: float, stored_time: float) -> None:
-    """Put the events of raw (see impact_events) into result.events and the per-face measures into
-    result.meshes['rod'] (which holds the rod in its pose at stored_time, s)."""
+    """Put the events of raw (see impact_events; without engine_speed: LIGGGHTS's wall contact starts, see
+    rod_starts) into result.events and the per-face measures into result.meshes['rod'] (which holds the rod in its
+    pose at stored_time, s)."""
     rod = result.meshes["rod"]
     start = float(result.attrs.get("process_start_time", math.nan))
+    wall_starts = "engine_speed" not in raw
+    if wall_starts:
+        raw = rod_starts(raw, rod["vertices"], rod["faces"], omega, stored_time)
     events = impact_events(raw, rod["vertices"], rod["faces"], omega, start, stored_time)
+    if wall_starts:  # a start that does not approach is a contact whose force had vanished for a step
+        keep = events["impact_speed"].values > 0
+        events = {name: Series(s.values[keep], s.units, s.description) for name, s in events.items()}
     result.events = events
     rod.update(facet_impacts(events["facet"].values, events["impact_speed"].values, len(rod["faces"])))
 
 
 def impact_rows(rows: np.ndarray, columns=ENGINE_COLUMNS) -> dict[str, np.ndarray]:
-    """Engine rows (n, len(columns)) as the raw dict of impact_events (without time)."""
+    """Engine rows (n, len(columns)) as the raw dict of impact_events (without time; without engine_speed when
+    the columns have no speed)."""
     col = {name: rows[:, k] for k, name in enumerate(columns)}
-    return {"ball": col["id"].astype(np.int64), "radius": col["radius"],
-            "position": np.column_stack([col["x"], col["y"], col["z"]]),
-            "velocity": np.column_stack([col["vx"], col["vy"], col["vz"]]), "engine_speed": col["speed"]}
+    raw = {"ball": col["id"].astype(np.int64), "radius": col["radius"],
+           "position": np.column_stack([col["x"], col["y"], col["z"]]),
+           "velocity": np.column_stack([col["vx"], col["vy"], col["vz"]])}
+    return {**raw, "engine_speed": col["speed"]} if "speed" in col else raw
 
 
 def impact_summary(run: dict) -> dict | None:

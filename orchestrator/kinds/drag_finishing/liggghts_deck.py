@@ -31,7 +31,8 @@ import numpy as np
 from orchestrator.dem.liggghts_law import liggghts_beta, restitution_for_beta
 from orchestrator.dem.yade_law import yade_native_alpha
 from orchestrator.engines.liggghts_files import write_data_file, write_stl_ascii
-from orchestrator.kinds.drag_finishing.impacts import template_values
+from orchestrator.errors import OrchestratorError
+from orchestrator.kinds.drag_finishing.impacts import ROD_GAP, rod_prism, template_values
 from orchestrator.kinds.drag_finishing.schedule import every, schedule
 
 TEMPLATE = Path(__file__).resolve().parent / "templates" / "liggghts.in.j2"
@@ -104,8 +105,31 @@ def drag_context(scene) -> dict:
                                          checkpointevery(case, dt), impact_steps(case, dt)),
         "resume": None,
         "path_radius": repr(case.workpiece.path_radius),
-        **template_values(scene),
+        **impact_values(scene),
     }
+
+
+def impact_values(scene) -> dict:
+    """impacts.template_values, after checking that no ball can touch the rod and the bowl's side at once (the
+    deck records the starts of any wall contact and the reader keeps those on the rod): the bowl's inner radius
+    less the rod's reach from the bowl axis (its mesh's, which may be wider than workpiece.radius) exceeds a ball
+    diameter by impacts.ROD_GAP. OrchestratorError otherwise."""
+    values = template_values(scene)
+    if values["impact_window"] is None:
+        return values
+    case = scene.case
+    rod = np.asarray(scene.meshes["rod"].mesh.vertices)
+    prism = rod_prism(rod, scene.meshes["rod"].mesh.faces)
+    reach = float(np.hypot(*prism["axis"]) + np.max(np.hypot(*(rod[:, :2] - prism["axis"]).T)))
+    r_max = float(np.max(scene.radii))
+    clearance = case.bowl.inner_radius - reach
+    if clearance <= 2.0 * r_max + ROD_GAP:
+        raise OrchestratorError(
+            f"output.impact_window needs the rod, {clearance * 1e3:.3g} mm from the bowl's side, to be more than a "
+            f"ball diameter ({2e3 * r_max:.3g} mm) from it, so that a ball touches one wall at a time (LIGGGHTS "
+            "records the starts of wall contacts); allowed: remove output.impact_window, or a smaller "
+            "workpiece.path_radius, workpiece.radius or media.radius")
+    return values
 
 
 def impact_steps(case, dt: float) -> tuple[int, int] | None:

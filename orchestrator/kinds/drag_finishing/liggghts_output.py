@@ -11,7 +11,7 @@ import numpy as np
 from orchestrator.engines.base import Result, Series
 from orchestrator.engines.liggghts_files import engine_error, read_dump, read_table
 from orchestrator.errors import ReadError
-from orchestrator.kinds.drag_finishing.impacts import ENGINE_COLUMNS, attach_impacts, impact_rows
+from orchestrator.kinds.drag_finishing.impacts import LIGGGHTS_COLUMNS, attach_impacts, impact_rows
 from orchestrator.kinds.drag_finishing.liggghts_deck import DEVIATION, NETWORK_COLUMNS
 from orchestrator.kinds.drag_finishing.scene import settling_timestep
 from orchestrator.runner import LOG_NAME
@@ -113,7 +113,7 @@ def read_drag_output(scene, workdir: Path) -> Result:
 
 
 def _read_impacts(out: Path, time_of) -> dict[str, np.ndarray] | None:
-    """The contact starts of output/impacts_<chunk>.dump (impacts.ENGINE_COLUMNS; a step written at the end of
+    """The wall contact starts of output/impacts_<chunk>*.dump (impacts.LIGGGHTS_COLUMNS; a step written at the end of
     one chunk and the start of the next counts once), or None without such files."""
     files = sorted(out.glob("impacts_*.dump"), key=lambda p: int(p.stem.split("_")[1]))
     if not files:
@@ -122,12 +122,12 @@ def _read_impacts(out: Path, time_of) -> dict[str, np.ndarray] | None:
     for path in files:
         for step, _, block in read_dump(path):
             steps.append(np.full(len(block), step))
-            rows.append(block.reshape(-1, len(ENGINE_COLUMNS)))
+            rows.append(block.reshape(-1, len(LIGGGHTS_COLUMNS)))
     step = np.concatenate(steps).astype(np.int64) if steps else np.zeros(0, np.int64)
-    table = np.concatenate(rows) if rows else np.zeros((0, len(ENGINE_COLUMNS)))
+    table = np.concatenate(rows) if rows else np.zeros((0, len(LIGGGHTS_COLUMNS)))
     _, keep = np.unique(np.column_stack([step, table[:, 0].astype(np.int64)]), axis=0, return_index=True)
     keep = np.sort(keep)
-    raw = impact_rows(table[keep])
+    raw = impact_rows(table[keep], LIGGGHTS_COLUMNS)
     raw["ball"] = raw["ball"] - 1  # LIGGGHTS ids count from 1
     raw["time"] = np.array([time_of(int(k)) for k in step[keep]])
     return raw

@@ -87,6 +87,34 @@ def test_contact_starts_on_the_rod(tiny_run):
     assert_engine_impacts(tiny_run[1])
 
 
+#: What the former deck's prism test (g <= 0 < g + u dt on atom-style variables every step) recorded on this run:
+#: process time s, ball, normal speed from the mesh m/s, gap to the mesh m. The balls follow the same paths with
+#: and without either test, so the two tests see the same contacts.
+PRISM_STARTS = [(4.163722456946e-03, 38, 2.990584906625e-03, -1.94e-08),
+                (6.036000340271e-03, 38, 7.181914754808e-04, -4.76e-09),
+                (3.529383532299e-02, 16, 1.998683141054e-02, -4.97e-07),
+                (5.689489209628e-02, 69, 6.086978329710e-03, 3.37e-06)]
+
+
+def test_contact_starts_are_the_prism_tests_where_the_ball_meets_the_mesh(tiny_run):
+    """LIGGGHTS's own contact detection against the prism test it replaced: the starts where the prism test's
+    ball overlapped the mesh are the same, step, ball and speed; where the prism test's gap fell short of the mesh's
+    (the 8-sided rod's edge, +3.4 um), the ball starts when it meets the mesh, 18 steps later; the other starts
+    overlap the mesh (ball 38 twice at an edge, where the prism test took it as still touching)."""
+    run = tiny_run[1]
+    ev, dt = run["events"], run["attrs"]["dt"]
+    found = [(t, int(b), s) for t, b, s in zip(ev["process_time"], ev["ball"], ev["impact_speed"])]
+    for t, ball, speed, gap in PRISM_STARTS:
+        same = [s for t_new, b, s in found if b == ball and abs(t_new - t) < 0.5 * dt]
+        if gap <= 0:
+            assert same == [pytest.approx(speed, rel=1e-6)]
+        else:
+            assert not same
+            later = [t_new for t_new, b, _ in found if b == ball and 0 < t_new - t < 20 * dt]
+            assert len(later) == 1 and later[0] - t == pytest.approx(18 * dt, abs=0.5 * dt)
+    assert len(found) == 6 and np.all(ev["gap"] <= 1e-7)
+
+
 @pytest.mark.skipif(shutil.which("mpirun") is None, reason="no mpirun (apt-get install openmpi-bin)")
 def test_two_mpi_ranks_measure_the_same(tiny_run, tiny_weight, tmp_path):
     """Two ranks settle a different bed (the sums run in another order), so the comparison is of what the

@@ -12,6 +12,7 @@ import pytest
 import trimesh
 
 from orchestrator.kinds.drag_finishing.impacts import (
+    attach_impacts,
     facet_impacts,
     impact_events,
     impact_summary,
@@ -76,6 +77,42 @@ def test_events_from_hand_placed_balls_give_facet_gap_and_normal_speed():
     normal_angle = np.degrees(np.arctan2(normal[:, 1], normal[:, 0]))
     expected = np.degrees([math.pi / 24 + k * math.pi / 12 + OMEGA * (t_stored - start) for _, k, *_ in cases])
     np.testing.assert_allclose(np.mod(normal_angle - expected + 180, 360) - 180, 0.0, atol=1e-9)
+
+
+def test_wall_contact_starts_are_kept_on_the_rod_approaching_with_the_prism_speed():
+    """LIGGGHTS's rows (no engine speed): the starts of any wall contact. Kept: the balls that overlap the rod and
+    approach it, in order of time, each with the prism test's u; dropped: a start on the bowl far from the rod and
+    one on the rod that recedes. The rod is stored to six digits, as LIGGGHTS's VTK writes it."""
+    vertices, faces = placed_rod()
+    t_stored, start = 3.0, 1.0
+    stored = np.vectorize(lambda x: float(f"{x:.6g}"))(turn_z(vertices, OMEGA * (t_stored - start)))
+    a = R_ROD * math.cos(math.pi / 24)
+    # (process time s, side k, height above the tip m, overlap m, approach u m/s)
+    cases = [(1.9, 13, 0.002, 2e-7, 0.001), (0.1, 0, 0.010, 1e-7, 0.004), (0.7, 6, 0.030, 5e-8, -0.002),
+             (0.4, 3, 0.015, -0.012, 0.02)]
+    rows = []
+    for tp, k, height, overlap, u in cases:
+        theta = OMEGA * tp
+        alpha = math.pi / 24 + k * math.pi / 12 + theta
+        n = np.array([math.cos(alpha), math.sin(alpha), 0.0])
+        p = R_PATH * np.array([math.cos(theta), math.sin(theta), 0.0]) + (a + R_BALL - overlap) * n
+        p[2] = TIP + height
+        rows.append((start + tp, p, OMEGA * np.array([-p[1], p[0], 0.0]) - u * n))
+    raw = {"time": np.array([r[0] for r in rows]), "ball": np.arange(4), "radius": np.full(4, R_BALL),
+           "position": np.array([r[1] for r in rows]), "velocity": np.array([r[2] for r in rows])}
+
+    class Result:
+        attrs = {"process_start_time": start}
+        meshes = {"rod": {"vertices": stored, "faces": faces}}
+        events = {}
+
+    attach_impacts(Result, raw, OMEGA, t_stored)
+    ev = Result.events
+    np.testing.assert_array_equal(ev["ball"].values, [1, 0])  # in order of time; the receding and far ones dropped
+    np.testing.assert_allclose(ev["impact_speed"].values, [0.004, 0.001], rtol=1e-5)
+    np.testing.assert_allclose(ev["engine_speed"].values, ev["impact_speed"].values, rtol=1e-5)
+    np.testing.assert_allclose(ev["gap"].values, [-1e-7, -2e-7], atol=3e-8)  # the stored mesh's six digits
+    assert Result.meshes["rod"]["impact_count"].sum() == 2
 
 
 def test_at_an_edge_the_speed_is_along_the_normal_from_the_edge():
@@ -175,3 +212,22 @@ def test_an_empty_window_turns_the_test_off():
     assert load_case(paper, overrides=["output.impact_window=[]"]).model.output.impact_window is None
     short = load_case(paper, overrides=["process.duration=1.2", "output.network_times=[1.0]"]).model
     assert short.output.impact_window == (0.5, 2.0) and short.impact_window == (0.5, 1.2)  # cut to the process
+
+
+def test_liggghts_refuses_an_impact_window_where_a_ball_can_touch_rod_and_bowl_side():
+    import dataclasses
+
+    from orchestrator.case import load_case
+    from orchestrator.errors import OrchestratorError
+    from orchestrator.kinds import build_scene
+    from orchestrator.kinds.drag_finishing.liggghts_deck import drag_context
+
+    scene = build_scene(load_case(TINY_BOWL).model)
+    assert drag_context(scene)["impact_window"] == (0.0, 0.1)
+    rod = scene.meshes["rod"].mesh
+    wide = rod_mesh(0.009, 0.03, 8)  # a user's mesh wider than workpiece.radius: 6 mm from the bowl's side
+    axis = rod_prism(np.asarray(rod.vertices), np.asarray(rod.faces))["axis"]
+    wide.apply_translation([axis[0], axis[1], np.asarray(rod.vertices)[:, 2].min()])
+    scene.meshes["rod"] = dataclasses.replace(scene.meshes["rod"], mesh=wide)
+    with pytest.raises(OrchestratorError, match=r"rod, 6(\.\d+)? mm from the bowl's side, .*allowed: remove"):
+        drag_context(scene)
