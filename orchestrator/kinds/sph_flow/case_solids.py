@@ -184,6 +184,9 @@ def check_solid_table(where: str, s: SolidMaterial) -> None:
     if s.heat_fraction > 0.0 and s.heat_capacity is None:
         raise ValueError(f"{where}.solid.heat_capacity is missing; heat_fraction = {s.heat_fraction} heats the "
                          "solid by eq. 12, which needs C_p (J/(kg K))")
+    if s.heat_fraction == 0.0 and s.heat_capacity is not None:
+        raise ValueError(f"{where}.solid.heat_capacity = {s.heat_capacity:g} J/(kg K) is given but heat_fraction is "
+                         "0 (isothermal): give heat_fraction > 0 to heat the solid, or remove heat_capacity")
 
 
 def _check_eos(where: str, s: SolidMaterial) -> None:

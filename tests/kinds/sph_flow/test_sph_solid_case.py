@@ -37,6 +37,8 @@ BAD = [
     (["materials.0.solid.eos='linear'"], "materials[0].solid.bulk_modulus is missing"),
     (["materials.0.sound_speed=6000.0"], "materials[0].sound_speed (al6061) is not a key of a johnson_cook material"),
     (["materials.0.solid.rate_form='cubic'"], "materials[0].solid.rate_form = 'cubic'"),
+    (["materials.0.solid.heat_fraction=0.0"], "materials[0].solid.heat_capacity = 896 J/(kg K) is given but "
+                                              "heat_fraction is 0"),
     (["physics.terms=['artificial_viscosity', 'morris_viscosity']"], "a solid takes artificial_viscosity only"),
 ]
 
