@@ -5,7 +5,9 @@ Tait EOS (eq. 6) or the quadratic EOS of Nutto et al. (eq. 9), continuity (eq. 7
 dv_a/dt = sum_b m_b (sigma_a/rho_a^2 + sigma_b/rho_b^2) . grad_a W_ab (eq. T1), the kernel-corrected
 velocity gradient L_a = G_a M_a^-1 (eq. T2), per mode the linear PTT rate
 d tau/dt = L tau + tau L^T + (eta (L + L^T) - f tau) / lambda, f = 1 + (lambda eps / eta) tr tau (eq. R1),
-the solvent stress 2 eta_s D of the previous evaluation, and Monaghan's predictor-corrector with one rate
+the solvent stress 2 (eta_s + eta_C(gamma_dot)) D of the previous evaluation (eta_C the optional Cross law,
+gamma_dot = sqrt(2 D:D)), the optional plateau's upper-convected elastic stress after the modes,
+d tau_p/dt = L tau_p + tau_p L^T + G_p (L + L^T) (eq. R2), and Monaghan's predictor-corrector with one rate
 evaluation per step (eqs. P1-P4). Every particle is fluid; every axis is periodic (box at least 4h long,
 so each pair has one image within the support 2h). With subtract_mean_stress the momentum equation takes
 sigma - tau_B, tau_B the volume mean of the extra stress at the start of the step (the deck's
@@ -23,7 +25,8 @@ import numpy as np
 @dataclass(frozen=True)
 class PttFluid:
     """One PTT material and its box: rho0 kg/m^3, c0 m/s, gamma (Tait), lambdas s, etas Pa s, epsilon,
-    eta_s Pa s, h m, box lengths m (origin 0), quadratic: Nutto et al.'s EOS instead of Tait."""
+    eta_s Pa s, h m, box lengths m (origin 0), quadratic: Nutto et al.'s EOS instead of Tait; plateau G_p Pa
+    (> 0: one more stress column after the modes); cross: the Cross solvent (eta_0 Pa s, eta_inf Pa s, K s, m -)."""
 
     rho0: float
     c0: float
@@ -36,6 +39,8 @@ class PttFluid:
     gamma: float = 7.0
     quadratic: bool = False
     subtract_mean_stress: bool = False
+    plateau: float = 0.0
+    cross: tuple[float, float, float, float] | None = None
 
 
 @dataclass(frozen=True)
@@ -62,15 +67,37 @@ def pressure(rho: np.ndarray, fluid: PttFluid) -> np.ndarray:
 
 
 def ptt_mode_rates(L: np.ndarray, tau: np.ndarray, fluid: PttFluid) -> np.ndarray:
-    """d tau_i/dt in Pa/s (eq. R1) for velocity gradients L (n, D, D) 1/s (L_jk = dv_j/dx_k) and mode
-    stresses tau (n, modes, D, D) Pa."""
+    """d tau_i/dt in Pa/s (eq. R1, and eq. R2 for the plateau's column after the modes) for velocity gradients
+    L (n, D, D) 1/s (L_jk = dv_j/dx_k) and stresses tau (n, columns, D, D) Pa."""
+    modes = len(fluid.lambdas)
     lam = np.asarray(fluid.lambdas)[None, :, None, None]
     eta = np.asarray(fluid.etas)[None, :, None, None]
-    trace = np.trace(tau, axis1=2, axis2=3)[:, :, None, None]
+    t = tau[:, :modes]
+    trace = np.trace(t, axis1=2, axis2=3)[:, :, None, None]
     f = 1.0 + lam * fluid.epsilon / eta * trace
     Lm = L[:, None]
     two_d = Lm + np.swapaxes(Lm, 2, 3)
-    return Lm @ tau + tau @ np.swapaxes(Lm, 2, 3) + (eta * two_d - f * tau) / lam
+    rate = Lm @ tau + tau @ np.swapaxes(Lm, 2, 3)
+    rate[:, :modes] += (eta * two_d - f * t) / lam
+    if fluid.plateau > 0.0:
+        rate[:, modes] += fluid.plateau * two_d[:, 0]
+    return rate
+
+
+def cross_viscosity(shear_rate, cross) -> np.ndarray:
+    """eta_C = eta_inf + (eta_0 - eta_inf) / (1 + (K gamma_dot)^m) in Pa s at shear rates gamma_dot (1/s); cross =
+    (eta_0 Pa s, eta_inf Pa s, K s, m -)."""
+    eta_0, eta_inf, time, exponent = cross
+    return eta_inf + (eta_0 - eta_inf) / (1.0 + (time * np.asarray(shear_rate, dtype=float)) ** exponent)
+
+
+def solvent_stress(L: np.ndarray, fluid: PttFluid) -> np.ndarray:
+    """2 (eta_s + eta_C(gamma_dot)) D in Pa for velocity gradients L (n, D, D) 1/s, gamma_dot = sqrt(2 D:D)."""
+    two_d = L + np.swapaxes(L, 1, 2)
+    if fluid.cross is None:
+        return fluid.eta_s * two_d
+    rate = np.sqrt(0.5 * np.einsum("nij,nij->n", two_d, two_d))
+    return (fluid.eta_s + cross_viscosity(rate, fluid.cross))[:, None, None] * two_d
 
 
 def _pairs(x: np.ndarray, fluid: PttFluid):
@@ -125,7 +152,7 @@ def rates(state: PttState, fluid: PttFluid, background: np.ndarray | None = None
     np.add.at(M, b, -(F * vol[a])[:, None, None] * rr)
     L = G @ np.linalg.inv(M)
     return replace(state, acc=acc, drho=drho, dtau=ptt_mode_rates(L, state.tau, fluid),
-                   tau_solvent=fluid.eta_s * (L + np.swapaxes(L, 1, 2)))
+                   tau_solvent=solvent_stress(L, fluid))
 
 
 def step(state: PttState, fluid: PttFluid, dt: float) -> PttState:

@@ -14,6 +14,7 @@
 #pragma once
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -23,6 +24,15 @@
 
 namespace sph {
 
+// A Cross-law viscosity eta(gamma_dot) = eta_inf + (eta_0 - eta_inf) / (1 + (K gamma_dot)^m), Pa s.
+struct CrossViscosity {
+  double eta_0 = 0.0, eta_inf = 0.0;  // zero- and infinite-shear viscosities, Pa s
+  double time = 0.0, exponent = 1.0;  // K s, m - (0 < m <= 1)
+  double operator()(double shear_rate) const {  // shear_rate 1/s
+    return eta_inf + (eta_0 - eta_inf) / (1.0 + std::pow(time * shear_rate, exponent));
+  }
+};
+
 // Parameters of a multi-mode viscoelastic model (materials/ptt.h).
 struct ModeParameters {
   int count = 0;                                   // modes in use
@@ -30,6 +40,11 @@ struct ModeParameters {
   std::array<double, max_stress_modes> eta{};      // mode viscosities, Pa s
   double epsilon = 0.0;                            // PTT extensibility (0: Oldroyd-B / UCM)
   double eta_s = 0.0;                              // solvent viscosity, Pa s
+  double plateau = 0.0;                            // G_p, Pa: > 0 adds the elastic column `count`
+  bool cross = false;                              // a Cross-law solvent beside eta_s
+  CrossViscosity cross_law;
+  // Stress columns of the material: its modes, and the plateau's elastic stress after them.
+  int columns() const { return count + (plateau > 0.0 ? 1 : 0); }
 };
 
 struct Material {

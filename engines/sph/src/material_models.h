@@ -60,7 +60,7 @@ using MaterialModels = ModelList<Newtonian, Ptt, JohnsonCook>;
 
 // The deck's materials, in order, into `table` (each with its index in the
 // configuration's model list and its model's own parameters); returns the
-// largest number of stress modes among them (0: none).
+// largest number of stress columns among them (modes and a plateau; 0: none).
 template <class Models>
 int add_materials(const RunParameters& deck, MaterialTable& table) {
   int modes = 0;
@@ -70,7 +70,7 @@ int add_materials(const RunParameters& deck, MaterialTable& table) {
       if constexpr (stress_modes_v<decltype(model)> > 0) decltype(model)::configure(m, mat);
       if constexpr (solid_v<decltype(model)>) decltype(model)::configure(m, mat, deck.dx);
     });
-    modes = std::max(modes, mat.modes.count);
+    modes = std::max(modes, mat.modes.columns());
     table.add(mat);
   }
   return modes;

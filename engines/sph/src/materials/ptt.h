@@ -22,7 +22,26 @@
 // damps the row zig-zag mode that the (kernel-corrected) velocity gradient of
 // eq. T2 does not see (the treatment of the Newtonian solvent in SPH
 // viscoelastic channel flows, e.g. Ellero & Tanner 2005, Fang et al. 2006).
+//
+// Two terms of the calibrated moduli (`calibrate maxwell --plateau --cross`):
+// - a Cross-law solvent (key `cross_viscosity`): the solvent stress adds
+//   2 eta_C(gamma_dot) D, eta_C = eta_inf + (eta_0 - eta_inf) / (1 + (K gamma_dot)^m),
+//   gamma_dot = sqrt(2 D:D), from the same velocity gradient as 2 eta_s D.
+//   0 < m <= 1 keeps the shear stress eta_C gamma_dot non-decreasing in
+//   gamma_dot at any eta_inf >= 0 (m > 1 gives a flow curve with a falling
+//   branch: an ill-posed, shear-banding solvent);
+// - a plateau modulus G_p (key `storage_plateau`): the stress column after the
+//   modes integrates the upper-convected elastic law
+//     d tau_p/dt = L tau_p + tau_p L^T + 2 G_p D                             (eq. R2)
+//   which is eq. R1 in the limit lambda -> infinity at fixed G = eta / lambda
+//   (f tau / lambda -> 0): a mode that never relaxes, objective with the same
+//   derivative as the modes, integrating to tau_p = G_p (B - I) (B the left
+//   Cauchy-Green tensor: a neo-Hookean solid, elastic over closed strain
+//   cycles). In small-amplitude oscillation it adds G_p to G' and nothing to
+//   G''; in steady shear its stress grows with the strain (a solid).
 #pragma once
+#include <cmath>
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -39,7 +58,9 @@ struct Ptt {
   static constexpr bool has_stress = true;              // tensor momentum path (eq. T1)
   static constexpr int stress_modes = max_stress_modes;  // its stress lives in the per-mode field
 
-  static std::vector<std::string> keys() { return {"epsilon", "solvent_viscosity", "modes"}; }
+  static std::vector<std::string> keys() {
+    return {"epsilon", "solvent_viscosity", "modes", "storage_plateau", "cross_viscosity"};
+  }
   static void parse(const MaterialKeys& k, MaterialSpec& m) {
     m.epsilon = k.non_negative_or("epsilon", 0.0);
     m.solvent_viscosity = k.non_negative_or("solvent_viscosity", 0.0);
@@ -49,9 +70,27 @@ struct Ptt {
                          ".solvent_viscosity' is not > 0 (with a ptt material the Morris term is its solvent)");
       m.viscosity = m.solvent_viscosity / m.rho0;
     }
-    for (const MaterialKeys& mode : k.objects("modes", 1, max_stress_modes, {"lambda", "eta"})) {
+    m.storage_plateau = k.non_negative_or("storage_plateau", 0.0);
+    const std::size_t most = max_stress_modes - (m.storage_plateau > 0.0 ? 1 : 0);  // the plateau takes a column
+    const std::vector<MaterialKeys> modes = k.objects("modes", 1, max_stress_modes, {"lambda", "eta"});
+    if (modes.size() > most)
+      k.fail("modes", "has " + std::to_string(modes.size()) + " modes beside 'storage_plateau'; allowed: 1 to " +
+                          std::to_string(most) + " (the plateau takes one of the stress columns)");
+    for (const MaterialKeys& mode : modes) {
       m.mode_lambda.push_back(mode.positive("lambda"));
       m.mode_eta.push_back(mode.positive("eta"));
+    }
+    if (const auto cross = k.object("cross_viscosity", {"eta_0", "eta_inf", "time_constant", "exponent"})) {
+      m.cross_eta_0 = cross->positive("eta_0");
+      m.cross_eta_inf = cross->non_negative("eta_inf");
+      m.cross_time = cross->positive("time_constant");
+      m.cross_exponent = cross->number("exponent");
+      if (m.cross_eta_inf > m.cross_eta_0)
+        cross->fail("eta_inf", "= " + std::to_string(m.cross_eta_inf) + " Pa s is above eta_0 = " +
+                                   std::to_string(m.cross_eta_0) + " Pa s; a Cross law thins (eta_inf <= eta_0)");
+      if (!(m.cross_exponent > 0.0 && m.cross_exponent <= 1.0))
+        cross->fail("exponent", "= " + std::to_string(m.cross_exponent) + " is outside (0, 1]; above 1 the shear "
+                                "stress falls with the shear rate (an ill-posed solvent)");
     }
   }
   static void configure(const MaterialSpec& spec, Material& mat) {
@@ -60,9 +99,12 @@ struct Ptt {
     for (int i = 0; i < p.count; ++i) p.lambda[i] = spec.mode_lambda[i], p.eta[i] = spec.mode_eta[i];
     p.epsilon = spec.epsilon;
     p.eta_s = spec.viscosity > 0.0 ? 0.0 : spec.solvent_viscosity;  // 0: the solvent is the Morris term
+    p.plateau = spec.storage_plateau;
+    p.cross = spec.cross_eta_0 > 0.0;
+    p.cross_law = {spec.cross_eta_0, spec.cross_eta_inf, spec.cross_time, p.cross ? spec.cross_exponent : 1.0};
   }
 
-  // Eq. R1 for every mode of the material (columns beyond its count keep a zero rate).
+  // Eq. R1 for every mode of the material and eq. R2 for its plateau column (columns beyond keep a zero rate).
   template <int D>
   static void mode_rates(const Material& mat, const Mat<D>& L, const ModeStress<D>& tau, ModeStress<D>& dtau) {
     const ModeParameters& p = mat.modes;
@@ -73,11 +115,19 @@ struct Ptt {
       const double f = 1.0 + p.lambda[i] * p.epsilon / p.eta[i] * t.trace();
       Eigen::Map<Mat<D>>(dtau.col(i).data()) = L * t + t * L.transpose() + (p.eta[i] * two_D - f * t) / p.lambda[i];
     }
+    if (p.plateau > 0.0) {
+      const Eigen::Map<const Mat<D>> t(tau.col(p.count).data());
+      Eigen::Map<Mat<D>>(dtau.col(p.count).data()) = L * t + t * L.transpose() + p.plateau * two_D;
+    }
   }
-  // The solvent part of the extra stress, 2 eta_s D.
+  // The solvent part of the extra stress, 2 (eta_s + eta_C(gamma_dot)) D, gamma_dot = sqrt(2 D:D).
   template <int D>
   static Mat<D> solvent_stress(const Material& mat, const Mat<D>& L) {
-    return mat.modes.eta_s * (L + L.transpose());
+    const ModeParameters& p = mat.modes;
+    if (!p.cross) return p.eta_s * (L + L.transpose());
+    const Mat<D> two_D = L + L.transpose();
+    const double shear_rate = std::sqrt(0.5 * two_D.squaredNorm());  // 2 D:D = (2D):(2D) / 2
+    return (p.eta_s + p.cross_law(shear_rate)) * two_D;
   }
 
   // The single-tensor hooks of the model interface (its stress is in the modes).
