@@ -1,21 +1,21 @@
 """LAMMPS runs the crater with its MACHDYN package: the target box of the sph scene (the same particles, its held
 support layers) in total-Lagrangian SPH (`pair_style smd/tlsph`) and the sphere as a rigid body of particles,
-touching through MACHDYN's `pair_style smd/hertz`. The deck is
-templates/lammps.in.j2, the particles a data file; the reader is lammps_output.py, engines.lammps starts the program.
+touching through MACHDYN's `pair_style smd/hertz`. The deck is templates/lammps.in.j2, the particles a data file;
+the reader is lammps_output.py, engines.lammps starts the program.
 
 The target's material is mapped by kinds/sph_flow/machdyn.py (shared with the Taylor bar: elasticity, the shock EOS
 for Mie-Grueneisen, Johnson-Cook, viscosity, hourglass control, the fixed step). What is the crater's own:
 
 - the held support: its layers are particles of the target's body (one molecule, so bonded to it, as ours are
   glued), left out of the time integration, so they stay where they start at rest;
-- the sphere: the particles of a cubic lattice of spacing dx (aligned with the target's in x and y) whose centres lie
-  inside the sphere within two dx of its surface, its lowest layer half a dx above the sphere's lowest point, so that with contact radius dx/2 the
-  sphere's particles reach down to the same gap of a quarter dx above the target as the sph engine's sphere; each
-  carries the sphere's mass and volume over the particle count (the body's mass is the case's exactly). Free, it
-  translates as one rigid body: `fix aveforce` gives every particle the body's mean force and `fix nve` moves them
-  alike (RIGID's `fix rigid` stops LAMMPS on MACHDYN's finite-size particles); it does not turn, as neither
-  engine's sphere does in a normal impact on the axis. Kinematic, it moves at its speed (`fix move linear`). Ours
-  is a smooth sphere; MACHDYN's is a sphere of particles, its surface stepped by dx;
+- the sphere: a shell of SHELL_LAYERS layers of particles on spheres of radii r - (k + 1/2) dx, spaced about dx
+  on Fibonacci spirals with a point on each pole, so that with contact radius dx/2 the shell reaches out to r and
+  down to the same gap of a quarter dx above the target as the sph engine's sphere; each particle carries the
+  sphere's mass and volume over the particle count (the body's mass is the case's exactly). Free, it translates as
+  one rigid body: `fix aveforce` gives every particle the body's mean force and `fix nve` moves them alike (RIGID's
+  `fix rigid` stops LAMMPS on MACHDYN's finite-size particles); it does not turn, as neither engine's sphere does in
+  a normal impact on the axis. Kinematic, it moves at its speed (`fix move
+  linear`). Ours is a smooth sphere; MACHDYN's is a surface of particles, bumpy on the scale of dx;
 - the contact: smd/hertz between a sphere particle and a target particle, F = 16/15 E_c sqrt(r_g) d^(3/2) for the
   overlap d of their contact radii (dx/2 each, r_g = dx/4), repulsive only and without friction, as ours; E_c is
   numerics.contact_stiffness times rho0 c_L^2 of the target, the scale of the sph engine's spring rho0 c_L^2 dx;
@@ -51,8 +51,8 @@ DATA = "crater.data"
 SKIN_OVER_DX = 0.3
 #: Series records per run at most.
 MAX_SERIES = 1000
-#: The sphere's particles: those within this many dx of its surface (a target particle reaches none deeper).
-SHELL_LAYERS = 2.0
+#: Layers of the sphere's shell of particles (a target particle reaches none deeper; the body only translates).
+SHELL_LAYERS = 2
 #: Molecule ids of the data file: the target with its held support (smd/tlsph bonds only particles of one
 #: molecule), the sphere.
 TARGET, SPHERE = 1, 2
@@ -92,21 +92,26 @@ def sphere(scene):
 
 
 def sphere_particles(scene) -> np.ndarray:
-    """Centres (n, 3) m of the sphere's lattice: spacing dx, at (i + 1/2) dx in x and y from the axis and at
-    (k + 1/2) dx above the sphere's lowest point in z, inside the sphere and within SHELL_LAYERS dx of its surface
-    (the body only translates, so its inner particles would add work and nothing else); an indenter's lower half
-    only (its motion is prescribed)."""
+    """Centres (n, 3) m of the sphere's particles: SHELL_LAYERS spherical layers at radii r - (k + 1/2) dx, each of
+    about 4 pi R^2 / dx^2 points on a Fibonacci spiral from pole to pole (spacing about dx, a point on each pole); a
+    cubic lattice would meet the target with a flat facet of some 7 x 7 particles at its lowest layer. An indenter
+    keeps its lower half only (its motion is prescribed)."""
     dx = finite("numerics.dx", scene.case.numerics.dx)
     cx, cy, cz, radius = (finite("sphere", v) for v in sphere(scene).spheres[0])
-    half = int(np.ceil(radius / dx))
-    offsets = (np.arange(-half, half) + 0.5) * dx
-    heights = (np.arange(2 * half) + 0.5) * dx - radius
-    grid = np.stack(np.meshgrid(offsets, offsets, heights, indexing="ij"), axis=-1).reshape(-1, 3)
-    distance = np.sqrt(np.einsum("ij,ij->i", grid, grid))
-    keep = (distance < radius) & (distance > radius - SHELL_LAYERS * dx)
+    layers = []
+    for k in range(SHELL_LAYERS):
+        shell = radius - (k + 0.5) * dx
+        if shell <= 0.0:
+            break
+        count = max(2, round(4.0 * np.pi * shell * shell / (dx * dx)))
+        z = np.linspace(-1.0, 1.0, count)
+        azimuth = np.pi * (3.0 - np.sqrt(5.0)) * np.arange(count)  # the golden angle between neighbours
+        ring = np.sqrt(np.clip(1.0 - z * z, 0.0, None))
+        layers.append(shell * np.column_stack([ring * np.cos(azimuth), ring * np.sin(azimuth), z]))
+    points = np.vstack(layers)
     if sphere(scene).kinematic:
-        keep &= grid[:, 2] <= 0.0
-    return grid[keep] + np.array([cx, cy, cz])
+        points = points[points[:, 2] <= 0.0]
+    return points + np.array([cx, cy, cz])
 
 
 def support_ids(scene) -> str:

@@ -93,10 +93,13 @@ def test_the_data_file_holds_the_target_its_support_and_the_sphere(tmp_path):
     radius, centre = 300e-6, np.array([0.0, 0.0, 300e-6 + 0.25 * dx])
     assert ball[:, 4].sum() == pytest.approx(2500.0 * 4.0 / 3.0 * math.pi * radius**3, rel=1e-12)
     distance = np.linalg.norm(ball[:, 10:13] - centre, axis=1)
-    assert np.all(distance < radius) and np.all(distance > radius - 2.0 * dx)  # a shell two dx deep
+    shells = radius - np.array([0.5, 1.5]) * dx  # two layers, the outer one reaching r with its contact radius
+    assert np.all(np.min(np.abs(distance[:, None] - shells), axis=1) < 1e-12 * radius)
     assert ball[:, 12].min() - 0.5 * dx == pytest.approx(0.25 * dx, rel=1e-9)  # the same start gap as the sph sphere
-    shell = 4.0 / 3.0 * math.pi * (radius**3 - (radius - 2.0 * dx) ** 3)
-    assert len(ball) == pytest.approx(shell / dx**3, rel=0.03)
+    assert len(ball) == pytest.approx(4.0 * math.pi * np.sum(shells**2) / dx**2, abs=2)
+    outer = ball[np.abs(distance - shells[0]) < 1e-9 * radius, 10:13]
+    gaps = np.sort(np.linalg.norm(outer[:, None] - outer[None], axis=2), axis=1)[:, 1]
+    assert 0.7 * dx < np.median(gaps) < 1.1 * dx  # about dx apart on the surface
     offset = [float(re.search(rf"xcm\(sphere,{a}\)\+(\S+)", deck).group(1)) for a in "xyz"]
     np.testing.assert_allclose(ball[:, 10:13].mean(axis=0) + offset, centre, atol=1e-12 * radius)
     velocities = (tmp_path / DATA).read_text().split("Velocities")[1].split()
