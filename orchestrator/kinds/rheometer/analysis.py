@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from orchestrator.kinds.rheometer.physics import sample_numerics
+from orchestrator.kinds.rheometer.solvent import cox_merz_loss_modulus, first_harmonic_loss_modulus
 from orchestrator.reference.maxwell import Mode, loss_modulus, storage_modulus
 from orchestrator.reference.viscoelastic_flows import ptt_startup_shear, ptt_steady_shear
 from orchestrator.outputs import save_figure
@@ -22,12 +23,14 @@ QUANTITIES: dict[str, tuple[str, str]] = {
     "storage_modulus": ("Pa", "G' fitted by eq. 17"),
     "loss_modulus": ("Pa", "G'' fitted by eq. 17"),
     "maxwell_storage_modulus": ("Pa", "G' of the multi-mode Maxwell form (eq. 18)"),
-    "maxwell_loss_modulus": ("Pa", "G'' of the multi-mode Maxwell form (eq. 19)"),
+    "maxwell_loss_modulus": ("Pa", "G'' of the multi-mode Maxwell form (eq. 19), the solvent's first harmonic added"),
+    "cox_merz_loss_modulus": ("Pa", "G'' with the Cross solvent read as omega eta_C(omega) (Cox-Merz)"),
     "offset": ("Pa", "constant term of the eq. 17 fit"),
     "drift": ("Pa", "linear drift of the eq. 17 fit over the fitted cycles"),
     "fit_residual": ("-", "RMS residual of the eq. 17 fit relative to the stress amplitude"),
     "fitted_records": ("-", "shear-stress records in the fitted cycles"),
     "shear_viscosity": ("Pa s", "steady shear: tau_xy / shear rate over the last tenth of the run"),
+    "shear_viscosity_expected": ("Pa s", "steady shear: sum eta_i / f_i + eta_s + eta_C(gamma_dot), closed form"),
     "first_normal_stress_difference": ("Pa", "steady shear: N1 over the last tenth of the run"),
     "mode*_shear_viscosity*": ("Pa s", "one mode's shear viscosity (measured, or *_expected: its closed form)"),
     "mode*_first_normal_stress_difference*": ("Pa", "one mode's N1 (measured, or *_expected: its closed form)"),
@@ -38,11 +41,18 @@ QUANTITIES: dict[str, tuple[str, str]] = {
 }
 
 
-def maxwell_moduli(material, omega) -> tuple[np.ndarray, np.ndarray]:
-    """G'(omega), G''(omega) in Pa of the material's modes (eqs. 18-19) plus the solvent's eta_s omega in G''."""
+def maxwell_moduli(material, omega, amplitude: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """G'(omega), G''(omega) in Pa of the material's modes (eqs. 18-19) plus its plateau G_p in G' and its solvent in
+    G'': eta_s omega, and a Cross law's first harmonic at the strain amplitude gamma_A (solvent.py; without an
+    amplitude its linear limit eta_0 omega)."""
     modes = [Mode(m.relaxation_time, m.viscosity) for m in material.modes]
     omega = np.asarray(omega, dtype=float)
-    return storage_modulus(omega, modes), loss_modulus(omega, modes) + material.solvent_viscosity * omega
+    loss = loss_modulus(omega, modes) + material.solvent_viscosity * omega
+    if material.cross_loss is not None:
+        law = material.cross_loss
+        loss = loss + (first_harmonic_loss_modulus(law.viscosity, omega, amplitude) if amplitude
+                       else law.zero_shear_viscosity * omega)
+    return storage_modulus(omega, modes, material.storage_plateau), loss
 
 
 def fit_moduli(t, tau, omega: float, amplitude: float, t_start: float, t_end: float) -> dict[str, float]:
@@ -75,7 +85,7 @@ def startup_peak(t, tau, case) -> dict[str, float]:
     as startup_peak_shear_stress_expected; nothing when the run stopped before the expected peak."""
     t, tau = np.asarray(t, dtype=float), np.asarray(tau, dtype=float)
     exact = ptt_startup_shear(t, case.shear.shear_rate, case.material.modes, case.material.epsilon,
-                              case.material.solvent_viscosity)
+                              float(case.material.solvent_shear_viscosity(case.shear.shear_rate)))
     if exact.peak_time >= t[-1]:
         return {}
     peak = int(np.argmax(tau))
@@ -132,13 +142,20 @@ def measure_rheometer(case, result) -> dict[str, float]:
         start = shear.startup_cycles * shear.time_scale
         if t[-1] >= shear.duration_s * (1 - 1e-9):
             measured.update(fit_moduli(t, tau, shear.omega, shear.amplitude, start, shear.duration_s))
-        g1, g2 = maxwell_moduli(case.material, shear.omega)
+        g1, g2 = maxwell_moduli(case.material, shear.omega, shear.amplitude)
         measured.update(maxwell_storage_modulus=float(g1), maxwell_loss_modulus=float(g2))
+        if case.material.cross_loss is not None:
+            measured["cox_merz_loss_modulus"] = float(g2 - first_harmonic_loss_modulus(
+                case.material.cross_loss.viscosity, shear.omega, shear.amplitude) + cox_merz_loss_modulus(
+                case.material.cross_loss.viscosity, shear.omega))
     else:
         late = t >= t[-1] - 0.1 * shear.duration
         # a Morris solvent is not in the recorded stress; in homogeneous shear it adds eta_s exactly
         solvent = case.material.solvent_viscosity if sn.morris_viscosity > 0.0 else 0.0
         measured["shear_viscosity"] = float(np.mean(tau[late]) / shear.shear_rate) + solvent
+        measured["shear_viscosity_expected"] = float(sum(
+            ptt_steady_shear(shear.shear_rate, m.relaxation_time, m.viscosity, case.material.epsilon).viscosity
+            for m in case.material.modes) + case.material.solvent_shear_viscosity(shear.shear_rate))
         measured.update(startup_peak(t, tau + solvent * shear.shear_rate, case))
         if "first_normal_stress_difference" in series:
             measured["first_normal_stress_difference"] = float(np.mean(

@@ -4,8 +4,10 @@ oscillatory strain gamma(t) = gamma_A sin(omega t) (Nutto et al., section 3: 1 c
 10 x 10 particles, gamma_A = 0.05 %). SI units (m, kg, s, Pa).
 
 [material] takes the key names `orchestrator calibrate maxwell` writes in its fragment ([material],
-storage_plateau, [[material.modes]] relaxation_time, viscosity), so a fitted fragment pastes in; the PTT keys
-(epsilon, solvent_viscosity, eos) are added beside them. Conventions: D = (grad v + grad v^T)/2 (the paper's eq. 5
+storage_plateau, [[material.modes]] relaxation_time, viscosity, [material.cross_loss]), so a fitted fragment
+pastes in whole; the PTT keys (epsilon, solvent_viscosity, eos) are added beside them. The plateau G_p is an
+upper-convected elastic stress (engines/sph/src/materials/ptt.h, eq. R2: G' gains G_p, G'' nothing), the Cross
+law a solvent viscosity eta_C(gamma_dot) with the shear rate sqrt(2 D:D) of the flow (beside eta_s). Conventions: D = (grad v + grad v^T)/2 (the paper's eq. 5
 has no 1/2; with it eta_i is a viscosity, lambda_i -> 0 gives a Newtonian fluid of viscosity eta_i), each mode
 has its own f_i = 1 + (lambda_i epsilon / eta_i) tr tau_i.
 
@@ -22,13 +24,14 @@ from typing import Literal
 from pydantic import Field, model_validator
 
 from orchestrator.case.common import CaseMeta, Frozen, NonNegative, Positive
-from orchestrator.kinds.sph_flow.case_materials import EQUATIONS_OF_STATE, MAX_MODES, PttMode
+from orchestrator.kinds.sph_flow.case_materials import EQUATIONS_OF_STATE, MAX_MODES, CrossLoss, PttMode
 from orchestrator.reference.viscoelastic_flows import ptt_f_in_shear
 
 #: The comparisons a rheometer scene's [[expected]] rows can name, and the quantities each measures.
 CHECK_QUANTITIES = {
     "saos_maxwell": ("storage_modulus", "loss_modulus"),
     "steady_ptt": ("shear_viscosity", "first_normal_stress_difference", "tau_yy_over_tau_xx"),
+    "steady_viscosity": ("shear_viscosity",),
     "newtonian_cell": ("velocity_profile", "storage_over_loss", "loss_modulus"),
 }
 
@@ -70,21 +73,30 @@ class RheometerMaterial(Frozen):
     epsilon: NonNegative = Field(0.0, description="PTT extensibility epsilon, - (0: Oldroyd-B / UCM)")
     solvent_viscosity: NonNegative = Field(0.0, description="solvent viscosity eta_s, Pa s")
     eos: str = Field("quadratic", description="equation of state: quadratic (Nutto et al. eq. 9, the paper's) or tait")
-    storage_plateau: float = Field(0.0, description="G_p of a calibrate-maxwell fragment, Pa: must be 0 (the PTT "
-                                                    "law has no elastic plateau)")
+    storage_plateau: NonNegative = Field(0.0, description="plateau modulus G_p, Pa: an upper-convected elastic "
+                                         "stress beside the modes (adds G_p to G'; at most 7 modes with it)")
+    cross_loss: CrossLoss | None = Field(None, description="a Cross-law solvent viscosity beside eta_s: "
+                                         "zero_shear_viscosity, infinite_shear_viscosity Pa s, time_constant s, "
+                                         "exponent - (the table calibrate maxwell --cross writes)")
 
     @model_validator(mode="after")
     def _ptt_only(self):
         if self.eos not in EQUATIONS_OF_STATE:
             raise ValueError(f"material.eos = {self.eos!r}; allowed: {', '.join(EQUATIONS_OF_STATE)}")
-        if self.storage_plateau != 0.0:
-            raise ValueError(f"material.storage_plateau = {self.storage_plateau} Pa: the PTT law has no elastic "
-                             "plateau G_p; set it to 0 or remove it (refit with calibrate maxwell without --plateau)")
+        if self.storage_plateau > 0.0 and len(self.modes) > MAX_MODES - 1:
+            raise ValueError(f"material.modes: {len(self.modes)} modes beside storage_plateau; allowed: 1 to "
+                             f"{MAX_MODES - 1} (the plateau takes one of the engine's {MAX_MODES} stress columns)")
         return self
 
+    def solvent_shear_viscosity(self, shear_rate):
+        """eta_s + eta_C(gamma_dot) in Pa s at shear rates gamma_dot (1/s, scalar or array)."""
+        cross = 0.0 if self.cross_loss is None else self.cross_loss.viscosity(shear_rate)
+        return self.solvent_viscosity + cross
+
     def complex_modulus(self, omega: float) -> complex:
-        """G*(omega) = G' + i G'' of the modes and the solvent (eqs. 18-19 plus i eta_s omega), Pa; omega rad/s."""
-        g = 1j * self.solvent_viscosity * omega
+        """G*(omega) = G' + i G'' of the plateau, the modes and the solvent in the linear limit (eqs. 18-19 plus G_p
+        and i (eta_s + eta_0) omega, eta_0 the Cross law's zero-shear viscosity), Pa; omega rad/s."""
+        g = self.storage_plateau + 1j * float(self.solvent_shear_viscosity(0.0)) * omega
         for m in self.modes:
             x = omega * m.relaxation_time
             g += m.viscosity / m.relaxation_time * (x * x + 1j * x) / (1.0 + x * x)
@@ -215,6 +227,11 @@ class RheometerCase(Frozen):
         if checks & {"saos_maxwell", "newtonian_cell"} and not self.shear.oscillatory:
             raise ValueError("expected: saos_maxwell and newtonian_cell rows need an oscillatory shear "
                              "(shear.amplitude and shear.omega)")
-        if "steady_ptt" in checks and self.shear.oscillatory:
-            raise ValueError("expected: steady_ptt rows need a steady shear (shear.shear_rate and shear.duration)")
+        steady = sorted(checks & {"steady_ptt", "steady_viscosity"})
+        if steady and self.shear.oscillatory:
+            raise ValueError(f"expected: {steady[0]} rows need a steady shear (shear.shear_rate and shear.duration)")
+        if self.material.storage_plateau > 0.0 and not self.shear.oscillatory:
+            raise ValueError(f"material.storage_plateau = {self.material.storage_plateau:g} Pa in a steady shear: the "
+                             "plateau is an elastic solid whose stress grows with the strain (no steady state); "
+                             "remove it for a steady run")
         return self

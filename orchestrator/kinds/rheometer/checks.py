@@ -46,10 +46,16 @@ def _stress_plot(case, run, title: str) -> dict:
 
 def check_saos(case, run) -> tuple[list[dict], dict]:
     """G', G'' fitted by eq. 17 against the Maxwell forms at the scene's omega."""
-    m, name, omega = _measured(run), case.case.name, case.shear.omega
-    g1, g2 = maxwell_moduli(case.material, omega)
+    m, name, omega, material = _measured(run), case.case.name, case.shear.omega, case.material
+    g1, g2 = maxwell_moduli(material, omega, case.shear.amplitude)
     rows = []
     source = "multi-mode Maxwell, Nutto et al. eqs. 18-19 (reference/maxwell.py)"
+    extra = {"storage_modulus": f", G_p = {material.storage_plateau:g} Pa" if material.storage_plateau else "",
+             "loss_modulus": ""}
+    if material.cross_loss is not None and m.get("cox_merz_loss_modulus"):
+        extra["loss_modulus"] = (f", Cross solvent by its first harmonic at gamma_A (solvent.py); the Cox-Merz "
+                                 f"omega eta_C(omega) = {m['cox_merz_loss_modulus']:.4g} Pa is "
+                                 f"{relative(m['cox_merz_loss_modulus'], float(g2)):+.3g} from it")
     for quantity, expected in (("storage_modulus", float(g1)), ("loss_modulus", float(g2))):
         value = m.get(quantity)
         rows.append(check_row(name, f"{quantity}(omega={omega:g} rad/s)", value, expected,
@@ -57,7 +63,7 @@ def check_saos(case, run) -> tuple[list[dict], dict]:
                               _tolerance(case, "saos_maxwell", quantity), source=source,
                               note=f"{quantity}: eq. 17 over {case.shear.cycles} cycles after "
                                    f"{case.shear.startup_cycles}; gamma_A = {case.shear.amplitude:g}, "
-                                   f"{len(case.material.modes)} mode(s)"))
+                                   f"{len(material.modes)} mode(s){extra[quantity]}"))
     return rows, _stress_plot(case, run, f"{name}: omega = {omega:g} rad/s")
 
 
@@ -95,11 +101,28 @@ def check_steady_ptt(case, run) -> tuple[list[dict], dict]:
     return rows, plot
 
 
+def check_steady_viscosity(case, run) -> tuple[list[dict], dict]:
+    """The sample's steady shear viscosity tau_xy / gamma_dot (modes, solvent and Cross law together) against
+    sum eta_i / f_i + eta_s + eta_C(gamma_dot)."""
+    m, name, rate = _measured(run), case.case.name, case.shear.shear_rate
+    value, expected = m.get("shear_viscosity"), m.get("shear_viscosity_expected")
+    row = check_row(name, f"shear_viscosity(gamma_dot={rate:g} 1/s)", value, expected,
+                    None if value is None or expected is None else relative(value, expected),
+                    _tolerance(case, "steady_viscosity", "shear_viscosity"),
+                    source="steady PTT per mode plus eta_s + eta_C(gamma_dot) (Cross law)",
+                    note="shear_viscosity: the volume-averaged tau_xy / gamma_dot over the last tenth of the run")
+    ratio = math.nan if not (value and expected) else value / expected
+    plot = {"title": f"{name}: steady shear viscosity", "xlabel": "gamma_dot [1/s]", "ylabel": "SPH / closed form",
+            "lines": [([rate], [ratio], "o", "C0", "eta SPH / closed form"), ([0.0, 1.1 * rate], [1.0, 1.0], ":",
+                                                                              "0.5", None)]}
+    return [row], plot
+
+
 def check_newtonian_cell(case, run) -> tuple[list[dict], dict]:
     """A Newtonian sample (the solvent): u_x linear in y within tolerance of gamma_dot L/2 at the peaks of the rate,
     G'/G'' below tolerance, G'' = eta_s omega."""
     m, name, omega = _measured(run), case.case.name, case.shear.omega
-    g1, g2 = maxwell_moduli(case.material, omega)
+    g1, g2 = maxwell_moduli(case.material, omega, case.shear.amplitude)
     profile = m.get("velocity_profile")
     storage, loss = m.get("storage_modulus"), m.get("loss_modulus")
     ratio = None if storage is None or not loss else abs(storage) / loss
@@ -117,7 +140,8 @@ def check_newtonian_cell(case, run) -> tuple[list[dict], dict]:
     return rows, _stress_plot(case, run, f"{name}: Newtonian cell")
 
 
-CHECKS = {"saos_maxwell": check_saos, "steady_ptt": check_steady_ptt, "newtonian_cell": check_newtonian_cell}
+CHECKS = {"saos_maxwell": check_saos, "steady_ptt": check_steady_ptt, "steady_viscosity": check_steady_viscosity,
+          "newtonian_cell": check_newtonian_cell}
 
 
 def evaluate(case, run) -> tuple[list[dict], list[dict]]:

@@ -14,7 +14,7 @@ not change when N grows (docs/rheometry.md shows N = 20, 40, 80).
 The sound speed is sound_speed_ratio times the fastest shear wave, sqrt(max(G_0, |G*|) / rho) with G_0 = sum G_i
 (the modes' instantaneous modulus), and at least 10 x the cell's edge speed (weakly compressible SPH). The step is
 the smallest of cfl h / c0, relaxation_factor x the shortest relaxation time (the explicit stress update) and,
-with a solvent, viscous_factor h^2 rho / eta_s.
+with a solvent, viscous_factor h^2 rho / eta_s (eta_s + eta_0 with a Cross law: its largest viscosity).
 
 Rest pressure (numerics.rest_pressure_ratio = r): the pressure at the reference density is P0 = r max(G_0, |G*|)
 (the EOS is shifted by p_B so that p(rho0) = P0). The sph executable's tensor path (eqs. T1-T2) has a zero-energy
@@ -73,7 +73,7 @@ def sample_numerics(case) -> SampleNumerics:
     morris = 0.0
     if not shear.oscillatory and numerics.damping_viscosity_ratio > 0.0:
         morris = material.solvent_viscosity + numerics.damping_viscosity_ratio * material.polymer_viscosity(omega)
-    viscous = max(morris, material.solvent_viscosity)
+    viscous = max(morris, float(material.solvent_shear_viscosity(0.0)))  # a Cross law is largest at rest (eta_0)
     if viscous > 0.0:
         limits["viscous (solvent)"] = numerics.viscous_factor * h * h * rho / viscous
     which = min(limits, key=limits.get)

@@ -32,9 +32,17 @@ fragment's [[material.modes]] tables paste in as [[materials.modes]]:
     solvent_viscosity = 0.0       # Pa s
     eos = "quadratic"             # "tait" (Canini et al. eq. 6, default) or Nutto et al.'s p = c0^2 rho^2 / (2 rho0)
 
+    storage_plateau = 0.0         # G_p, Pa: an upper-convected elastic stress beside the modes (0: none)
+
     [[materials.modes]]
     relaxation_time = 0.5         # lambda_i, s
     viscosity = 738.0             # eta_i, Pa s (a dynamic viscosity)
+
+    [materials.cross_loss]        # optional: a Cross-law solvent, 2 eta_C(gamma_dot) D beside 2 eta_s D
+    zero_shear_viscosity = 2.0e4  # eta_0, Pa s
+    infinite_shear_viscosity = 10.0   # eta_inf, Pa s (<= eta_0)
+    time_constant = 0.3           # K, s
+    exponent = 0.8                # m, in (0, 1]
 
 Conventions: per mode f_i tau_i + lambda_i tau_i^nabla = 2 eta_i D with D = (grad v + grad v^T)/2 (the paper's
 eq. 5 has no 1/2; with it eta_i stays a viscosity: lambda_i -> 0 gives tau_i = 2 eta_i D), and each mode has its
@@ -48,7 +56,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from pydantic import Field, field_validator
+import numpy as np
+from pydantic import Field, field_validator, model_validator
 
 from orchestrator.case.common import Frozen, Name, NonNegative, Positive
 from orchestrator.kinds.sph_flow.case_parts import Finite
@@ -64,7 +73,7 @@ EQUATIONS_OF_STATE = ("tait", "quadratic")
 MAX_MODES = 8
 
 #: Keys only a ptt material takes.
-PTT_KEYS = ("modes", "epsilon", "solvent_viscosity")
+PTT_KEYS = ("modes", "epsilon", "solvent_viscosity", "storage_plateau", "cross_loss")
 
 #: Keys of [fluid] that each [[materials]] table takes instead when the case has materials.
 MATERIAL_KEYS = ("density", "viscosity", "sound_speed", "gamma", "background_pressure")
@@ -75,6 +84,41 @@ class PttMode(Frozen):
 
     relaxation_time: Positive = Field(description="relaxation time lambda_i, s")
     viscosity: Positive = Field(description="mode viscosity eta_i, Pa s (G_i = eta_i / lambda_i)")
+
+
+class CrossLoss(Frozen):
+    """A Cross-law solvent, the [material.cross_loss] table `calibrate maxwell --cross` writes:
+    eta_C(gamma_dot) = eta_inf + (eta_0 - eta_inf) / (1 + (K gamma_dot)^m), gamma_dot = sqrt(2 D:D) of the flow."""
+
+    zero_shear_viscosity: Positive = Field(description="zero-shear viscosity eta_0, Pa s")
+    infinite_shear_viscosity: NonNegative = Field(description="infinite-shear viscosity eta_inf, Pa s (at most eta_0)")
+    time_constant: Positive = Field(description="time constant K, s")
+    exponent: float = Field(description="exponent m, - (0 < m <= 1: the shear stress rises with the shear rate)")
+
+    @model_validator(mode="after")
+    def _thinning(self):
+        if self.infinite_shear_viscosity > self.zero_shear_viscosity:
+            raise ValueError(f"cross_loss.infinite_shear_viscosity = {self.infinite_shear_viscosity:g} Pa s is above "
+                             f"zero_shear_viscosity = {self.zero_shear_viscosity:g} Pa s; a Cross law thins")
+        if not 0.0 < self.exponent <= 1.0:
+            raise ValueError(f"cross_loss.exponent = {self.exponent:g}; allowed: 0 < m <= 1 (above 1 the shear "
+                             "stress falls with the shear rate: an ill-posed solvent)")
+        return self
+
+    @property
+    def law(self) -> tuple[float, float, float, float]:
+        """(eta_0 Pa s, eta_inf Pa s, K s, m -)."""
+        return (self.zero_shear_viscosity, self.infinite_shear_viscosity, self.time_constant, self.exponent)
+
+    def viscosity(self, shear_rate):
+        """eta_C at shear rates gamma_dot (1/s, scalar or array), Pa s."""
+        eta_0, eta_inf, time, exponent = self.law
+        return eta_inf + (eta_0 - eta_inf) / (1.0 + (time * np.abs(np.asarray(shear_rate, dtype=float))) ** exponent)
+
+    def deck(self) -> dict:
+        """The engine's `cross_viscosity` object (Pa s, s, -)."""
+        eta_0, eta_inf, time, exponent = (float(v) for v in self.law)
+        return {"eta_0": eta_0, "eta_inf": eta_inf, "time_constant": time, "exponent": exponent}
 
 
 class Material(Frozen):
@@ -99,6 +143,11 @@ class Material(Frozen):
     epsilon: NonNegative | None = Field(None, description="ptt: extensibility parameter epsilon of f_i, - (0: "
                                                           "Oldroyd-B / UCM; default 0)")
     solvent_viscosity: NonNegative | None = Field(None, description="ptt: solvent viscosity eta_s, Pa s (default 0)")
+    storage_plateau: NonNegative | None = Field(None, description="ptt: plateau modulus G_p, Pa (an upper-convected "
+                                                "elastic stress; default 0: none; with it at most 7 modes)")
+    cross_loss: CrossLoss | None = Field(None, description="ptt: a Cross-law solvent viscosity beside eta_s "
+                                         "([materials.cross_loss]: zero_shear_viscosity, infinite_shear_viscosity "
+                                         "Pa s, time_constant s, exponent -)")
     solid: SolidMaterial | None = Field(None, description="johnson_cook: the [materials.solid] table (elasticity, "
                                                           "equation of state, strength, heat, failure)")
 
@@ -133,6 +182,8 @@ class RunMaterial:
     modes: tuple[tuple[float, float], ...] = ()
     epsilon: float = 0.0
     solvent_viscosity: float = 0.0
+    storage_plateau: float = 0.0
+    cross_loss: dict | None = None  # the engine's cross_viscosity object (CrossLoss.deck)
     solid: dict | None = None  # johnson_cook: its deck keys (case_solids.SolidMaterial.deck); c0 is its wave speed
 
     def deck(self) -> dict:
@@ -150,6 +201,10 @@ class RunMaterial:
         if self.model == "ptt":
             item.update(epsilon=float(self.epsilon), solvent_viscosity=float(self.solvent_viscosity),
                         modes=[{"lambda": float(lam), "eta": float(eta)} for lam, eta in self.modes])
+            if self.storage_plateau > 0.0:
+                item["storage_plateau"] = float(self.storage_plateau)
+            if self.cross_loss is not None:
+                item["cross_viscosity"] = dict(self.cross_loss)
         return item
 
     @property
@@ -166,7 +221,8 @@ def run_materials(case) -> tuple[RunMaterial, ...]:
     speed = 10.0 * case.fluid.max_speed
     return tuple(RunMaterial(m.name, m.model, m.density, _sound_speed(m, speed), m.gamma, m.background_pressure,
                              m.viscosity, m.eos, tuple((mode.relaxation_time, mode.viscosity) for mode in m.modes),
-                             m.epsilon or 0.0, m.solvent_viscosity or 0.0,
+                             m.epsilon or 0.0, m.solvent_viscosity or 0.0, m.storage_plateau or 0.0,
+                             None if m.cross_loss is None else m.cross_loss.deck(),
                              None if m.solid is None else m.solid.deck()) for m in case.materials)
 
 
@@ -257,8 +313,10 @@ def _check_ptt(case, i: int, m: Material) -> None:
     if not m.modes:
         raise ValueError(f"{where}.modes ({m.name}) is missing; a ptt material needs 1 to {MAX_MODES} "
                          "[[materials.modes]] tables (relaxation_time s, viscosity Pa s)")
-    if len(m.modes) > MAX_MODES:
-        raise ValueError(f"{where}.modes ({m.name}) has {len(m.modes)} modes; allowed: 1 to {MAX_MODES}")
+    most = MAX_MODES - (1 if (m.storage_plateau or 0.0) > 0.0 else 0)  # the plateau takes a stress column
+    if len(m.modes) > most:
+        raise ValueError(f"{where}.modes ({m.name}) has {len(m.modes)} modes; allowed: 1 to {most}"
+                         + (" beside a storage_plateau" if most < MAX_MODES else ""))
     if m.viscosity is not None:
         raise ValueError(f"{where}.viscosity ({m.name}) is not a key of a ptt material (its viscosities are the "
                          "modes' and solvent_viscosity, Pa s); remove it")

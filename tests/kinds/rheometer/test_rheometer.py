@@ -66,7 +66,7 @@ BAD = [
     (["shear.omega=-1.0"], "shear.omega"),
     (["shear={amplitude=5e-4}"], "shear.omega is missing"),
     (["shear={amplitude=5e-4, omega=1.0, shear_rate=1.0}"], "not both and not neither"),
-    (["material.storage_plateau=500.0"], "the PTT law has no elastic plateau"),
+    (["material.storage_plateau=-500.0"], "material.storage_plateau"),
     (["material.modes=[]"], "material.modes"),
     (["material.eos='ideal'"], "material.eos = 'ideal'"),
     (["sample.particles=2"], "sample.particles"),

@@ -71,7 +71,7 @@ def run_point(case_file: Path, omega: float, out_dir: Path, overrides=(), timeou
     loaded = load_case(case_file, overrides=[*overrides, f"shear.omega={omega!r}"])
     case = loaded.model
     sn = sample_numerics(case)
-    g1, g2 = maxwell_moduli(case.material, omega)
+    g1, g2 = maxwell_moduli(case.material, omega, case.shear.amplitude)
     point = RheometryPoint(omega, maxwell_storage_modulus=float(g1), maxwell_loss_modulus=float(g2),
                            sample_density=sn.density, time_step=sn.dt, run_dir=str(out_dir))
     summary = steady.run_point(loaded, out_dir, timeout_s, point)
@@ -151,7 +151,7 @@ def plot_sweep(case_file: Path, points: list[RheometryPoint], path: Path, overri
     case = load_case(case_file, overrides=overrides).model
     omegas = np.array([p.omega for p in points])
     line = np.logspace(math.log10(omegas.min()) - 0.5, math.log10(omegas.max()) + 0.5, 200)
-    g1, g2 = maxwell_moduli(case.material, line)
+    g1, g2 = maxwell_moduli(case.material, line, case.shear.amplitude)
     fig, ax = plt.subplots(figsize=(6.4, 4.6))
     ax.loglog(line, g1, "-", color="C0", label="G' Maxwell (eq. 18)")
     ax.loglog(line, g2, "--", color="C3", label="G'' Maxwell (eq. 19)")

@@ -104,7 +104,8 @@ def run_rate(case_file, rate: float, out_dir, relaxation_times: float, overrides
     case = loaded.model
     sn = sample_numerics(case)
     exact = ptt_multimode_steady_shear(rate, case.material.modes, case.material.epsilon)
-    point = FlowCurvePoint(rate, viscosity_expected=float(exact.viscosity) + case.material.solvent_viscosity,
+    viscosity = exact.viscosity + case.material.solvent_shear_viscosity(rate)
+    point = FlowCurvePoint(rate, viscosity_expected=float(viscosity),
                            n1_expected=float(exact.first_normal_stress_difference), duration=case.shear.duration,
                            sample_density=sn.density, time_step=sn.dt, run_dir=str(out_dir))
     summary = run_point(loaded, out_dir, timeout_s, point)
@@ -180,7 +181,7 @@ def plot_flow_curve(case_file, points, path, overrides=()):
     line = np.logspace(math.log10(rates.min()) - 0.5, math.log10(rates.max()) + 0.5, 200)
     exact = ptt_multimode_steady_shear(line, material.modes, material.epsilon)
     fig, (left, right) = plt.subplots(1, 2, figsize=(10.0, 4.2))
-    left.loglog(line, exact.viscosity + material.solvent_viscosity, "-", color="C0", label="PTT closed form")
+    left.loglog(line, exact.viscosity + material.solvent_shear_viscosity(line), "-", color="C0", label="PTT closed form")
     right.loglog(line, exact.first_normal_stress_difference, "-", color="C3", label="PTT closed form")
     measured = [p for p in points if math.isfinite(p.viscosity)]
     for status, marker, what in (("ok", "o", "SPH"), ("failed", "x", "SPH, run stopped (its last values)")):
