@@ -100,7 +100,7 @@ def test_the_data_file_holds_the_target_its_support_and_the_sphere(tmp_path):
     outer = ball[np.abs(distance - shells[0]) < 1e-9 * radius, 10:13]
     gaps = np.sort(np.linalg.norm(outer[:, None] - outer[None], axis=2), axis=1)[:, 1]
     assert 0.7 * dx < np.median(gaps) < 1.1 * dx  # about dx apart on the surface
-    offset = [float(re.search(rf"xcm\(sphere,{a}\)\+(\S+)", deck).group(1)) for a in "xyz"]
+    offset = [float(re.search(rf"xcm\(sphere,{a}\)\+\((\S+)\)", deck).group(1)) for a in "xyz"]
     np.testing.assert_allclose(ball[:, 10:13].mean(axis=0) + offset, centre, atol=1e-12 * radius)
     velocities = (tmp_path / DATA).read_text().split("Velocities")[1].split()
     assert np.array(velocities, dtype=float).reshape(-1, 4)[n:, 3].tolist() == [-100.0] * len(ball)
