@@ -1,6 +1,7 @@
 // The multi-mode PTT model (materials/ptt.h) in a Lees-Edwards shear cell
-// (box_policy.h): steady simple shear against the closed form, and the
-// Newtonian limit of a short relaxation time.
+// (box_policy.h): steady simple shear against the closed form, the Newtonian
+// limit of a short relaxation time, the Cross-law solvent's viscosity and the
+// plateau's upper-convected elastic stress G_p (B - I).
 #include <cmath>
 
 #include "check.h"
@@ -120,4 +121,42 @@ TEST(oscillatory_shear_of_ucm_gives_the_maxwell_moduli) {
                g2, eta * omega / w2);
   CHECK_CLOSE(g1, eta * lambda * omega * omega / w2, 0.03);
   CHECK_CLOSE(g2, eta * omega / w2, 0.03);
+}
+
+TEST(ptt_cross_solvent_gives_the_cross_viscosity_in_steady_shear) {
+  // A fast mode (Wi = 0.01: eta_p / f) and a Cross solvent eta_C(gamma_dot) at gamma_dot = 1/s, K gamma_dot = 1:
+  // tau_xy / gamma_dot = eta_p / f + eta_C with eta_C = eta_inf + (eta_0 - eta_inf) / 2.
+  const double lambda = 0.01, eta = 0.01, epsilon = 0.1, gamma_dot = 1.0;
+  RunParameters d = ptt_deck(10, lambda, eta, epsilon);
+  MaterialSpec& m = d.materials[0];
+  m.cross_eta_0 = 0.02, m.cross_eta_inf = 0.002, m.cross_time = 1.0, m.cross_exponent = 0.7;
+  PttCell sim(d, fixtures::shear_cell(10, 1.0, 1.0, gamma_dot));
+  for (int s = 0; s < 200; ++s) CHECK(sim.step(1e-3, NoCrossings{}));
+  const double expected = eta / steady_f(epsilon, lambda * gamma_dot) + 0.002 + 0.018 / 2.0;
+  const double viscosity = sim.mean_extra_stress()(0, 1) / gamma_dot;
+  std::fprintf(stderr, "  eta = %.8g Pa s (eta_p / f + eta_C = %.8g, error %.2e)\n", viscosity, expected,
+               viscosity / expected - 1.0);
+  CHECK_CLOSE(viscosity, expected, 1e-6);
+}
+
+TEST(ptt_plateau_is_an_upper_convected_elastic_stress) {
+  // G_p alone beside a fast mode, sheared at gamma_dot for t: the plateau column holds G_p (B - I),
+  // tau_xy = G_p gamma and N1 = G_p gamma^2 at the strain gamma = gamma_dot t.
+  const double lambda = 0.01, eta = 1e-4, gamma_dot = 1.0, plateau = 0.01, dt = 1e-3;
+  RunParameters d = ptt_deck(10, lambda, eta, 0.0);
+  d.materials[0].storage_plateau = plateau;
+  PttCell sim(d, fixtures::shear_cell(10, 1.0, 1.0, gamma_dot));
+  const int steps = 500;
+  for (int s = 0; s < steps; ++s) CHECK(sim.step(dt, NoCrossings{}));
+  const Particles<2>& P = sim.particles();
+  CHECK(P.modes == 2);
+  Mat<2> tau = Mat<2>::Zero();
+  for (std::size_t i = 0; i < P.size(); ++i) tau += Eigen::Map<const Mat<2>>(P.mode_stress.value[i].col(1).data());
+  tau /= static_cast<double>(P.size());
+  const double gamma = gamma_dot * steps * dt;
+  std::fprintf(stderr, "  plateau: tau_xy = %.10g Pa (G_p gamma %.10g), N1 = %.10g Pa (G_p gamma^2 %.10g)\n", tau(0, 1),
+               plateau * gamma, tau(0, 0) - tau(1, 1), plateau * gamma * gamma);
+  CHECK_CLOSE(tau(0, 1), plateau * gamma, 1e-6);
+  CHECK_CLOSE(tau(0, 0) - tau(1, 1), plateau * gamma * gamma, 1e-6);
+  CHECK(std::abs(tau(1, 1)) < 1e-6 * tau(0, 0));
 }
