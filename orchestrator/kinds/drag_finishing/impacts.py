@@ -16,9 +16,9 @@ it writes the ball's id, radius, position and velocity (LIGGGHTS_COLUMNS). The r
 overlap the rod (the others are on the bowl: a ball cannot touch both, liggghts_deck checks the clearance) and
 approach it (a zero force does not always mean no contact: a separating contact's normal force is held at zero by
 limitForce, and then its friction too, so such a contact can seem to start again), and gives each the prism
-test's u as its engine speed. The two tests differ where the first-order g + u dt and the
-real previous step disagree (a graze of a step or two) and at an edge, where the prism test's gap is a little
-short of the mesh's.
+test's u as its engine speed. The two tests differ at an edge or the tip's rim, where the prism test's gap falls
+short of the mesh's (it counts a ball as touching before it does), and where the step's own contact force has
+already slowed the ball so that g + u dt <= 0 (docs/drag_finishing.md compares them start by start).
 
 What is kept in run.h5 (/events, one row per contact start; the same names for both engines): time and
 process_time (s), ball (index), position (n,3) m and velocity (n,3) m/s at the step, facet (index of the rod
@@ -26,7 +26,7 @@ face nearest to the ball, the mesh as stored in /meshes/rod, i.e. the rod's fina
 from the mesh's own faces, < 0 when overlapping) and impact_speed (m/s): the relative velocity -(v - v_rod) . n
 along the contact normal n from the facet's nearest point to the ball's centre (the facet's outward normal on a
 face; from the edge at an edge, where the engine's prism test uses a face normal), recomputed here from the mesh
-rather than taken from the engine (engine_speed keeps the engine's u). A contact is detected within one step of
+rather than taken from the engine (engine_speed keeps the prism test's u). A contact is detected within one step of
 its start, so the speed has changed by at most the force of an overlap u dt acting for dt (about 2 % at E/1000,
 0.02 m/s). Per face, /meshes/rod gets impact_count and impact_speed_mean, impact_speed_max (m/s; 0 where no impact).
 """

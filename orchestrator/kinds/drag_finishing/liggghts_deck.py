@@ -105,6 +105,7 @@ def drag_context(scene) -> dict:
                                          checkpointevery(case, dt), impact_steps(case, dt)),
         "resume": None,
         "path_radius": repr(case.workpiece.path_radius),
+        "impact_frictionless": bool(friction[0, 2] == 0.0),
         **impact_values(scene),
     }
 

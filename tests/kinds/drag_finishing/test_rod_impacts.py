@@ -231,3 +231,20 @@ def test_liggghts_refuses_an_impact_window_where_a_ball_can_touch_rod_and_bowl_s
     scene.meshes["rod"] = dataclasses.replace(scene.meshes["rod"], mesh=wide)
     with pytest.raises(OrchestratorError, match=r"rod, 6(\.\d+)? mm from the bowl's side, .*allowed: remove"):
         drag_context(scene)
+
+
+def test_a_frictionless_rod_gets_the_second_selection_for_tip_contacts(tmp_path):
+    """With friction a start's force has an x part on the tip too (its tangential part); without, a tip contact
+    pushes along z alone, so the deck adds a dump for zero x and non-zero z force. Neither dump is flushed."""
+    from orchestrator.case import load_case
+    from orchestrator.kinds import build_scene
+    from orchestrator.kinds.drag_finishing.liggghts_deck import TEMPLATE, drag_context
+    from orchestrator.templating import render
+
+    frictionless = ["contacts=[{pair=['ceramic', 'ceramic'], restitution=0.86, friction=0.34}, "
+                    "{pair=['ceramic', 'steel'], restitution=0.68, friction=0.0}]"]
+    decks = [render(TEMPLATE, drag_context(build_scene(load_case(TINY_BOWL, overrides=o).model)))
+             for o in ([], frictionless)]
+    assert "impacts_z" not in decks[0] and decks[0].count("flush no") == decks[0].count("dump impacts ") == 3
+    assert decks[1].count("dump impacts_z all custom 1") == decks[1].count("undump impacts_z") == 3
+    assert "thresh f_force_walls[1] == 0 thresh f_force_walls[3] != 0" in decks[1]
