@@ -27,6 +27,7 @@
 #include "pair_chunk.h"
 #include "particles.h"
 #include "physics_terms.h"
+#include "tensor_pair_math.h"
 #include "viscosity_correction.h"
 #include "wall_sums.h"
 
@@ -311,13 +312,11 @@ class PairLoop {
       Vec<D> v_ab_grad = v_ab;
       if constexpr (AMoves && !BMoves) v_ab_grad = va - v_noslip[b] - jump;
       if constexpr (!AMoves && BMoves) v_ab_grad = vns_a - v[b] - jump;
-      const Mat<D> vr_outer = v_ab_grad * r.transpose(), rr_outer = r * r.transpose();
-      G_a.noalias() -= (F * vol[b]) * vr_outer, M_a.noalias() -= (F * vol[b]) * rr_outer;
-      grad_v[b].noalias() -= (F * vol_a) * vr_outer, shape[b].noalias() -= (F * vol_a) * rr_outer;
+      subtract_outer_products(v_ab_grad, r, F * vol[b], F * vol_a, G_a, M_a, grad_v[b], shape[b]);
       if constexpr (AMoves || BMoves) {
         // Eq. T1 and eqs. 11-12 (along r_ab): symmetric in a and b; grad_b W_ba = -F r_ab.
         const double radial = viscous_radial<AMoves, BMoves>(model, r2, v_ab.dot(r), rho_a, rho_b, c_a, c[b], F);
-        const Vec<D> f = pair_stress(S_a, a, b, t, r2) * (F * r) + radial * r;
+        const Vec<D> f = pair_force(S_a, a, b, t, r2, F * r) + radial * r;
         if constexpr (AMoves) acc_a.noalias() += m_b * f;
         if constexpr (BMoves) acc[b].noalias() -= m_a * f;
         // A solid's internal energy takes what the pair's force takes from the kinetic energy, m_a m_b v_ab . f
@@ -351,13 +350,15 @@ class PairLoop {
   }
   // Eq. T1's stress of the pair a, b, sigma_a/rho_a^2 (S_a) + sigma_b/rho_b^2; solids add Monaghan's artificial
   // stress f_ab^n (R_a + R_b), f_ab = W(r_ab) / W(dx) from t = max(1 - q/2, 0) and r_ab^2 (johnson_cook_material.h).
-  inline __attribute__((always_inline)) Mat<D> pair_stress(const Mat<D>& S_a, int a, int b, double t, double r2) const {
+  // times g = grad_a W_ab.
+  inline __attribute__((always_inline)) Vec<D> pair_force(const Mat<D>& S_a, int a, int b, double t, double r2,
+                                                          const Vec<D>& g) const {
     if constexpr (Models::any_solid) {
-      if (!artificial_stress_.on) return S_a + P_.sigma_rho2[b];  // the same sum without adding zeros
-      return S_a + P_.sigma_rho2[b] +
-             artificial_stress_(t, std::sqrt(r2) * kernel_.inv_h) * (P_.art_stress[a] + P_.art_stress[b]);
+      if (!artificial_stress_.on) return sum_times(S_a, P_.sigma_rho2[b], g);  // the same sum without adding zeros
+      return (S_a + P_.sigma_rho2[b] +
+              artificial_stress_(t, std::sqrt(r2) * kernel_.inv_h) * (P_.art_stress[a] + P_.art_stress[b])) * g;
     } else
-      return (void)a, S_a + P_.sigma_rho2[b];
+      return (void)a, (void)t, (void)r2, sum_times(S_a, P_.sigma_rho2[b], g);
   }
   // Eq. 10 on the tensor path for owner a and neighbour b: 2 mu_ab (r_ab . grad W)/(r_ab^2 + 0.01 h^2)
   // m/(rho_a rho_b) times the velocity difference, each side against the other's no-slip velocity (va, vns_a:
