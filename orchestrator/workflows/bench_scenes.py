@@ -38,6 +38,7 @@ class BenchRow:
     note: str = ""
     wait: str = "-"  # numerics.thread_wait of a run on several threads
     repeats: int = 1  # the row is the fastest of this many runs
+    ranks: int = 1  # MPI ranks of the engine (LAMMPS), each on `threads` threads
 
 
 def mean_neighbours(positions, kind, support: float, periodic_box=None) -> float:
@@ -114,4 +115,4 @@ def run_bench_case(case_dict: dict, out_dir: Path, engine: str | None = None,
     return BenchRow(case.case.name, f"{engine} {attrs.get('engine_version', '')}".strip(), threads,
                     scene.n_particles, scene.n_fluid, steps, neighbours, wall, cpu,
                     work / wall if wall > 0 else math.nan, work / cpu if cpu > 0 else math.nan, status, note,
-                    case.numerics.thread_wait if threads > 1 else "-")
+                    case.numerics.thread_wait if threads > 1 else "-", ranks=mpi_ranks or 1)

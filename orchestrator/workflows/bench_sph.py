@@ -248,7 +248,7 @@ def format_report(rows: list[BenchRow]) -> str:
     """Plain-text table of the runs (each the fastest of `best of` runs) and the ratios."""
     header = ("scene", "engine", "threads", "wait", "particles", "fluid", "steps", "neighbours", "wall_s", "cpu_s",
               "particle-steps/s", "per core (cpu)", "best of", "status")
-    table = [[r.scene, r.engine, str(r.threads), r.wait, str(r.particles), str(r.fluid), str(r.steps),
+    table = [[r.scene, r.engine, str(r.threads) + (f" x {r.ranks} ranks" if r.ranks > 1 else ""), r.wait, str(r.particles), str(r.fluid), str(r.steps),
               _fmt(r.neighbours, ".1f"), _fmt(r.wall_s, ".2f"), _fmt(r.cpu_s, ".2f"), _rate(r.particle_steps_per_s),
               _rate(r.per_core), str(r.repeats), r.status] for r in rows]
     widths = [max(len(h), *(len(t[i]) for t in table)) if table else len(h) for i, h in enumerate(header)]

@@ -136,6 +136,25 @@ def test_lammps_ratios_and_install_hint():
     assert "3D dam break, 1 thread, sph / LAMMPS SPH: 2.00 per CPU second" in report
     assert INSTALL_HINT in format_report(rows[:1]) and INSTALL_HINT not in report
     assert not any(key.startswith("speedup") for key in summary(rows))  # LAMMPS's rows are no thread counts of ours
+    assert not any("2ranks" in key for key in s)
+
+
+def test_two_ranks_against_our_two_threads():
+    def row(engine, threads, rate, cpu_rate, wait="-", ranks=1):
+        return BenchRow("bench_block_3d", engine, threads, 100, 100, 10, 100.0, 1.0, 1.0, rate, cpu_rate,
+                        wait=wait, ranks=ranks)
+
+    rows = [row("sph 0.1.0", 1, 3e6, 3e6), row("sph 0.1.0", 2, 5e6, 2.6e6, "spin"),
+            row("sph 0.1.0", 2, 5.5e6, 2.8e6, "passive"), row("lammps 22 Jul 2025", 1, 1e6, 1e6),
+            row("lammps 22 Jul 2025", 1, 1.6e6, 0.8e6, ranks=2)]
+    s = summary(rows)
+    assert s["ratio_lammps_block_3d"] == pytest.approx(3.0)  # the 1-rank row, not the 2-rank one
+    assert s["ratio_lammps_2ranks_block_3d"] == pytest.approx(5.5 / 1.6)  # the faster of our 2-thread rows
+    assert s["ratio_lammps_2ranks_cpu_block_3d"] == pytest.approx(2.8 / 0.8)
+    assert s["lammps_2ranks_speedup_block_3d"] == pytest.approx(1.6)
+    report = format_report(rows)
+    assert "3D block, 2 cores, sph on 2 threads / LAMMPS SPH on 2 MPI ranks: 3.44 per wall second" in report
+    assert "1 x 2 ranks" in report
 
 
 @pytest.mark.sph
@@ -145,7 +164,8 @@ def test_smoke_run_of_both_engines(tmp_path):
                      steps_shear=1)
     peers = [r for r in rows if r.scene in ("bench_block_3d", "bench_dam_break_3d")]
     assert all(r.status == "ok" for r in peers), [r.note for r in peers]
-    by = {(r.scene, r.engine.split()[0]): r for r in peers}
+    assert sorted(r.ranks for r in peers if r.engine.startswith("lammps")) == [1, 1, 2, 2]
+    by = {(r.scene, r.engine.split()[0]): r for r in peers if r.ranks == 1}
     assert set(by) == {(s, e) for s in ("bench_block_3d", "bench_dam_break_3d") for e in ("sph", "lammps")}
     for scene, steps, particles in (("bench_block_3d", 5, 25_600), ("bench_dam_break_3d", 2, 25_360)):
         ours, theirs = by[(scene, "sph")], by[(scene, "lammps")]
