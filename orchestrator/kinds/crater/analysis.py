@@ -211,7 +211,7 @@ def measure_crater(case, result) -> dict[str, float]:
         kinetic0 = float(h["kinetic"][0])
         if "internal_energy" in last and kinetic0 > 0.0 and not case.sphere.kinematic:
             moving = np.asarray(last["kind"]) == 0
-            mass = case.material.density * case.numerics.dx**3
+            mass = case.material.inertial_density() * case.numerics.dx**3  # the run's particle mass
             v = np.asarray(last["velocities"], dtype=float)[moving]
             internal = mass * float(np.sum(np.asarray(last["internal_energy"])[moving]))
             final = 0.5 * mass * float(np.sum(v * v)) + internal + float(h["kinetic"][-1] + h["contact"][-1])

@@ -84,6 +84,9 @@ class CraterCase(Frozen):
     @model_validator(mode="after")
     def _consistent(self):
         check_solid_table("material", self.material.solid)
+        self.material.check_impact_speed(self.sphere.speed, "sphere.speed")
+        if self.sweep is not None:
+            self.material.check_impact_speed(max(self.sweep.speeds), "the fastest of sweep.speeds")
         dx = self.numerics.dx
         self.target.check_lattice(dx)
         radius = 0.5 * self.sphere.diameter

@@ -93,9 +93,11 @@ def grain_energy(result) -> tuple[np.ndarray, np.ndarray]:
 
 
 def target_energy(case, last: dict) -> dict[str, float]:
-    """Kinetic and internal energy (J) and plastic work (J) of the target's moving particles in a frame."""
+    """Kinetic and internal energy (J) and plastic work (J) of the target's moving particles in a frame (kinetic
+    and internal of the run's particle masses, f rho0 dx^3 with a mass scaling f; the plastic work from the
+    temperature, rho0 dx^3 C_p dT / chi, is the same with or without it)."""
     moving = np.asarray(last["kind"]) == 0
-    mass = case.material.density * case.numerics.dx**3
+    mass = case.material.inertial_density() * case.numerics.dx**3
     v = np.asarray(last["velocities"], dtype=float)[moving]
     out = {"kinetic": 0.5 * mass * float(np.sum(v * v)),
            "internal": mass * float(np.sum(np.asarray(last["internal_energy"], dtype=float)[moving]))}
@@ -103,7 +105,8 @@ def target_energy(case, last: dict) -> dict[str, float]:
     if s.heat_fraction > 0.0 and "temperature" in last:
         t0 = s.room_temperature or 293.0
         heat = np.asarray(last["temperature"], dtype=float)[moving] - t0
-        out["plastic_work"] = mass * s.heat_capacity * float(np.sum(heat)) / s.heat_fraction
+        physical = case.material.density * case.numerics.dx**3
+        out["plastic_work"] = physical * s.heat_capacity * float(np.sum(heat)) / s.heat_fraction
     return out
 
 

@@ -78,6 +78,7 @@ class ScratchCase(Frozen):
     @model_validator(mode="after")
     def _consistent(self):
         check_solid_table("material", self.material.solid)
+        self.material.check_impact_speed(self.grain.speed, "grain.speed")
         dx = self.numerics.dx
         self.target.check_lattice(dx)
         corner = self.grain.size * self.grain.corner / (2.0 * (1.0 + self.grain.corner))

@@ -130,11 +130,36 @@ class SolidBody(Frozen):
     name: Name = Field("solid", description="the material's name (it reaches the deck)")
     density: Positive = Field(description="reference density rho0, kg/m^3")
     solid: SolidMaterial = Field(description="elasticity, equation of state, strength, heating, failure")
+    mass_scaling: float = Field(1.0, ge=1.0, le=1.0e4, description="f: the run gives the solid f times its "
+                                "inertia at the same stiffness and heating (density f rho0, mie_gruneisen C0 / "
+                                "sqrt(f), C_p / f), so its stable step grows by sqrt(f) while the impact's Mach "
+                                "number grows by sqrt(f) too; 1: none. Its error on the crater: docs/crater.md, -")
+
+    def inertial_density(self) -> float:
+        """The density the run gives the solid, f rho0, kg/m^3 (its particles' masses; rho0 without scaling)."""
+        return self.density * self.mass_scaling
 
     def case_material(self) -> dict:
-        """The solid as an sph_flow case's [[materials]] table."""
-        return {"name": self.name, "model": "johnson_cook", "density": self.density,
-                "solid": self.solid.model_dump(exclude_none=True)}
+        """The solid as an sph_flow case's [[materials]] table, with the mass scaling applied: density f rho0, the
+        same bulk modulus (mie_gruneisen: rho0 C0^2, so C0 / sqrt(f)) and the same heating per volume (C_p / f)."""
+        solid = self.solid.model_dump(exclude_none=True)
+        f = self.mass_scaling
+        if f != 1.0:
+            if "bulk_sound_speed" in solid:
+                solid["bulk_sound_speed"] /= math.sqrt(f)
+            if "heat_capacity" in solid:
+                solid["heat_capacity"] /= f
+        return {"name": self.name, "model": "johnson_cook", "density": self.inertial_density(), "solid": solid}
+
+    def check_impact_speed(self, speed: float, key: str) -> None:
+        """ValueError naming mass_scaling (or the speed's key) when the run's wave speed sqrt((K + 4G/3) / (f
+        rho0)) is below 10 x the impact speed (m/s): weakly compressible SPH needs a Mach number below 0.1."""
+        wave = self.solid.wave_speed(self.density) / math.sqrt(self.mass_scaling)
+        if wave < 10.0 * speed:
+            most = (self.solid.wave_speed(self.density) / (10.0 * speed)) ** 2
+            raise ValueError(f"material.mass_scaling = {self.mass_scaling:g} leaves a wave speed of {wave:.4g} m/s, "
+                             f"below 10 x {key} = {speed:g} m/s (the Mach number must stay below 0.1): "
+                             f"use a mass_scaling of at most {max(most, 1.0):.3g}")
 
 
 class ImpactViscosity(Frozen):

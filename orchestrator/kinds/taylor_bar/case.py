@@ -100,6 +100,7 @@ class TaylorBarCase(Frozen):
     @model_validator(mode="after")
     def _consistent(self):
         check_solid_table("material", self.material.solid)
+        self.material.check_impact_speed(self.bar.speed, "bar.speed")
         layers = self.bar.length / self.numerics.dx
         if abs(layers - round(layers)) > 1e-6 * layers:
             raise ValueError(f"bar.length = {self.bar.length} m is not a whole number of numerics.dx = "

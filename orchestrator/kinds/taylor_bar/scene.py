@@ -16,7 +16,8 @@ def wall_penalty(case: TaylorBarCase) -> dict:
     """The wall's eq. 14 (range R = dx, zero force at s = 0.99 R so that it barely pulls, F(0) = psi):
     psi = wall_load_factor x rho0 c_L v dx^2, N, with c_L the longitudinal wave speed."""
     m, dx = case.material, case.numerics.dx
-    load = m.density * m.solid.wave_speed(m.density) * case.bar.speed * dx**2
+    # the run's impedance: f rho0 and c_L / sqrt(f) with a mass scaling f
+    load = m.inertial_density() * m.solid.wave_speed(m.density) / m.mass_scaling**0.5 * case.bar.speed * dx**2
     return {"range": dx, "s": 0.99 * dx, "psi": case.numerics.wall_load_factor * load}
 
 
