@@ -81,6 +81,6 @@ def sample_numerics(case) -> SampleNumerics:
     # a whole number of steps per record: the series then samples the cycles evenly
     record = period / numerics.samples_per_cycle if shear.oscillatory else shear.duration / 200.0
     dt = record / math.ceil(record / dt * (1.0 - 1e-12))
-    rest = numerics.rest_pressure_ratio * max(material.instantaneous_modulus, modulus)
+    rest = numerics.rest_ratio(sample.arrangement, sample.dimension) * max(material.instantaneous_modulus, modulus)
     subtract = numerics.subtract_mean_stress and not shear.oscillatory
     return SampleNumerics(rho, c0, dt, which, wave, edge, rest, morris, subtract)
