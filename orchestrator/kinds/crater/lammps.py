@@ -31,18 +31,16 @@ from pathlib import Path
 import numpy as np
 
 from orchestrator.errors import OrchestratorError
-from orchestrator.kinds.base import Adapter
 from orchestrator.kinds.crater.lammps_output import DUMP, SERIES, read_crater_output
 from orchestrator.kinds.sph_flow.machdyn import (
     deviations,
     finite,
     machdyn_parameters,
     material_cards,
-    refusal,
     run_steps,
     solid_material,
 )
-from orchestrator.templating import render
+from orchestrator.kinds.sph_flow.machdyn_files import MachdynAdapter
 
 TEMPLATE = Path(__file__).resolve().parent / "templates" / "lammps.in.j2"
 DECK = "in.lammps"
@@ -56,34 +54,6 @@ SHELL_LAYERS = 2
 #: Molecule ids of the data file: the target with its held support (smd/tlsph bonds only particles of one
 #: molecule), the sphere.
 TARGET, SPHERE = 1, 2
-
-
-class LammpsCrater(Adapter):
-    """The crater as a LAMMPS MACHDYN deck (templates/lammps.in.j2) with the particles in crater.data."""
-
-    engine = "lammps"
-    templates = (TEMPLATE,)
-
-    def check_scene(self, profile, scene) -> None:
-        """OrchestratorError naming what MACHDYN lacks for this target (exit 2 at the command line)."""
-        reason = refusal(solid_material(scene).solid, eos=("linear", "mie_gruneisen"), elastic=True)
-        if reason:
-            raise OrchestratorError(f"LAMMPS MACHDYN cannot run this crater: {reason}; run it with --engine sph")
-
-    def write_input(self, profile, scene, workdir: Path) -> None:
-        workdir = Path(workdir)
-        (workdir / "output").mkdir(exist_ok=True)
-        write_data_file(scene, workdir / DATA)
-        (workdir / DECK).write_text(render(TEMPLATE, deck_context(scene)))
-
-    def command(self, profile, scene, workdir: Path) -> tuple[list[str], dict[str, str]]:
-        return profile.command(DECK)
-
-    def read_output(self, profile, scene, workdir: Path):
-        return read_crater_output(Path(workdir), scene, run_steps(scene))
-
-    def planned_steps(self, profile, scene) -> int:
-        return run_steps(scene)[0]
 
 
 def sphere(scene):
@@ -186,3 +156,23 @@ def write_data_file(scene, path: Path) -> None:
     lines += ["", "Velocities", ""]
     lines += [f"{i + 1} {float(u[0])!r} {float(u[1])!r} {float(u[2])!r}" for i, u in enumerate(velocities)]
     Path(path).write_text("\n".join(lines) + "\n")
+
+
+class LammpsCrater(MachdynAdapter):
+    """The crater as a LAMMPS MACHDYN deck (templates/lammps.in.j2) with the particles in crater.data."""
+
+    templates = (TEMPLATE,)
+    label, eos, elastic = "crater", ("linear", "mie_gruneisen"), True
+    deck_file, data_file = DECK, DATA
+
+    def write_data(self, scene, path: Path) -> None:
+        write_data_file(scene, path)
+
+    def context(self, scene) -> dict:
+        return deck_context(scene)
+
+    def steps(self, scene) -> tuple[int, float, int]:
+        return run_steps(scene)
+
+    def read(self, workdir: Path, scene, steps):
+        return read_crater_output(workdir, scene, steps)

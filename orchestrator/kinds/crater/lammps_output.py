@@ -17,13 +17,11 @@ from pathlib import Path
 import numpy as np
 
 from orchestrator.engines.base import Result, Series
-from orchestrator.engines.liggghts_files import read_dump, read_table
+from orchestrator.engines.liggghts_files import read_table
+from orchestrator.kinds.sph_flow.machdyn_files import DUMP, frame_arrays, read_frames
 from orchestrator.runner import LOG_NAME, tail
 
-DUMP = "output/frames.dump"
 SERIES = "output/series.txt"
-#: Columns of the dump, in the deck's order.
-DUMP_COLUMNS = ("id", "x", "y", "z", "vx", "vy", "vz", "c_plastic_strain", "c_energy")
 #: Series of the run: name -> (columns of the series file, unit, meaning).
 SERIES_COLUMNS = {
     "impactor_sphere_position": (("x", "y", "z"), "m", "the sphere's centre"),
@@ -36,26 +34,6 @@ SERIES_COLUMNS = {
                                                           "plastic, viscous, hourglass)"),
 }
 _LOOP = re.compile(r"Loop time of (\S+) on (\d+) procs for (\d+) steps with (\d+) atoms")
-
-
-def read_frames(path: Path) -> list[tuple[int, np.ndarray]]:
-    """(step, rows (n, 9) in DUMP_COLUMNS order) of every complete record of the dump ([] without one); records
-    after one with other columns are dropped."""
-    records = []
-    for step, columns, rows in read_dump(path):
-        if columns != list(DUMP_COLUMNS):
-            break
-        records.append((step, rows))
-    return records
-
-
-def frame_arrays(rows: np.ndarray, masses: np.ndarray, kind: np.ndarray) -> dict[str, np.ndarray]:
-    """One record as the sph reader's frame arrays; masses: the particles' (kg, input order), for the internal
-    energy J -> J/kg; kind: the scene's (0 moving, 1 held)."""
-    rows = rows[np.argsort(rows[:, 0])]
-    return {"ids": rows[:, 0].astype(np.int64) - 1, "kind": np.asarray(kind, dtype=np.int8).copy(),
-            "positions": rows[:, 1:4].copy(), "velocities": rows[:, 4:7].copy(),
-            "plastic_strain": rows[:, 7].copy(), "internal_energy": rows[:, 8] / masses}
 
 
 def read_series(path: Path) -> tuple[np.ndarray, dict[str, Series]]:

@@ -17,21 +17,19 @@ from pathlib import Path
 import numpy as np
 
 from orchestrator.errors import OrchestratorError
-from orchestrator.kinds.base import Adapter
 from orchestrator.kinds.sph_flow.machdyn import (
     deviations,
     finite,
     machdyn_parameters,
-    refusal,
     run_steps,
     solid_material,
 )
+from orchestrator.kinds.sph_flow.machdyn_files import MachdynAdapter
 from orchestrator.kinds.taylor_bar.lammps_output import (
     DUMP,
     SERIES,
     read_taylor_bar_output,
 )
-from orchestrator.templating import render
 
 TEMPLATE = Path(__file__).resolve().parent / "templates" / "lammps.in.j2"
 DECK = "in.lammps"
@@ -40,34 +38,6 @@ DATA = "bar.data"
 SKIN_OVER_DX = 0.3
 #: Series records per run at most (the progress lines follow them).
 MAX_SERIES = 400
-
-
-class LammpsTaylorBar(Adapter):
-    """The Taylor bar as a LAMMPS MACHDYN deck (templates/lammps.in.j2) with the particles in bar.data."""
-
-    engine = "lammps"
-    templates = (TEMPLATE,)
-
-    def check_scene(self, profile, scene) -> None:
-        """OrchestratorError naming what MACHDYN lacks for this bar (exit 2 at the command line)."""
-        reason = refusal(solid_material(scene).solid, eos=("linear",))
-        if reason:
-            raise OrchestratorError(f"LAMMPS MACHDYN cannot run this Taylor bar: {reason}; run it with --engine sph")
-
-    def write_input(self, profile, scene, workdir: Path) -> None:
-        workdir = Path(workdir)
-        (workdir / "output").mkdir(exist_ok=True)
-        write_data_file(scene, workdir / DATA)
-        (workdir / DECK).write_text(render(TEMPLATE, deck_context(scene)))
-
-    def command(self, profile, scene, workdir: Path) -> tuple[list[str], dict[str, str]]:
-        return profile.command(DECK)
-
-    def read_output(self, profile, scene, workdir: Path):
-        return read_taylor_bar_output(Path(workdir), scene, run_steps(scene))
-
-    def planned_steps(self, profile, scene) -> int:
-        return run_steps(scene)[0]
 
 
 def wall_energy(scene) -> tuple[str, float]:
@@ -123,3 +93,23 @@ def write_data_file(scene, path: Path) -> None:
     lines += ["", "Velocities", ""]
     lines += [f"{i + 1} {u[0]!r} {u[1]!r} {u[2]!r}" for i, u in enumerate(v.tolist())]
     Path(path).write_text("\n".join(lines) + "\n")
+
+
+class LammpsTaylorBar(MachdynAdapter):
+    """The Taylor bar as a LAMMPS MACHDYN deck (templates/lammps.in.j2) with the particles in bar.data."""
+
+    templates = (TEMPLATE,)
+    label, eos = "Taylor bar", ("linear",)
+    deck_file, data_file = DECK, DATA
+
+    def write_data(self, scene, path: Path) -> None:
+        write_data_file(scene, path)
+
+    def context(self, scene) -> dict:
+        return deck_context(scene)
+
+    def steps(self, scene) -> tuple[int, float, int]:
+        return run_steps(scene)
+
+    def read(self, workdir: Path, scene, steps):
+        return read_taylor_bar_output(workdir, scene, steps)

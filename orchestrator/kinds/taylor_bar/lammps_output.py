@@ -15,36 +15,15 @@ from pathlib import Path
 import numpy as np
 
 from orchestrator.engines.base import Result, Series
-from orchestrator.engines.liggghts_files import read_dump, read_table
+from orchestrator.engines.liggghts_files import read_table
+from orchestrator.kinds.sph_flow.machdyn_files import DUMP, frame_arrays, read_frames
 from orchestrator.runner import LOG_NAME, tail
 
-DUMP = "output/frames.dump"
 SERIES = "output/series.txt"
-#: Columns of the dump, in the deck's order.
-DUMP_COLUMNS = ("id", "x", "y", "z", "vx", "vy", "vz", "c_plastic_strain", "c_energy")
 SERIES_UNITS = {"kinetic_energy": ("J", "kinetic energy of the bar"),
                 "internal_energy": ("J", "MACHDYN's internal energy of the bar (elastic, plastic, viscous, hourglass)"),
                 "wall_force": ("N", "force of the wall on the bar along +z")}
 _LOOP = re.compile(r"Loop time of (\S+) on (\d+) procs for (\d+) steps with (\d+) atoms")
-
-
-def read_frames(path: Path) -> list[tuple[int, np.ndarray]]:
-    """(step, rows (n, 9) in DUMP_COLUMNS order) of every complete record of the dump ([] without one); records
-    after one with other columns are dropped."""
-    records = []
-    for step, columns, rows in read_dump(path):
-        if columns != list(DUMP_COLUMNS):
-            break
-        records.append((step, rows))
-    return records
-
-
-def frame_arrays(rows: np.ndarray, mass: float) -> dict[str, np.ndarray]:
-    """One record as the sph reader's frame arrays; mass: every particle's, kg (internal_energy J -> J/kg)."""
-    rows = rows[np.argsort(rows[:, 0])]
-    return {"ids": rows[:, 0].astype(np.int64) - 1, "positions": rows[:, 1:4].copy(),
-            "velocities": rows[:, 4:7].copy(), "plastic_strain": rows[:, 7].copy(),
-            "internal_energy": rows[:, 8] / mass}
 
 
 def read_taylor_bar_output(workdir: Path, scene, steps: tuple[int, float, int]) -> Result:
