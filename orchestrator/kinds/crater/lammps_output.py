@@ -11,14 +11,18 @@ _kinetic_energy and _contact_energy (the Hertz contact's elastic energy), the ta
 
 from __future__ import annotations
 
-import re
 from pathlib import Path
 
 import numpy as np
 
 from orchestrator.engines.base import Result, Series
 from orchestrator.engines.liggghts_files import read_table
-from orchestrator.kinds.sph_flow.machdyn_files import DUMP, frame_arrays, read_frames
+from orchestrator.kinds.sph_flow.machdyn_files import (
+    DUMP,
+    frame_arrays,
+    loop_times,
+    read_frames,
+)
 from orchestrator.runner import LOG_NAME, tail
 
 SERIES = "output/series.txt"
@@ -33,7 +37,6 @@ SERIES_COLUMNS = {
     "target_internal_energy": (("target_internal",), "J", "MACHDYN's internal energy of the target (elastic, "
                                                           "plastic, viscous, hourglass)"),
 }
-_LOOP = re.compile(r"Loop time of (\S+) on (\d+) procs for (\d+) steps with (\d+) atoms")
 
 
 def read_series(path: Path) -> tuple[np.ndarray, dict[str, Series]]:
@@ -62,12 +65,7 @@ def read_crater_output(workdir: Path, scene, steps: tuple[int, float, int]) -> R
     last = records[-1][0] if records else 0
     result.attrs.update(n_steps=last, dt=dt, simulated_time=last * dt, dx=float(scene.case.numerics.dx),
                         h=float(scene.h), dimension=3)
-    loops = _LOOP.findall(log)
-    if loops:
-        wall, _, done, atoms = loops[-1]
-        result.attrs["engine_wall_time_s"] = float(wall)
-        if float(wall) > 0:
-            result.attrs["particle_steps_per_s"] = int(done) * int(atoms) / float(wall)
+    result.attrs.update(loop_times(log))
     time, series = read_series(workdir / SERIES)
     if len(time):
         result.time, result.series = time, series

@@ -5,6 +5,7 @@ mapping of the material onto MACHDYN is machdyn.py's."""
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import numpy as np
@@ -19,6 +20,22 @@ from orchestrator.templating import render
 DUMP = "output/frames.dump"
 #: Columns of the dump, in the decks' order.
 DUMP_COLUMNS = ("id", "x", "y", "z", "vx", "vy", "vz", "c_plastic_strain", "c_energy")
+
+
+_LOOP = re.compile(r"Loop time of (\S+) on (\d+) procs for (\d+) steps with (\d+) atoms")
+
+
+def loop_times(log: str) -> dict[str, float]:
+    """engine_wall_time_s (s) and particle_steps_per_s (1/s) of the last "Loop time" line of a LAMMPS log ({}
+    without one)."""
+    loops = _LOOP.findall(log)
+    if not loops:
+        return {}
+    wall, _, done, atoms = loops[-1]
+    out = {"engine_wall_time_s": float(wall)}
+    if float(wall) > 0:
+        out["particle_steps_per_s"] = int(done) * int(atoms) / float(wall)
+    return out
 
 
 def read_frames(path: Path) -> list[tuple[int, np.ndarray]]:

@@ -9,21 +9,24 @@ Series: kinetic_energy and internal_energy of the bar (J) and the wall's force o
 
 from __future__ import annotations
 
-import re
 from pathlib import Path
 
 import numpy as np
 
 from orchestrator.engines.base import Result, Series
 from orchestrator.engines.liggghts_files import read_table
-from orchestrator.kinds.sph_flow.machdyn_files import DUMP, frame_arrays, read_frames
+from orchestrator.kinds.sph_flow.machdyn_files import (
+    DUMP,
+    frame_arrays,
+    loop_times,
+    read_frames,
+)
 from orchestrator.runner import LOG_NAME, tail
 
 SERIES = "output/series.txt"
 SERIES_UNITS = {"kinetic_energy": ("J", "kinetic energy of the bar"),
                 "internal_energy": ("J", "MACHDYN's internal energy of the bar (elastic, plastic, viscous, hourglass)"),
                 "wall_force": ("N", "force of the wall on the bar along +z")}
-_LOOP = re.compile(r"Loop time of (\S+) on (\d+) procs for (\d+) steps with (\d+) atoms")
 
 
 def read_taylor_bar_output(workdir: Path, scene, steps: tuple[int, float, int]) -> Result:
@@ -40,12 +43,7 @@ def read_taylor_bar_output(workdir: Path, scene, steps: tuple[int, float, int]) 
     last = records[-1][0] if records else 0
     result.attrs.update(n_steps=last, dt=dt, simulated_time=last * dt, dx=float(scene.case.numerics.dx),
                         h=float(scene.h), dimension=3)
-    loops = _LOOP.findall(log)
-    if loops:
-        wall, _, done, atoms = loops[-1]
-        result.attrs["engine_wall_time_s"] = float(wall)
-        if float(wall) > 0:
-            result.attrs["particle_steps_per_s"] = int(done) * int(atoms) / float(wall)
+    result.attrs.update(loop_times(log))
     table = read_table(workdir / SERIES)
     if len(table.get("time", ())):
         result.time = np.asarray(table["time"], dtype=float)

@@ -10,6 +10,7 @@ import re
 import numpy as np
 import pytest
 from paths import VERIFICATION
+from machdyn_cards import pair_coeff_blocks
 
 from orchestrator.case import load_case
 from orchestrator.errors import OrchestratorError
@@ -33,19 +34,6 @@ def _deck(tmp_path, path=CRATER, overrides=()):
     return case, scene, (tmp_path / DECK).read_text()
 
 
-def _pair_coeff(deck: str) -> dict[str, list[float]]:
-    """The target's smd/tlsph card as numbers by keyword, e.g. {'*COMMON': [rho0, E, ...], '*EOS_SHOCK': [...]}."""
-    text = re.search(r"^pair_coeff\s+1 1 smd/tlsph (.*?\*END)", deck.replace("&\n", " "), re.M | re.S).group(1)
-    blocks, key = {}, None
-    for word in text.split():
-        if word.startswith("*"):
-            key = word
-            blocks[key] = []
-        else:
-            blocks[key].append(float(word))
-    return blocks
-
-
 def _atoms(tmp_path) -> np.ndarray:
     """The data file's Atoms rows as numbers (id type molecule volume mass h contact x0 y0 z0 x y z)."""
     lines = (tmp_path / DATA).read_text().splitlines()
@@ -58,7 +46,7 @@ def test_the_target_card_is_the_case_material(tmp_path):
     """E and nu give back G = 80.769 GPa and K = rho0 C0^2; the shock EOS and the Johnson-Cook numbers are the case's
     (Steinberg's 4340 and Guo and Liu's 100Cr6); the viscosity alpha / 2, beta / 4."""
     case, scene, deck = _deck(tmp_path)
-    card = _pair_coeff(deck)
+    card = pair_coeff_blocks(deck)
     assert list(card) == ["*COMMON", "*EOS_SHOCK", "*JOHNSON_COOK", "*END"]
     rho0, young, poisson, q1, q2, hourglass, cp = card["*COMMON"]
     assert rho0 == 7810.0 and (q1, q2, hourglass, cp) == (0.25, 0.25, 10.0, 475.0)
@@ -108,7 +96,7 @@ def test_the_data_file_holds_the_target_its_support_and_the_sphere(tmp_path):
 
 def test_an_indenter_moves_at_its_speed_into_an_elastic_block(tmp_path):
     case, scene, deck = _deck(tmp_path, HERTZ)
-    assert list(_pair_coeff(deck)) == ["*COMMON", "*EOS_LINEAR", "*STRENGTH_LINEAR", "*END"]
+    assert list(pair_coeff_blocks(deck)) == ["*COMMON", "*EOS_LINEAR", "*STRENGTH_LINEAR", "*END"]
     motion = re.search(r"^fix\s+sphere_motion sphere move linear (\S+) (\S+) (\S+) units box$", deck, re.M)
     assert [float(v) for v in motion.groups()] == [0.0, 0.0, -0.2] and "aveforce" not in deck
     ball, centre = sphere_particles(scene), scene.case.impactors[0].spheres[0][2]

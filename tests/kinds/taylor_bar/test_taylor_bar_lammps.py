@@ -10,6 +10,7 @@ import re
 import numpy as np
 import pytest
 from paths import VERIFICATION
+from machdyn_cards import pair_coeff_blocks
 
 from orchestrator.case import load_case
 from orchestrator.errors import OrchestratorError
@@ -40,24 +41,11 @@ def _deck(tmp_path, overrides=()):
     return case, scene, (tmp_path / DECK).read_text()
 
 
-def _pair_coeff(deck: str) -> dict[str, list[float]]:
-    """The pair_coeff card's keyword blocks as numbers, e.g. {'*COMMON': [rho0, E, ...], '*JOHNSON_COOK': [...]}."""
-    text = re.search(r"^pair_coeff\s+1 1 (.*?\*END)", deck.replace("&\n", " "), re.MULTILINE | re.DOTALL).group(1)
-    blocks, key = {}, None
-    for word in text.split():
-        if word.startswith("*"):
-            key = word
-            blocks[key] = []
-        else:
-            blocks[key].append(float(word))
-    return blocks
-
-
 def test_the_johnson_cook_card_is_the_case_material(tmp_path):
     """E and nu from G = 79.5769 GPa and K = 172.417 GPa are DynELA's 206.9 GPa and 0.3; the Johnson-Cook numbers,
     the viscosity (alpha / 2, beta / 4 for MACHDYN's mu written with 2h) and C_p are the case's."""
     case, scene, deck = _deck(tmp_path)
-    card = _pair_coeff(deck)
+    card = pair_coeff_blocks(deck)
     rho0, young, poisson, q1, q2, hourglass, cp = card["*COMMON"]
     assert rho0 == 7830.0 and young == pytest.approx(206.9e9, rel=1e-5) and poisson == pytest.approx(0.3, rel=1e-5)
     assert (q1, q2, hourglass, cp) == (0.25, 0.25, 10.0, 460.0)
