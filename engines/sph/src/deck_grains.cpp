@@ -4,6 +4,7 @@
 
 #include "deck.h"
 #include "deck_json.h"
+#include "physics_terms.h"
 
 namespace sph {
 
