@@ -7,7 +7,7 @@ included (engines/sph/README.md):
 - Wendland C2 kernel with support 2h (eq. 8), alpha_D = 7/(4 pi h^2) in 2D,
   21/(16 pi h^3) in 3D;
 - Tait EOS with background pressure (eq. 6); a fixed boundary particle's
-  pressure and sound speed are those of max(rho, rho0);
+  pressure and sound speed are those of max(rho, rho0) (a grain's particle's of its own density);
 - continuity (eq. 7) with the sign of drho/dt = -rho div v; fixed boundary
   particles evolve by the rate of the summation density, sum m_b v_ab . grad W;
 - pressure gradient (eq. 9 / rho_a), Morris viscosity (eq. 10, mu = rho0 nu,
@@ -156,7 +156,7 @@ def rates(state: SphState, model: SphModel) -> tuple[np.ndarray, np.ndarray]:
     n, d = state.x.shape
     fluid = state.kind == FLUID
     own = particle_materials(state, model)
-    rho_eos = np.where(fluid, state.rho, np.maximum(state.rho, own.rho0))
+    rho_eos = np.where(fluid | (state.kind == GRAIN), state.rho, np.maximum(state.rho, own.rho0))
     p = tait_pressure(rho_eos, own)
     c = sound_speed(rho_eos, own)
     vol = state.mass / state.rho

@@ -1,6 +1,6 @@
 // Rigid grains that the fluid drags: each grain is a set of particles (Kind::body: a sphere's lattice sites, or any
 // particle set) that move as one rigid body (rigid_body.h). To the fluid they are moving boundary particles (its
-// no-slip against their rigid velocity, their pressure from their own summation density, as a wall's); the fluid's
+// no-slip against their rigid velocity, their pressure from their own summation density, not floored); the fluid's
 // pair forces on them (grain_pairs.h, eq. G1) sum to the grain's force and torque
 //   F = sum_i m_i a_i,   T = sum_i (R r_i) x m_i a_i                                                   (G2)
 // (a_i the pair loop's reaction per unit mass on particle i, R r_i its arm from the centre of mass X), summed over

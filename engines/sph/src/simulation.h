@@ -118,7 +118,7 @@ class Simulation {
   void equation_of_state_at(std::ptrdiff_t i) {
     if constexpr (Models::any_solid) return solid_equation_of_state<Models>(P_, materials_, i);
     const TaitEos& eos = materials_.eos(P_.material[i]);
-    const double rho = P_.wall(i) ? std::max(P_.rho[i], eos.rho0) : P_.rho[i];
+    const double rho = P_.kind[i] == Kind::boundary ? std::max(P_.rho[i], eos.rho0) : P_.rho[i];
     P_.p[i] = eos.pressure(rho);
     if constexpr (has(term::artificial_viscosity)) P_.c[i] = eos.sound_speed(rho);
     P_.vol[i] = P_.mass[i] / P_.rho[i];
