@@ -64,14 +64,14 @@ def test_a_case_without_grains_renders_no_grain_key():
 
 
 BAD = [
-    (["grains.0.density=0.0"], "grains.0.density"),
-    (["grains.0.density=-1000.0"], "grains.0.density"),
+    (["grains.0.density=0.0"], "grains[0].density = 0.0: Input should be greater than 0"),
+    (["grains.0.density=-1000.0"], "grains[0].density = -1000.0: Input should be greater than 0"),
     (["grains.0.centre=[0.002, 0.008, 0.008]"], "grains[0].centre = [0.002, 0.008, 0.008]: the grain (radius 0.004 m) "
                                                 "reaches outside the domain box"),
     (["grains.0.radius=0.009"], "grains[0].radius = 0.009 m: the grain (0.018 m across) is larger than the domain box"),
-    (["grains.0.shape='cube'"], "grains.0.shape"),
+    (["grains.0.shape='cube'"], "grains[0].shape = 'cube'"),
     (["grains.0.velocity=[0.0, 0.0, 1.0]"], "grains[0]: its surface moves at up to 1 m/s"),
-    (["physics.terms=['morris_viscosity']"], "physics.balance_mean_weight needs physics.body_force and 'body_force'"),
+    (["grains=[]"], "physics.balance_mean_weight balances the weight of [[grains]]; the case has none"),
 ]
 
 
