@@ -20,7 +20,15 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from orchestrator.reference import rigid_body as rb
-from orchestrator.reference.sph import FLUID, GRAIN, SphModel, SphState, last_rates, rates, wrap
+from orchestrator.reference.sph import (
+    FLUID,
+    GRAIN,
+    SphModel,
+    SphState,
+    last_rates,
+    rates,
+    wrap,
+)
 
 
 @dataclass(frozen=True)

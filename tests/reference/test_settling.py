@@ -6,8 +6,12 @@ import math
 
 import pytest
 
-from orchestrator.reference.settling import (hasimoto_factor, periodic_terminal_speed, solid_fraction,
-                                             stokes_drag)
+from orchestrator.reference.settling import (
+    hasimoto_factor,
+    periodic_terminal_speed,
+    solid_fraction,
+    stokes_drag,
+)
 
 
 def test_stokes_drag_is_six_pi_mu_a_u():

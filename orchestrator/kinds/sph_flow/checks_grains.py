@@ -8,8 +8,18 @@ import math
 import numpy as np
 
 from orchestrator.errors import OrchestratorError
-from orchestrator.kinds.sph_flow.checks_base import check_row, frames_of, one_material, relative, tolerance_of
-from orchestrator.reference.settling import hasimoto_factor, periodic_terminal_speed, solid_fraction
+from orchestrator.kinds.sph_flow.checks_base import (
+    check_row,
+    frames_of,
+    one_material,
+    relative,
+    tolerance_of,
+)
+from orchestrator.reference.settling import (
+    hasimoto_factor,
+    periodic_terminal_speed,
+    solid_fraction,
+)
 
 #: The terminal speed is the mean over this last fraction of the run's series.
 TERMINAL_WINDOW = 0.2
