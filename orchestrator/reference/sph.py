@@ -7,7 +7,7 @@ included (engines/sph/README.md):
 - Wendland C2 kernel with support 2h (eq. 8), alpha_D = 7/(4 pi h^2) in 2D,
   21/(16 pi h^3) in 3D;
 - Tait EOS with background pressure (eq. 6); a fixed boundary particle's
-  pressure and sound speed are those of max(rho, rho0);
+  pressure and sound speed are those of max(rho, rho0) (a grain's particle's of its own density);
 - continuity (eq. 7) with the sign of drho/dt = -rho div v; fixed boundary
   particles evolve by the rate of the summation density, sum m_b v_ab . grad W;
 - pressure gradient (eq. 9 / rho_a), Morris viscosity (eq. 10, mu = rho0 nu,
@@ -51,7 +51,7 @@ from orchestrator.reference.sph_kernel import (  # noqa: F401  (part of this mod
     kernel_gradient_factor, kernel_value, neighbour_pairs, sound_speed, tait_pressure, wrap)
 from orchestrator.reference.sph_walls import PenaltyWalls
 
-FLUID, BOUNDARY = 0, 1
+FLUID, BOUNDARY, GRAIN = 0, 1, 4  # GRAIN: a rigid grain's particle (sph_grains.py)
 
 
 @dataclass(frozen=True)
@@ -152,11 +152,11 @@ def _sum_to(index: np.ndarray, values: np.ndarray, n: int) -> np.ndarray:
 
 def rates(state: SphState, model: SphModel) -> tuple[np.ndarray, np.ndarray]:
     """(dv/dt (n, D) m/s^2, drho/dt (n) kg/m^3/s) of every particle at the state (zero acceleration for
-    boundary particles)."""
+    boundary particles; a grain's particle: the reaction of its fluid pairs, eq. G1)."""
     n, d = state.x.shape
     fluid = state.kind == FLUID
     own = particle_materials(state, model)
-    rho_eos = np.where(fluid, state.rho, np.maximum(state.rho, own.rho0))
+    rho_eos = np.where(fluid | (state.kind == GRAIN), state.rho, np.maximum(state.rho, own.rho0))
     p = tait_pressure(rho_eos, own)
     c = sound_speed(rho_eos, own)
     vol = state.mass / state.rho
@@ -194,12 +194,16 @@ def rates(state: SphState, model: SphModel) -> tuple[np.ndarray, np.ndarray]:
             pi_ab = np.where(fluid[b], pi_ab, 0.0)
         acc_pairs -= (state.mass[b] * pi_ab)[:, None] * grad_w
     acc = _sum_to(a[moving], acc_pairs[moving], n)
+    grain = state.kind == GRAIN
+    if grain.any():  # eq. G1: each fluid-grain pair's reaction on the grain's particle (sph_grains.py)
+        react = moving & grain[b]
+        acc += _sum_to(b[react], -(state.mass[a] / state.mass[b])[react][:, None] * acc_pairs[react], n)
     drho_sum = _sum_to(a, drho, n)
     if model.body_force is not None:
         acc[fluid] += np.asarray(model.body_force, dtype=float)
     if model.walls is not None and fluid.any():
         acc[fluid] += model.walls.forces(state.x[fluid]) / state.mass[fluid][:, None]
-    acc[~fluid] = 0.0
+    acc[~(fluid | grain)] = 0.0
     return acc, drho_sum
 
 
@@ -234,9 +238,9 @@ def morris_correction_factors(a: np.ndarray, r2: np.ndarray, vol_b: np.ndarray, 
 
 
 def _no_slip_velocities(state: SphState, model: SphModel) -> np.ndarray:
-    """v for fluid; 2 v_b - (Shepard average of the fluid velocity within 2h) for boundary particles, m/s."""
+    """v for fluid; 2 v_b - (Shepard average of the fluid velocity within 2h) for boundary and grain particles, m/s."""
     v_noslip = state.v.copy()
-    boundary = np.nonzero(state.kind == BOUNDARY)[0]
+    boundary = np.nonzero((state.kind == BOUNDARY) | (state.kind == GRAIN))[0]
     fluid = np.nonzero(state.kind == FLUID)[0]
     if not len(boundary) or not len(fluid):
         return v_noslip
@@ -334,7 +338,7 @@ def from_scene(scene) -> tuple[SphState, SphModel]:
         background_pressure=first.background_pressure, viscosity=first.viscosity, materials=several,
         alpha=None if av is None else av.alpha, beta=0.0 if av is None else av.beta,
         av_walls=True if av is None else av.walls,
-        body_force=physics.body_force, walls=walls, periodic_axes=axes,
+        body_force=physics.body_force if scene.body_force is None else scene.body_force, walls=walls, periodic_axes=axes,
         periodic_lo=tuple(case.domain.lo[a] for a in axes), periodic_hi=tuple(case.domain.hi[a] for a in axes),
         viscosity_correction=physics.viscosity_correction, eddy_viscosity=physics.eddy_viscosity,
         eddy_walls=physics.eddy_viscosity_walls, dx=case.numerics.dx,

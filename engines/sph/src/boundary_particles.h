@@ -228,7 +228,7 @@ bool quadratic_ghost(const WallFit<D>& fit, double d_b, double weight, const Vec
 template <int D>
 void no_slip_velocity(Particles<D>& P, const std::vector<double>& shepard, std::ptrdiff_t b, double p_rest,
                       double rho_rest) {
-  if (P.kind[b] != Kind::boundary) {
+  if (!P.wall(b)) {  // fluid and buffers; a grain's particle (Kind::body) is a moving wall
     P.v_noslip[b] = P.v[b];
     return;
   }

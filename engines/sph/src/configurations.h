@@ -34,6 +34,7 @@ constexpr unsigned morris = term::morris_viscosity, av = term::artificial_viscos
 constexpr unsigned sheared = term::sheared;  // Lees-Edwards boundaries (the deck's `lees_edwards`)
 constexpr unsigned corrected = term::viscosity_correction;  // the deck's `viscosity_correction`
 constexpr unsigned eddy = term::eddy_viscosity;  // the deck's `eddy_viscosity` (Smagorinsky, eq. SM1)
+constexpr unsigned grains = term::grains;  // the deck's `grains` (rigid grains the fluid drags, eq. G1)
 }  // namespace config
 
 using Configurations = std::tuple<                           //
@@ -48,6 +49,9 @@ using Configurations = std::tuple<                           //
     Configuration<config::N, config::morris | config::av | config::corrected>,  //
     Configuration<config::N, config::morris | config::eddy>,                  // Smagorinsky eddy viscosity
     Configuration<config::N, config::morris | config::av | config::eddy>,     //   (the drill's jets and clearances)
+    Configuration<config::N, config::morris | config::grains>,                // grains in a viscous fluid
+    Configuration<config::N, config::morris | config::av | config::grains>,   //
+    Configuration<config::N, config::av | config::grains>,                    //   (inviscid: angular momentum)
     Configuration<config::P, 0>,                                              // PTT viscoelastic fluid (Nutto et al.)
     Configuration<config::P, config::av>,                                     //   with artificial viscosity
     Configuration<config::P, config::sheared>,                                // PTT Lees-Edwards cell (rheometer)

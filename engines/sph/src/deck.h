@@ -23,6 +23,9 @@ void parse_lees_edwards(const nlohmann::json& j, RunParameters& d);
 void parse_open_boundaries(const nlohmann::json& j, RunParameters& d);
 // The `impactors` list into d.impactors (deck_impactors.cpp; d.dimension and d.dx must be parsed).
 void parse_impactors(const nlohmann::json& j, RunParameters& d);
+// The `grains` list into d.grains (deck_grains.cpp; d.dimension, d.terms, d.body_force, the time and the Lees-Edwards
+// cell must be parsed).
+void parse_grains(const nlohmann::json& j, RunParameters& d);
 PlanePatch parse_patch(const nlohmann::json& e, const std::string& path, int dim, std::set<std::string>& seen);
 
 }  // namespace sph

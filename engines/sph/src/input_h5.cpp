@@ -67,6 +67,8 @@ ParticleInput read_particles(const std::string& path, int dimension) {
   p.kind = read<std::int8_t>(f, path, "kind", H5T_NATIVE_INT8, n, 0);
   // Optional: each particle's index into the deck's materials (0 for all when absent).
   if (H5Lexists(f, "material", H5P_DEFAULT) > 0) p.material = read<std::int32_t>(f, path, "material", H5T_NATIVE_INT32, n, 0);
+  // Optional: each body particle's grain (index into the deck's grains; ignored for other kinds).
+  if (H5Lexists(f, "grain", H5P_DEFAULT) > 0) p.grain = read<std::int32_t>(f, path, "grain", H5T_NATIVE_INT32, n, 0);
   // Optional: the nearest point of the true wall of each boundary particle (NaN: none).
   if (H5Lexists(f, "wall_point", H5P_DEFAULT) > 0) {
     p.wall_point = read<double>(f, path, "wall_point", H5T_NATIVE_DOUBLE, n, dimension);
@@ -90,9 +92,10 @@ ParticleInput read_particles(const std::string& path, int dimension) {
   for (std::size_t i = 0; i < n; ++i) {
     if (!(p.masses[i] > 0)) fail("masses[" + std::to_string(i) + "] in '" + path + "' must be > 0");
     if (!(p.densities[i] > 0)) fail("densities[" + std::to_string(i) + "] in '" + path + "' must be > 0");
-    if (p.kind[i] < 0 || p.kind[i] > 3)
-      fail("kind[" + std::to_string(i) + "] in '" + path + "' must be 0 (fluid), 1 (boundary), 2 (inlet) or 3 (outlet)");
-    p.has_buffers = p.has_buffers || p.kind[i] >= 2;
+    if (p.kind[i] < 0 || p.kind[i] > 4)
+      fail("kind[" + std::to_string(i) + "] in '" + path +
+           "' must be 0 (fluid), 1 (boundary), 2 (inlet), 3 (outlet) or 4 (a grain's particle)");
+    p.has_buffers = p.has_buffers || p.kind[i] == 2 || p.kind[i] == 3;
   }
   return p;
 }

@@ -7,7 +7,7 @@
 namespace sph {
 
 // Rows of the particle file: positions (n,D) m, velocities (n,D) m/s,
-// masses (n) kg, densities (n) kg/m^3, kind (n) 0 fluid / 1 boundary,
+// masses (n) kg, densities (n) kg/m^3, kind (n) 0 fluid / 1 boundary / 4 a grain's particle,
 // optionally material (n) integer index into the deck's `materials` (default 0)
 // and wall_point (n,D) m: the nearest point of the true wall surface of a fixed
 // boundary particle (NaN row: none; ignored for fluid; boundary_particles.h).
@@ -19,6 +19,7 @@ struct ParticleInput {
   std::vector<std::int32_t> material;  // optional dataset `material` (n): index into the deck's materials
   std::vector<double> wall_point;      // optional dataset `wall_point` (n,D) m, row-major; NaN rows: none
   std::vector<std::int64_t> ids;       // optional dataset `ids` (n): a resumed run's particle ids (default: row)
+  std::vector<std::int32_t> grain;     // optional dataset `grain` (n): a body particle's (kind 4) index into the deck's grains
   bool has_buffers = false;            // kind 2 (inlet) or 3 (outlet) rows: a resumed run's open-boundary buffers
 };
 

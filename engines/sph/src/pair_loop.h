@@ -8,11 +8,10 @@
 //   eq. T1  dv_a/dt   += m_b (sigma_a/rho_a^2 + sigma_b/rho_b^2) . grad_a W_ab
 //   eq. T2  G_a       += V_b (v_b - v_a) (x) grad_a W_ab,  M_a += V_b (x_b - x_a) (x) grad_a W_ab
 //           (velocity gradient L_a = G_a, or G_a M_a^-1 kernel-corrected: exact for linear v; close_rates)
-// Both:  eqs. 11-12 artificial viscosity and eq. 10 Morris viscosity (mu_ab of material.h).
-// Lees-Edwards (term::sheared): b's image moves at v_b + jump(code) (box_policy.h, eq. LE2),
-// so v_ab = v_a - v_b - jump(code) in every term.
-// grad_a W_ab = F r_ab with F of eq. 8; grad_b W_ba = -F r_ab. Pairs of the
-// skin, beyond 2h, add exact zeros (the kernel factor is clamped to 0).
+// Both:  eqs. 11-12 artificial viscosity and eq. 10 Morris viscosity (mu_ab of material.h); grains: eq. G1.
+// Lees-Edwards (term::sheared): b's image moves at v_b + jump(code) (box_policy.h, eq. LE2), so
+// v_ab = v_a - v_b - jump(code) in every term. grad_a W_ab = F r_ab with F of eq. 8; grad_b W_ba = -F r_ab.
+// Pairs of the skin, beyond 2h, add exact zeros (the kernel factor is clamped to 0).
 #pragma once
 #include <algorithm>
 #include <cmath>
@@ -20,6 +19,7 @@
 #include <vector>
 
 #include "boundary_particles.h"
+#include "grain_pairs.h"
 #include "kernel.h"
 #include "material.h"
 #include "materials/johnson_cook_material.h"
@@ -47,6 +47,8 @@ class PairLoop {
                 "eqs. SM1-SM2: the scalar path of one material with Morris viscosity");
   // The mu_ab of eq. 10 per pair: several materials' table or the eddy viscosity's (pass A gathers it).
   static constexpr bool pair_mu = has(term::several_materials) || eddy;
+  static constexpr bool grains = has(term::grains);  // eq. G1 (grain_pairs.h)
+  static_assert(!grains || (!tensor && !corrected && !eddy), "eq. G1: the scalar path, plain Morris sum");
 
   PairLoop(Particles<D>& P, const NeighbourList<D>& list, const WendlandC2<D>& kernel, const Model& model,
            const MaterialTable& materials, std::vector<double>& shepard)
@@ -64,11 +66,10 @@ class PairLoop {
   }
 
   // The pairs owned by the particles of block k: fluid or not, owner and
-  // neighbour, each combination its own branch-free loop. Compiled twice,
-  // for SSE2 and for AVX2 without FMA, chosen at run time: the AVX2 copy
-  // vectorises pass B 4 wide and uses 3-operand (VEX) instructions
-  // everywhere, and every operation rounds as in the SSE2 copy (no FMA
-  // contraction), so results do not depend on the CPU.
+  // neighbour, each combination its own branch-free loop. Compiled twice, for SSE2 and for AVX2 without
+  // FMA, chosen at run time: the AVX2 copy vectorises pass B 4 wide and uses 3-operand (VEX) instructions
+  // everywhere, and every operation rounds as in the SSE2 copy (no FMA contraction), so results do not
+  // depend on the CPU.
   void rates_of_block(int k) const {
     static const bool avx2 = __builtin_cpu_supports("avx2");
     if (avx2) rates_of_block_avx2(k);
@@ -77,10 +78,9 @@ class PairLoop {
   __attribute__((target("avx2"), noinline)) void rates_of_block_avx2(int k) const { rows_of_block(k); }
   __attribute__((noinline)) void rates_of_block_default(int k) const { rows_of_block(k); }
 
-  // At each list build (particles reordered, added or removed): whether every
-  // particle has the same mass (masses change only when particles come or go,
-  // which rebuilds the list; pass A then gathers no mass: its chunk holds that
-  // mass in every slot), and the sums of eq. VC1 sized to the particles.
+  // At each list build (particles reordered, added or removed): whether every particle has the same mass
+  // (masses change only when particles come or go, which rebuilds the list; pass A then gathers no mass: its
+  // chunk holds that mass in every slot), and the sums of eq. VC1 sized to the particles.
   void list_built() {
     const auto& m = P_.mass;
     uniform_mass_ = !m.empty() && std::all_of(m.begin(), m.end(), [&](double mi) { return mi == m[0]; });
@@ -119,24 +119,21 @@ class PairLoop {
   }
 
  private:
-  // The pair terms of owner a with the neighbours of entries [e, end), added
-  // to both particles. AMoves, BMoves: whether a and the neighbours are
-  // fluid. A fluid particle takes continuity (eq. 7), momentum (eq. 9 or T1)
-  // and the viscosities; any other takes the rate of the summation density
-  // sum_b m_b v_ab . grad_a W_ab.
-  // The row [e, end) in chunks of up to 128 entries. Tensor path: the pair
-  // terms in one loop (pair_terms). Scalar path, in three passes per chunk:
-  //   A. gather: r_ab, r^2, v_ab, v_ab . r_ab and b's values into local
-  //      arrays, keeping only the pairs within the support 2h (the list also
-  //      holds the skin, up to 1.1 2h: a fifth of the pairs in 2D, a quarter
-  //      in 3D, whose terms are exact zeros); branch-free;
-  //   B. the per-pair coefficients of eqs. 7, 9-12 (kernel, sqrt, divisions)
-  //      over those arrays: no gathers, no sums, so the compiler vectorises it;
-  //      B also multiplies the coefficients along r_ab by r_ab (the products
-  //      C would form: the same roundings);
+  // The pair terms of owner a with the neighbours of entries [e, end), added to both particles. AMoves,
+  // BMoves: whether a and the neighbours are fluid. A fluid particle takes continuity (eq. 7), momentum
+  // (eq. 9 or T1) and the viscosities; any other takes the rate of the summation density
+  // sum_b m_b v_ab . grad_a W_ab (and a grain's particle the reaction of eq. G1).
+  // The row [e, end) in chunks of up to 128 entries. Tensor path: the pair terms in one loop (pair_terms).
+  // Scalar path, in three passes per chunk:
+  //   A. gather: r_ab, r^2, v_ab, v_ab . r_ab and b's values into local arrays, keeping only the pairs
+  //      within the support 2h (the list also holds the skin, up to 1.1 2h: a fifth of the pairs in 2D, a
+  //      quarter in 3D, whose terms are exact zeros); branch-free;
+  //   B. the per-pair coefficients of eqs. 7, 9-12 (kernel, sqrt, divisions) over those arrays: no gathers,
+  //      no sums, so the compiler vectorises it; B also multiplies the coefficients along r_ab by r_ab (the
+  //      products C would form: the same roundings);
   //   C. the sums into a and the scatter to b, pair after pair in list order.
-  // Every accumulator receives the same contributions in the same order as
-  // a single fused loop would give it (bitwise the same results).
+  // Every accumulator receives the same contributions in the same order as a single fused loop would give
+  // it (bitwise the same results).
   using Chunk = PairChunk<D>;
   using Owner = PairOwner;
   template <bool AMoves, bool BMoves>
@@ -253,6 +250,8 @@ class PairLoop {
           if constexpr (AMoves) acc_a.noalias() += k.visc_a[j] * (va - v_noslip[b]);
           if constexpr (BMoves) acc[b].noalias() += k.visc_b[j] * (v[b] - vns_a);
         }
+        if constexpr (grains && AMoves != BMoves)
+          grain_reaction<AMoves, has(term::morris_viscosity), has(term::sheared)>(P_, k, j, a, b, va, vns_a, jumps, acc_a);
       }
     }
     if constexpr (eddy && AMoves) grad_v[a] += G_a;

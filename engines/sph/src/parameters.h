@@ -122,6 +122,15 @@ struct ImpactorSpec {
   bool kinematic = false;                     // prescribed velocity and angular velocity
 };
 
+// A rigid grain of particles that the fluid drags (grains.h): its particles are those of kind 4 (body) whose
+// `grain` dataset names it.
+struct GrainSpec {
+  std::string name;
+  double density = 0.0;                                // kg/m^3
+  std::vector<double> velocity, angular_velocity;      // m/s, rad/s (world), initial
+  std::vector<double> body_force;                      // m/s^2 on the grain (default: the deck's body force)
+};
+
 // Every setting of a run (what the deck parser returns).
 struct RunParameters {
   int dimension = 3;
@@ -147,6 +156,7 @@ struct RunParameters {
   std::vector<MeshSpec> meshes;
   double wall_range = 0, wall_s = 0, wall_psi = 0;  // R m, s m, psi N
   std::vector<ImpactorSpec> impactors;               // rigid impactors (3D)
+  std::vector<GrainSpec> grains;                     // rigid grains of particles (3D)
   // periodic boundaries
   LeesEdwardsSpec lees_edwards;
   std::vector<int> periodic_axes;

@@ -110,6 +110,9 @@ struct Particles {
   bool has_wall_points = false;                       // the input gave `wall_point` (boundary_particles.h)
   std::vector<Vec<D>> wall_offset, next_wall_offset;  // m: wall point - position (boundary; wrap-proof); NaN: none
   std::vector<WallFrame<D>> wall_frame, next_wall_frame;  // of wall_offset (set_wall_frames; fresh entries: none)
+  bool grains = false;                                // the run has rigid grains (grains.h)
+  std::vector<std::int32_t> grain, next_grain;        // a body particle's grain (index into the deck's), else -1
+  std::vector<Vec<D>> grain_offset, next_grain_offset;  // m: a body particle's offset in its grain's body frame
   // -- derived each evaluation
   std::vector<double> p, c;          // pressure Pa, sound speed m/s
   std::vector<double> vol, p_rho2;   // m/rho m^D, p/rho^2 (saves divisions in the pair loop)
@@ -153,6 +156,7 @@ struct Particles {
     if (modes) f(tau_solvent, next_tau_solvent);
     if (eddy) f(nu_t, next_nu_t);
     if (has_wall_points) f(wall_offset, next_wall_offset), f(wall_frame, next_wall_frame);
+    if (grains) f(grain, next_grain), f(grain_offset, next_grain_offset);
   }
 
   // The wall frames of every particle from its wall_offset (call after setting wall offsets; Simulation does).
@@ -166,6 +170,7 @@ struct Particles {
   bool tensor() const { return has_stress || modes > 0; }  // momentum in the tensor form: gradients and sigma
   bool moves(std::size_t a) const { return kind[a] == Kind::fluid; }       // integrates the forces
   bool advects(std::size_t a) const { return kind[a] != Kind::boundary; }  // changes position
+  bool wall(std::size_t a) const { return kind[a] == Kind::boundary || kind[a] == Kind::body; }  // no-slip, never pulls
   bool integrates(Integrates who, std::size_t a) const { return who == Integrates::all || advects(a); }
 
   void resize(std::size_t n) {
@@ -287,6 +292,7 @@ struct Particles {
     SPH_TAKE(solid_state), SPH_TAKE(solid), SPH_TAKE(art_stress);
     SPH_TAKE(has_wall_points), SPH_TAKE(wall_offset), SPH_TAKE(next_wall_offset), SPH_TAKE(wall_frame),
     SPH_TAKE(next_wall_frame), SPH_TAKE(x_noslip), SPH_TAKE(wall_fit);
+    SPH_TAKE(grains), SPH_TAKE(grain), SPH_TAKE(next_grain), SPH_TAKE(grain_offset), SPH_TAKE(next_grain_offset);
     SPH_TAKE(mass), SPH_TAKE(kind), SPH_TAKE(id), SPH_TAKE(material);
     SPH_TAKE(next_mass), SPH_TAKE(next_kind), SPH_TAKE(next_id), SPH_TAKE(next_material);
     SPH_TAKE(p), SPH_TAKE(c), SPH_TAKE(vol), SPH_TAKE(p_rho2), SPH_TAKE(v_noslip);

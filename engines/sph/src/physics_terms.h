@@ -37,6 +37,9 @@ constexpr unsigned viscosity_correction = 1u << 10;
 // Not a deck term: set by the dispatcher for the deck key `eddy_viscosity` (Smagorinsky's sub-particle
 // viscosity nu_t = (cs dx)^2 |S| added to the Morris term's, eq. SM1 of eddy_viscosity.h).
 constexpr unsigned eddy_viscosity = 1u << 11;
+// Not a deck term: set by the dispatcher for the deck key `grains` (rigid grains of particles that the fluid drags:
+// the pair loop also sums the fluid's pair forces on the grains' particles, grain_pairs.h eq. G1).
+constexpr unsigned grains = 1u << 12;
 
 struct Named {
   const char* name;
@@ -50,8 +53,10 @@ inline constexpr Named optional[count] = {{"morris_viscosity", morris_viscosity}
 
 // fluid: moved by the forces; boundary: fixed, carries density and pressure;
 // inlet / outlet: buffer particles of an open boundary, carried at a fixed
-// velocity, carrying density and pressure like boundary particles.
-enum class Kind : std::int8_t { fluid = 0, boundary = 1, inlet = 2, outlet = 3 };
+// velocity, carrying density and pressure like boundary particles; body: a
+// particle of a rigid grain (grains.h), a moving boundary particle placed by
+// its grain's motion.
+enum class Kind : std::int8_t { fluid = 0, boundary = 1, inlet = 2, outlet = 3, body = 4 };
 
 // Everything a pair term may read about particles a and b (b within the support 2h of a).
 template <int D>

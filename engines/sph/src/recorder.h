@@ -24,6 +24,12 @@ inline constexpr std::tuple<const char*, int, const char*> impactor_series[] = {
     {"position", 3, "m"}, {"velocity", 3, "m/s"}, {"angular_velocity", 3, "rad/s"}, {"orientation", 4, "1"},
     {"force", 3, "N"}, {"kinetic_energy", 0, "J"}, {"contact_energy", 0, "J"}};
 inline constexpr int impactor_columns = 18;
+// Each grain's series (grains.h): its centre of mass, velocity, angular velocity, orientation, and the fluid's force
+// and torque about its centre on it (eq. G2, of the last evaluation: mid-step during a run; its body force apart).
+inline constexpr std::tuple<const char*, int, const char*> grain_series[] = {
+    {"position", 3, "m"}, {"velocity", 3, "m/s"}, {"angular_velocity", 3, "rad/s"}, {"orientation", 4, "1"},
+    {"force", 3, "N"}, {"torque", 3, "N m"}};
+inline constexpr int grain_columns = 19;
 
 template <int D, class Sim>
 class Recorder {
@@ -68,11 +74,14 @@ class Recorder {
     }
     for (const auto& b : sim.impactors().bodies())
       for (const auto& [what, cols, units] : impactor_series) out.series("impactor_" + b.name + "_" + what, cols, units);
+    for (const auto& g : sim.grains().grains())
+      for (const auto& [what, cols, units] : grain_series) out.series("grain_" + g.name + "_" + what, cols, units);
     const std::size_t extra = (Sim::tensor ? 2 : 0) + (sim.images().lees_edwards() ? 2 : 0);
-    const std::size_t bodies = sim.impactors().bodies().size();
+    const std::size_t bodies = sim.impactors().bodies().size(), grains = sim.grains().grains().size();
     const std::size_t n = sim.particles().x.capacity();
     const std::size_t scalars = probes_.size() + planes_.size() + open.count() + 2 * open.columns().size();
-    values_.resize(scalars + D * sim.walls().meshes().size() + 2 + extra + impactor_columns * bodies);
+    values_.resize(scalars + D * sim.walls().meshes().size() + 2 + extra + impactor_columns * bodies +
+                   grain_columns * grains);
     std::size_t j = 0;  // where each series' row starts in values_
     for (std::size_t i = 0; i < scalars; ++i) rows_.push_back(&values_[j++]);
     for (std::size_t m = 0; m < sim.walls().meshes().size(); ++m, j += D) rows_.push_back(&values_[j]);
@@ -81,6 +90,8 @@ class Recorder {
     for (std::size_t e = 0; e < extra; ++e) rows_.push_back(&values_[j++]);
     for (std::size_t b = 0; b < bodies; ++b)
       for (const auto& series : impactor_series) rows_.push_back(&values_[j]), j += std::max(1, std::get<1>(series));
+    for (std::size_t g = 0; g < grains; ++g)
+      for (const auto& series : grain_series) rows_.push_back(&values_[j]), j += std::get<1>(series);
     ids_.reserve(n), kind_.reserve(n), x_.reserve(n * D), v_.reserve(n * D), rho_.reserve(n), p_.reserve(n);
     order_.reserve(n);
     if (sim.particles().has_stress) field_.reserve(n * D * D);
@@ -138,6 +149,16 @@ class Recorder {
           q.w(), q.x(), q.y(), q.z(), b.wrench.force.x(), b.wrench.force.y(), b.wrench.force.z(),
           rigid::kinetic_energy(b.body, b.state), sim_.impactors().contact_energy_at(P, static_cast<int>(i))};
       std::copy(row, row + impactor_columns, values_.begin() + k), k += impactor_columns;
+    }
+    for (const auto& g : sim_.grains().grains()) {
+      const auto& s = g.state;
+      const auto& q = s.orientation;
+      const double row[grain_columns] = {
+          s.position.x(), s.position.y(), s.position.z(), s.velocity.x(), s.velocity.y(), s.velocity.z(),
+          s.angular_velocity.x(), s.angular_velocity.y(), s.angular_velocity.z(), q.w(), q.x(), q.y(), q.z(),
+          g.wrench.force.x(), g.wrench.force.y(), g.wrench.force.z(), g.wrench.torque.x(), g.wrench.torque.y(),
+          g.wrench.torque.z()};
+      std::copy(row, row + grain_columns, values_.begin() + k), k += grain_columns;
     }
     out_.record(t, rows_);
     last_series_ = t;

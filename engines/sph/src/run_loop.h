@@ -55,6 +55,7 @@ inline Wanted wanted_by(const RunParameters& deck) {
   if (deck.lees_edwards.on) w.terms |= term::sheared;
   if (deck.viscosity_correction) w.terms |= term::viscosity_correction;
   if (deck.smagorinsky_cs > 0) w.terms |= term::eddy_viscosity;
+  if (!deck.grains.empty()) w.terms |= term::grains;
   return w;
 }
 template <class Models>

@@ -17,6 +17,7 @@ template <int D>
 Particles<D> make_particles(const RunParameters& deck, const ParticleInput& in, std::size_t extra = 0) {
   Particles<D> P;
   P.has_wall_points = !in.wall_point.empty();
+  P.grains = !deck.grains.empty();
   P.reserve(in.n + extra);
   P.resize(in.n);
   const std::vector<MaterialSpec> materials = deck.material_list();
@@ -45,6 +46,15 @@ Particles<D> make_particles(const RunParameters& deck, const ParticleInput& in, 
       throw InputError("material[" + std::to_string(i) + "] = " + std::to_string(mat) + " in the particle file is not an index into 'materials' (0.." +
                        std::to_string(nm - 1) + ")");
     P.material[i] = static_cast<std::uint8_t>(mat);
+    if (P.grains) P.grain[i] = -1, P.grain_offset[i].setZero();
+    if (P.kind[i] == Kind::body) {
+      const std::int32_t g = in.grain.empty() ? -1 : in.grain[i];
+      if (g < 0 || static_cast<std::size_t>(g) >= deck.grains.size())
+        throw InputError("particle " + std::to_string(i) + " is a grain's (kind 4) but its 'grain' = " + std::to_string(g) +
+                         " in the particle file is not an index into the deck's 'grains' (" +
+                         std::to_string(deck.grains.size()) + " of them)");
+      P.grain[i] = g;
+    }
     if (P.kind[i] == Kind::fluid) {
       const double speed = P.v[i].norm();
       // A new run's fluid starts within v_max, the speed its c0 was chosen for. A resumed run (t_start or

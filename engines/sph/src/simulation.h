@@ -1,9 +1,7 @@
-// The weakly compressible SPH solver for one dimension and one compiled
-// configuration (configurations.h). One step runs the stages of stages.h. The
-// pair loop visits a Verlet half list (neighbour_list.h) in block colours, so
-// every particle receives its contributions in an order that does not depend
-// on the OpenMP schedule (bitwise identical results on any thread count).
-// Images come from box_policy.h. Fixed boundary particles keep position and velocity
+// The weakly compressible SPH solver for one dimension and one compiled configuration (configurations.h). One step
+// runs the stages of stages.h. The pair loop visits a Verlet half list (neighbour_list.h) in block colours, so every
+// particle receives its contributions in an order that does not depend on the OpenMP schedule (bitwise identical
+// results on any thread count). Images come from box_policy.h. Fixed boundary particles keep position and velocity
 // and evolve their density; inlet/outlet buffers move at their velocity.
 #pragma once
 #include <algorithm>
@@ -20,6 +18,7 @@
 #include "eddy_viscosity.h"
 #include "extra_stress.h"
 #include "external_forces.h"
+#include "grains.h"
 #include "integrator.h"
 #include "kernel.h"
 #include "material.h"
@@ -56,7 +55,7 @@ class Simulation {
     const int modes = add_materials<Models>(deck, materials_);
     model_ = fluid_model<D, Terms>(deck, materials_[0].mu, materials_[0].eos.rho0);
     smagorinsky_.length2 = deck.smagorinsky_cs * deck.smagorinsky_cs * deck.dx * deck.dx;
-    hold_inlets_ = deck.inlets_extrapolated();
+    hold_inlets_ = deck.inlets_extrapolated(), grains_.start(deck.grains, P_, materials_, deck.dx);  // grains: unwrapped
     const PeriodicBox<D> box = periodic_box<D>(deck);
     images_ = Images(box);
     if (deck.lees_edwards.on) images_.set_lees_edwards(deck.lees_edwards), cells_.set_lees_edwards(true);
@@ -90,6 +89,7 @@ class Simulation {
   const NeighbourList<D>& neighbour_list() const { return list_; }
   const StageTimes& stage_times() const { return times_; }
   const Impactors<D>& impactors() const { return external_.impactors(); }
+  const Grains<D>& grains() const { return grains_; }
   // Kernel-corrected velocity gradient (eq. T2; default on): exact for a linear velocity field.
   void set_gradient_correction(bool on) { correct_gradient_ = on; }
 
@@ -175,7 +175,7 @@ class Simulation {
     stamp_time(par, t[1]);
     pairs_.rates(par);  // the pair loop in the block colours (pair_loop.h)
     stamp_time(par, t[2]);
-    if (!external_.impactors().empty()) gather_impactors(par);
+    if (!external_.impactors().empty() || has(term::grains)) gather_bodies(dt);
     if (dt <= 0.0) {
       for_each_index(par, n, [this](std::ptrdiff_t i) { close_rates_at(i); });
       return;
@@ -184,6 +184,7 @@ class Simulation {
     StepMaxima m = partial_each_index(par, n, maxima_partials_, StepMaxima{}, [&](std::ptrdiff_t i, StepMaxima& part) {
       close_rates_at(i);
       correct_at(P_, i, dt);
+      if constexpr (has(term::grains)) grains_.place(P_, i);  // at the grain's corrected pose (eq. G3)
       if constexpr (tensor) post_correct_material<Models>(P_, materials_, i, dt);
       take_maxima(P_, materials_, i, part.worst_rho, part.v2, part.a2, part.finite);
     });
@@ -191,11 +192,13 @@ class Simulation {
 #pragma omp master
     if (par) maxima_threads_ = omp_get_num_threads();
   }
-  // The impactors' reactions from the positions the pair loop saw (impactors.h, eq. I2), on one thread.
-  void gather_impactors(bool par) {
-    if (!par) return external_.impactors().gather(P_);
+  // On one thread (also outside a region): the impactors' reactions (impactors.h, I2), the grains' wrenches, G2-G3.
+  void gather_bodies(double dt) {
 #pragma omp single
-    external_.impactors().gather(P_);
+    {
+      if (!external_.impactors().empty()) external_.impactors().gather(P_);
+      if constexpr (has(term::grains)) grains_.gather(P_, dt);
+    }
   }
   // After a region that corrected on the threads: their maxima, in thread order (exact), into maxima_; stamps `at`.
   void finish_maxima(double& at) {
@@ -233,8 +236,7 @@ class Simulation {
   }
 
  public:
-  // No-slip velocity of a fixed boundary particle (boundary_particles.h).
-  // Tensor configurations: also its extra stress (eq. W1) and so its sigma / rho^2 (eq. T1).
+  // No-slip velocity of a fixed boundary particle (boundary_particles.h); tensor: also its extra stress (eq. W1).
   void no_slip_velocity_at(std::ptrdiff_t b) {
     const TaitEos& eos = materials_.eos(P_.material[b]);
     no_slip_velocity(P_, shepard_, b, eos.pressure(eos.rho0), eos.rho0);  // a wall's floor: its rest state
@@ -251,12 +253,10 @@ class Simulation {
   // With the eddy viscosity the viscous criterion takes nu + the largest nu_t of the last evaluation.
   double adaptive_dt() {
     const double dt = adaptive_time_step(maxima(), deck_, materials_, has(term::morris_viscosity));
-    if constexpr (eddy) return eddy_time_step(dt, deck_, materials_, max_eddy_viscosity());
-    return dt;
+    return eddy ? eddy_time_step(dt, deck_, materials_, max_eddy_viscosity()) : dt;
   }
-  double max_eddy_viscosity() const {  // m^2/s, largest nu_t of the last evaluation (0 without eddy viscosity)
-    return P_.nu_t.empty() ? 0.0 : *std::max_element(P_.nu_t.begin(), P_.nu_t.end());
-  }
+  // m^2/s, the largest nu_t of the last evaluation (0 without eddy viscosity).
+  double max_eddy_viscosity() const { return P_.nu_t.empty() ? 0.0 : *std::max_element(P_.nu_t.begin(), P_.nu_t.end()); }
 
   // Forget the maxima (call after adding, removing or changing particles: the list is rebuilt before use).
   void forget_maxima() { maxima_.valid = false, list_stale_ = true; }
@@ -269,14 +269,12 @@ class Simulation {
   bool rebuild_near() const { return list_stale_ || last_moved_ > 0.75 * last_allowed_; }
   void ensure_rates() { rates_ready_ ? void() : compute_rates(); }  // the initial state's rates (cells binned)
 
-  // One full step (stages.h), one rate evaluation at the half step. While the
-  // Verlet list stays valid (verlet_skin.h) the step is one parallel region:
-  // predictor fused with the EOS and zeroed sums, the pair loop, then
-  // close_rates fused with corrector, post_correct and step maxima. Otherwise
-  // the predicted state is rebinned (rebin_predicted) and the list rebuilt.
-  // Between builds positions stay unwrapped (up to skin/2 outside the box).
-  // Displacements go to `crossed` (x_old wrapped, dx, volume) for flow planes.
-  // False if the predicted particles spread over too many cells (blow-up).
+  // One full step (stages.h), one rate evaluation at the half step. While the Verlet list stays valid (verlet_skin.h)
+  // the step is one parallel region: predictor fused with the EOS and zeroed sums, the pair loop, then close_rates
+  // fused with corrector, post_correct and step maxima. Otherwise the predicted state is rebinned (rebin_predicted)
+  // and the list rebuilt. Between builds positions stay unwrapped (up to skin/2 outside the box). Displacements go to
+  // `crossed` (x_old wrapped, dx, volume) for flow planes. False if the predicted particles spread over too many
+  // cells (blow-up).
   template <class Crossed>
   bool step(double dt, Crossed&& crossed) {
     ensure_rates(), background_stress_ = background_stress<Models>(P_, sheared && deck_.lees_edwards.subtract_mean_stress);
@@ -291,6 +289,7 @@ class Simulation {
     const double allowed = allowed_displacement<sheared>(kernel_.support_radius(), skin_, strain);
     rates_ready_ = true, maxima_.valid = false;
     external_.impactors().predict(dt);  // their mid-step pose (impactors.h, eq. I3)
+    if constexpr (has(term::grains)) grains_.predict(dt);  // the grains' (grains.h, eq. G3)
     ++times_.evaluations;
     double t[5];  // stamps: start, predicted, no-slip velocities, pairs, corrected
     auto region = [&](bool par) {
@@ -299,6 +298,7 @@ class Simulation {
           par, n, moved_partials_, 0.0,
           [&](std::ptrdiff_t i, double& m) {
             predict_in_place(P_, i, half);
+            if constexpr (has(term::grains)) grains_.place(P_, i);
             if (!check) return;  // rebuilt anyway (and shepard_ may not match the particles)
             if (P_.advects(i)) m = std::max(m, displacement_since_build<D, sheared>(P_.x[i], x_build_[i], strain, y_mid).squaredNorm());
             start_rates_at(i);
@@ -328,9 +328,8 @@ class Simulation {
     return true;
   }
 
-  // NaN anywhere, or a fluid particle whose density deviates from its rho0 by
-  // more than the threshold or that is faster than c0. (Boundary and buffer
-  // densities are devices of the wall and open-boundary models.)
+  // NaN anywhere, or a fluid particle whose density deviates from its rho0 by more than the threshold or that is
+  // faster than c0. (Boundary and buffer densities are devices of the wall and open-boundary models.)
   StabilityReport check_stability() { return stability_report(maxima(), deck_.max_density_deviation, materials_.c0_max()); }
 
   // max |rho/rho0 - 1| over the fluid particles (rho0 of each particle's material).
@@ -378,6 +377,7 @@ class Simulation {
   std::vector<double> shepard_;  // Shepard weight sums of the boundary particles (Morris)
   PairLoop<D, Terms, Models> pairs_;
   ExternalForces<D> external_;
+  Grains<D> grains_;
   bool hold_inlets_ = false;  // every inlet extrapolates: its particles' density rate is 0 (close_rates_at)
   bool walls_together_ = false;  // every fixed boundary particle has the same velocity
   bool non_fluid_ = true;  // tensor path: a particle is not fluid (the no-slip pass runs), at the last list build

@@ -44,14 +44,14 @@ inline __attribute__((always_inline)) void wall_sums_of_block(Particles<D>& P, c
     if (P.moves(a)) {  // a fluid: its boundary neighbours
       for (int j = row.mid; j < row.end; ++j) {
         const int b = static_cast<int>(e[j] >> List::shift_bits);
-        if (P.kind[b] != Kind::boundary) continue;
+        if (!P.wall(b)) continue;  // boundary or a grain's particle
         const double w = weight(a, e[j], r);
         if (w == 0.0) continue;
         if constexpr (tensor) add_wall_stress<Models>(P, b, a, w);  // eq. W1 (boundary_particles.h)
         add_no_slip<D>(P, b, a, w, r,
                        {P.v_noslip[b], shepard[b], positions ? P.x_noslip[b] : no_x, positions ? P.wall_fit[b] : no_fit});
       }
-    } else if (P.kind[a] == Kind::boundary && row.begin != row.mid) {  // a boundary particle: its fluid neighbours
+    } else if (P.wall(a) && row.begin != row.mid) {  // a boundary or grain particle: its fluid neighbours
       Vec<D> v = P.v_noslip[a], xs = positions ? P.x_noslip[a] : no_x;
       double ws = shepard[a];
       WallFit<D> fit = positions ? P.wall_fit[a] : no_fit;

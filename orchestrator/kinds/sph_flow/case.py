@@ -20,6 +20,7 @@ import math
 from pydantic import Field, model_validator
 
 from orchestrator.case.common import CaseMeta, Frozen
+from orchestrator.kinds.sph_flow.case_grains import Grain, check_grains
 from orchestrator.kinds.sph_flow.case_impactors import Impactor, check_impactors
 from orchestrator.kinds.sph_flow.case_limits import check_sph
 from orchestrator.kinds.sph_flow.case_materials import (Material, check_materials, largest_c0_and_viscosity,
@@ -59,6 +60,8 @@ class SphFlowCase(Frozen):
     outlets: tuple[Outlet, ...] = ()
     impactors: tuple[Impactor, ...] = Field((), description="rigid impactors (3D): hard bodies made of spheres that "
                                             "push on the particles (case_impactors.py)")
+    grains: tuple[Grain, ...] = Field((), max_length=1000, description="rigid grains (3D) made of the lattice's "
+                                      "particles that the fluid drags (case_grains.py)")
     lees_edwards: LeesEdwards | None = Field(None, description="a sheared periodic cell (case_shear.py): steady "
                                              "shear_rate 1/s, or oscillatory amplitude and omega rad/s")
     numerics: SphNumerics
@@ -84,6 +87,7 @@ class SphFlowCase(Frozen):
         self._check_times()
         check_lees_edwards(self)
         check_impactors(self.impactors, self.dimension)
+        check_grains(self)
 
         check_sph(self, *largest_c0_and_viscosity(run_materials(self)))
         return self

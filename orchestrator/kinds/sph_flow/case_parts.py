@@ -167,6 +167,10 @@ class Physics(Frozen):
         "Smagorinsky's constant cs (0.1-0.2): adds the eddy viscosity nu_t = (cs dx)^2 |S| m^2/s to the Morris "
         "term's nu (the Reynolds stresses of a flow the lattice does not resolve; engine eqs. SM1-SM2, "
         "engines/sph/src/eddy_viscosity.h); needs morris_viscosity, not with viscosity_correction"))
+    balance_mean_weight: bool = Field(False, description=(
+        "a box periodic along the body force g: the mean weight of fluid and grains is carried by a mean pressure "
+        "gradient, so the fluid takes g (1 - rho_m / rho_f) and each grain g (1 - rho_m / rho_g), rho_m their mean "
+        "density (case_grains.py); needs [[grains]] and body_force"))
     eddy_viscosity_walls: bool = Field(True, description=(
         "nu_t also on the pairs with a wall particle (the fluid's own); false: between fluid particles only, the "
         "wall friction the laminar Morris term's (walls the lattice does not resolve)"))

@@ -83,6 +83,7 @@ CHECK_QUANTITIES = {
     "surge_front": ("surge_front_Z",),
     "penalty_column": ("eq14_wall_force", "min_distance_to_wall", "floor_force"),
     "oldroyd_b_startup": ("centreline_velocity",),
+    "settling": ("terminal_speed",),
     "penalty_incline": ("eq14_wall_force", "min_distance_to_wall", "slide_distance", "distance_to_plane",
                         "plane_force"),
 }

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from orchestrator.kinds.sph_flow.case import SphFlowCase, Wall
+from orchestrator.kinds.sph_flow.case_grains import carve_grains, grain_decks
 from orchestrator.kinds.sph_flow.case_impactors import check_clear
 from orchestrator.kinds.sph_flow.case_limits import sph_timestep
 from orchestrator.kinds.sph_flow.case_materials import (RunMaterial, block_materials, largest_c0_and_viscosity,
@@ -39,7 +40,7 @@ class SphScene:
     velocities: np.ndarray  # (n, D) m/s
     masses: np.ndarray  # (n,) kg (2D: kg/m)
     densities: np.ndarray  # (n,) kg/m^3
-    kind: np.ndarray  # (n,) int8: 0 fluid, 1 fixed boundary
+    kind: np.ndarray  # (n,) int8: 0 fluid, 1 fixed boundary, 4 a grain's particle
     block: np.ndarray  # (n,) index of the case block each particle comes from
     meshes: dict[str, WallMesh]
     h: float  # smoothing length, m (kernel support 2h)
@@ -49,6 +50,9 @@ class SphScene:
     material: np.ndarray | None = None  # (n,) int32 index into materials of each particle
     materials: tuple[RunMaterial, ...] = ()  # the run's materials (one, "fluid", without [[materials]])
     wall_point: np.ndarray | None = None  # (n, D) m: a boundary particle's nearest point of the true wall (NaN: none)
+    grain: np.ndarray | None = None  # (n,) int32: a grain particle's (kind 4) index into case.grains, else -1
+    grains: tuple[dict, ...] = ()  # the deck's grain objects (case_grains.grain_decks)
+    body_force: tuple[float, ...] | None = None  # the fluid's body force when it is not physics.body_force, m/s^2
 
     @property
     def dimension(self) -> int:
@@ -180,10 +184,15 @@ def build_sph_flow(case: SphFlowCase) -> SphScene:
     c0 = max(m.c0 for m in materials)
     positions, velocities, masses, densities, kind, block, material, wall_point = _particles(case, materials)
     meshes = {wall.name: wall_mesh(wall, case.dimension) for wall in case.walls}
+    grain, grains, body_force = None, (), None
+    if case.grains:
+        kind, velocities, grain = carve_grains(case.grains, positions, kind, velocities, case.numerics.dx)
+        body_force, grains = grain_decks(case, masses, kind, grain, materials[0].rho0)
+        grains = tuple(grains)
     check_clear(case.impactors, positions, kind == FLUID, case.numerics.dx)
     h = case.numerics.h
     dt = sph_timestep(case, *largest_c0_and_viscosity(materials))  # fixed, or the adaptive step at rest
     return SphScene(case=case, positions=positions, velocities=velocities, masses=masses, densities=densities,
                     kind=kind, block=block, meshes=meshes, h=h, c0=c0, timestep=dt,
                     physics=tuple(case.physics.terms), material=material, materials=materials,
-                    wall_point=wall_point)
+                    wall_point=wall_point, grain=grain, grains=grains, body_force=body_force)

@@ -85,7 +85,7 @@ def deck_context(scene, threads: int = 1) -> dict:
         "viscosity_correction": physics.viscosity_correction,
         "eddy_viscosity_cs": None if physics.eddy_viscosity is None else num(physics.eddy_viscosity),
         "eddy_viscosity_walls": "true" if physics.eddy_viscosity_walls else "false",
-        "body_force": None if physics.body_force is None else vec(physics.body_force),
+        "body_force": None if physics.body_force is None else vec(scene.body_force or physics.body_force),
         "meshes": [{"name": json.dumps(name), "group": json.dumps("/" + name)} for name in scene.meshes],
         "wall": None if wall is None else {"range": num(wall.range), "s": num(wall.s), "psi": num(wall.psi)},
         "periodic": periodic,
@@ -104,6 +104,7 @@ def deck_context(scene, threads: int = 1) -> dict:
         "probes": [json.dumps({"name": p.name, "point": [float(c) for c in p.point]}) for p in output.probes],
         "flow_planes": [_patch_json(p) for p in output.flow_planes],
         "impactors": [json.dumps(imp.deck(stiffness_scale(scene.materials, numerics.dx))) for imp in case.impactors],
+        "grains": [json.dumps(g) for g in scene.grains],
     }
 
 
@@ -123,7 +124,7 @@ def _patch_json(patch, **extra) -> str:
 
 def write_particles(scene, path: Path) -> None:
     """The particle input file: positions (n,D) m, velocities (n,D) m/s, masses (n) kg, densities (n)
-    kg/m^3, kind (n) int8 (0 fluid, 1 fixed boundary), with [[materials]] material (n) int32 (index into the
+    kg/m^3, kind (n) int8 (0 fluid, 1 fixed boundary, 4 a grain's particle; then grain (n) int32, its grain), with [[materials]] material (n) int32 (index into the
     deck's materials) and, when a block names a cylinder wall, wall_point (n,D) m (a boundary particle's nearest
     point of the true wall; NaN rows: none)."""
     import h5py
@@ -138,6 +139,8 @@ def write_particles(scene, path: Path) -> None:
             h5["material"] = np.asarray(scene.material, dtype=np.int32)
         if scene.wall_point is not None:
             h5["wall_point"] = np.asarray(scene.wall_point, dtype=np.float64)
+        if scene.grain is not None:
+            h5["grain"] = np.asarray(scene.grain, dtype=np.int32)
 
 
 def write_meshes(scene, path: Path) -> None:
@@ -168,6 +171,8 @@ SERIES_DESCRIPTIONS = {
     "shear_rate": "Lees-Edwards shear rate gamma_dot(t) of the cell",
     "impactor_": "a rigid impactor's centre, velocity, angular velocity, orientation (quaternion w, x, y, z), the "
                  "particles' contact force on it, its kinetic and contact energy (engines/sph/README.md)",
+    "grain_": "a rigid grain's centre of mass, velocity, angular velocity, orientation (quaternion w, x, y, z), and the "
+              "fluid's force and torque on it (eq. G2, engines/sph/README.md)",
 }
 #: Root attributes of out.h5 copied into run.h5 (engine name -> run.h5 name).
 ENGINE_ATTRS = {"n_steps": "n_steps", "dt_mean": "dt", "t_final": "simulated_time", "wall_time_s": "engine_wall_time_s",

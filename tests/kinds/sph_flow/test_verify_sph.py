@@ -58,7 +58,8 @@ def test_every_sph_scene_has_checks_and_units():
                                        "sph_two_layer_poiseuille", "sph_two_layer_couette",
                                        "sph_pipe_hagen_poiseuille", "sph_annulus_laminar",
                                        "sph_saos_one_mode", "sph_saos_table3", "sph_steady_ptt", "sph_steady_ptt_wi5",
-                                       "sph_newtonian_cell", "sph_oldroyd_b_poiseuille"}
+                                       "sph_newtonian_cell", "sph_oldroyd_b_poiseuille",
+                                       "sph_settling_sphere_16dx", "sph_settling_sphere_24dx"}
     for path in files:
         case = load_case(path).model
         checks = CHECKS if case.case.kind == "sph_flow" else RHEOMETER_CHECKS
@@ -118,10 +119,13 @@ def test_dam_break_check_compares_over_the_measured_range():
                                              "surge_front_Z[martin_moyce_1952_a2.25in]"}
 
 
-#: Checks that fail today, with the largest error accepted until they are fixed (none: the 3D annulus, its 5 mm gap
+#: Checks that fail today, with the largest error accepted until they are fixed (the 3D annulus, its 5 mm gap
 #: 5 particles across at dx = 1 mm, missed 3 % (profile 5.27 %, gradient 7.82 % low); at dx = 0.5 mm it passes and
-#: is the suite's annulus; the 1 mm scene is in cases/verification/coarse).
-KNOWN_FAILURES: dict[tuple[str, str], float] = {}
+#: is the suite's annulus; the 1 mm scene is in cases/verification/coarse). The settling sphere (a = 4.06 dx) settles too fast against Stokes x Hasimoto: at its quick preset 19.7 % (c = 0.068)
+#: and 9.3 % (c = 0.020); 17.6 % and 8.8 % over the full 20 ms; 15.1 % and 6.6 % at a = 6 dx: the drag of a radius
+#: about 5 % below the volume radius (docs/verify_sph.md).
+KNOWN_FAILURES: dict[tuple[str, str], float] = {("sph_settling_sphere_16dx", "terminal_speed"): 0.21,
+                                                ("sph_settling_sphere_24dx", "terminal_speed"): 0.10}
 
 
 def _key(row) -> tuple[str, str]:
@@ -165,7 +169,7 @@ def test_every_scene_at_its_quick_preset_passes(tmp_path):
     # steady PTT at Wi = 5 (epsilon 0.01) for 20 relaxation times: eta, N1 and the normal-stress ratio
     wi5 = [r for r in rows if r["scene"] == "sph_steady_ptt_wi5"]
     assert len(wi5) == 3 and all(r["passed"] for r in wi5)
-    assert len(rows) == 30 + 22 + 3
+    assert len(rows) == 30 + 22 + 3 + 2
 
 
 @needs_sph

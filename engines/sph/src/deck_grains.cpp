@@ -1,0 +1,38 @@
+// The deck's rigid grains (parameters.h GrainSpec, grains.h): the `grains` list.
+#include <set>
+#include <string>
+
+#include "deck.h"
+#include "deck_json.h"
+#include "physics_terms.h"
+
+namespace sph {
+
+using namespace deck_json;
+
+void parse_grains(const json& j, RunParameters& d) {
+  if (!j.is_array()) fail("'grains' must be a list");
+  if (!j.empty() && d.dimension != 3) fail("'grains' act in 3D only (dimension = " + std::to_string(d.dimension) + ")");
+  if (!j.empty() && (d.t_start > 0.0 || d.step_start > 0))
+    fail("'grains' cannot resume a run (t_start, step_start): a grain's orientation is not in the particle file");
+  if (!j.empty() && d.lees_edwards.on) fail("'grains' cannot sit in a 'lees_edwards' cell (it takes fluid particles only)");
+  std::set<std::string> seen;
+  for (std::size_t i = 0; i < j.size(); ++i) {
+    const json& e = j[i];
+    const std::string path = "grains[" + std::to_string(i) + "]";
+    check_keys(e, path, {"name", "density", "velocity", "angular_velocity", "body_force"});
+    GrainSpec s;
+    s.name = unique_name(e, path, seen);
+    s.density = positive(e, path, "density");
+    auto three = [&](const char* key, const std::vector<double>& fallback) {
+      return e.contains(key) ? vector_of(e[key], where(path, key), 3) : fallback;
+    };
+    const std::vector<double> zero(3, 0.0);
+    s.velocity = three("velocity", zero);
+    s.angular_velocity = three("angular_velocity", zero);
+    s.body_force = three("body_force", (d.terms & term::body_force) ? d.body_force : zero);
+    d.grains.push_back(s);
+  }
+}
+
+}  // namespace sph

@@ -1,0 +1,155 @@
+// Rigid grains that the fluid drags: each grain is a set of particles (Kind::body: a sphere's lattice sites, or any
+// particle set) that move as one rigid body (rigid_body.h). To the fluid they are moving boundary particles (its
+// no-slip against their rigid velocity, their pressure from their own summation density, not floored); the fluid's
+// pair forces on them (grain_pairs.h, eq. G1) sum to the grain's force and torque
+//   F = sum_i m_i a_i,   T = sum_i (R r_i) x m_i a_i                                                   (G2)
+// (a_i the pair loop's reaction per unit mass on particle i, R r_i its arm from the centre of mass X), summed over
+// the particles in index order by one thread, so the result does not depend on the thread count and the momentum
+// of fluid and grains balances to rounding. The grain's mass and inertia are those of its particles at the grain's
+// density rho_g (R1-R2 of rigid_body.h with masses m_i rho_g / rho0_i: its particles keep the fluid's mass and
+// density in the pair terms). In the engine's predictor-corrector the grain steps as the impactors (impactors.h, I3),
+// with the fluid's own half-step velocity:
+//   predict:  X* = X + V dt/2, q* = rotor(q, L, dt/2);  the fluid sees V* = V + dt/2 (F/M + g_g), L* = L + dt/2 T
+//             (F, T of the previous evaluation; g_g the grain's body force per unit mass)
+//   correct:  V += dt (F*/M + g_g),  L += dt T*,  then the second half drift                          (G3)
+// so X' = X + dt (V + V')/2, the fluid's eq. P4. A particle is placed by its grain's displacement from the start
+// of the step, x_i = x_i^n + (X' - X) + (R' - R) r_i (positions stay in the periodic image they were wrapped to),
+// and moves at v_i = V + omega x R r_i. 3D only.
+#pragma once
+#include <cmath>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "material.h"
+#include "parameters.h"
+#include "particles.h"
+#include "rigid_body.h"
+#include "vec.h"
+
+namespace sph {
+
+template <int D>
+class Grains {
+ public:
+  struct Grain {
+    std::string name;
+    rigid::RigidBody body;       // mass kg, principal moments kg m^2
+    rigid::RigidState state;     // current (mid-step pose during an evaluation)
+    rigid::RigidState start;     // at the start of the step
+    Vec<3> seen_velocity = Vec<3>::Zero(), seen_omega = Vec<3>::Zero();  // what the fluid sees, m/s, rad/s
+    Mat<3> rotation = Mat<3>::Identity(), start_rotation = Mat<3>::Identity();  // R of state and start
+    Vec<3> body_force = Vec<3>::Zero();  // g_g, m/s^2
+    rigid::Wrench wrench{Vec<3>::Zero(), Vec<3>::Zero()};  // the fluid's force and torque of the last evaluation (G2)
+    std::size_t particles = 0;
+  };
+
+  bool empty() const { return grains_.empty(); }
+  const std::vector<Grain>& grains() const { return grains_; }
+
+  // The deck's grains from the body particles of P (unwrapped, as given): mass properties at the grain densities
+  // (rho0 of each particle's material), body-frame offsets into P.grain_offset, then every particle placed at its
+  // grain's pose and velocity. InputError when a grain has no particle.
+  void start(const std::vector<GrainSpec>& specs, Particles<D>& P, const MaterialTable& materials, double dx) {
+    if constexpr (D == 3) {
+      for (std::size_t g = 0; g < specs.size(); ++g) {
+        std::vector<Vec<3>> x, offsets;
+        std::vector<double> m;
+        std::vector<std::size_t> rows;
+        for (std::size_t i = 0; i < P.size(); ++i)
+          if (P.kind[i] == Kind::body && P.grain[i] == static_cast<std::int32_t>(g))
+            rows.push_back(i), x.push_back(P.x[i]),
+                m.push_back(P.mass[i] * specs[g].density / materials.eos(P.material[i]).rho0);
+        if (rows.empty()) throw InputError("grains[" + std::to_string(g) + "] ('" + specs[g].name +
+                                           "') has no particle (kind 4 with grain = " + std::to_string(g) + ")");
+        offsets.resize(rows.size());
+        Grain b;
+        b.name = specs[g].name, b.particles = rows.size();
+        b.body = rigid::body_from_particles(x.data(), m.data(), rows.size(), dx, b.state, offsets.data());
+        rigid::set_velocities(b.body, b.state, Eigen::Map<const Vec<3>>(specs[g].velocity.data()),
+                              Eigen::Map<const Vec<3>>(specs[g].angular_velocity.data()));
+        b.body_force = Eigen::Map<const Vec<3>>(specs[g].body_force.data());
+        b.start = b.state, b.seen_velocity = b.state.velocity, b.seen_omega = b.state.angular_velocity;
+        b.rotation = b.start_rotation = b.state.orientation.toRotationMatrix();
+        for (std::size_t k = 0; k < rows.size(); ++k) {
+          const std::size_t i = rows[k];
+          P.grain_offset[i] = offsets[k];
+          const Vec<3> arm = b.rotation * offsets[k];
+          P.x[i] = b.state.position + arm, P.v[i] = b.seen_velocity + b.seen_omega.cross(arm);
+        }
+        grains_.push_back(std::move(b));
+      }
+    } else {
+      if (!specs.empty()) throw InputError("'grains' act in 3D only");
+      (void)P, (void)materials, (void)dx;
+    }
+  }
+
+  // Start of a step of dt (s): the start pose kept, the half drift, the velocities the fluid sees (G3).
+  void predict(double dt) {
+    for (auto& b : grains_) {
+      b.start = b.state, b.start_rotation = b.rotation;
+      rigid::drift(b.body, b.state, 0.5 * dt);
+      b.rotation = b.state.orientation.toRotationMatrix();
+      b.seen_velocity = b.start.velocity + (0.5 * dt) * (b.wrench.force / b.body.mass + b.body_force);
+      const Vec<3> L = b.start.angular_momentum + (0.5 * dt) * b.wrench.torque;
+      b.seen_omega = rigid::angular_velocity(b.body, b.state.orientation, L);
+    }
+  }
+
+  // Particle i, when it is a grain's: placed by the grain's displacement since the start of the step (P.x0) and
+  // given its rigid velocity (after the predictor or the corrector wrote it).
+  void place(Particles<D>& P, std::ptrdiff_t i) const {
+    if constexpr (D == 3) {
+      if (P.kind[i] != Kind::body) return;
+      const Grain& b = grains_[P.grain[i]];
+      const Vec<3>& offset = P.grain_offset[i];
+      const Vec<3> arm = b.rotation * offset;
+      P.x[i] = P.x0[i] + (b.state.position - b.start.position) + (arm - b.start_rotation * offset);
+      P.v[i] = b.seen_velocity + b.seen_omega.cross(arm);
+    } else {
+      (void)P, (void)i;
+    }
+  }
+
+  // The fluid's force and torque on every grain from the pair loop's reactions (G2), in index order; with dt > 0
+  // (s) the corrector of G3. Serial: call between the pair loop and the particles' corrector.
+  void gather(const Particles<D>& P, double dt) {
+    if constexpr (D == 3) {
+      for (auto& b : grains_) b.wrench = {Vec<3>::Zero(), Vec<3>::Zero()};
+      for (std::size_t i = 0; i < P.size(); ++i) {
+        if (P.kind[i] != Kind::body) continue;
+        Grain& b = grains_[P.grain[i]];
+        const Vec<3> f = P.mass[i] * P.acc[i];
+        b.wrench.force += f;
+        b.wrench.torque += (b.rotation * P.grain_offset[i]).cross(f);
+      }
+      if (!(dt > 0.0)) return;
+      for (auto& b : grains_) {
+        rigid::kick(b.body, b.state, b.wrench.force + b.body.mass * b.body_force, b.wrench.torque, dt);
+        rigid::drift(b.body, b.state, 0.5 * dt);
+        b.rotation = b.state.orientation.toRotationMatrix();
+        b.seen_velocity = b.state.velocity, b.seen_omega = b.state.angular_velocity;
+      }
+    } else {
+      (void)P, (void)dt;
+    }
+  }
+
+  // Momentum (kg m/s) and angular momentum about the origin (kg m^2/s) of the grains.
+  Vec<3> momentum() const {
+    Vec<3> p = Vec<3>::Zero();
+    for (const auto& b : grains_) p += b.body.mass * b.state.velocity;
+    return p;
+  }
+  Vec<3> angular_momentum() const {
+    Vec<3> l = Vec<3>::Zero();
+    for (const auto& b : grains_) l += b.state.angular_momentum + b.body.mass * b.state.position.cross(b.state.velocity);
+    return l;
+  }
+
+ private:
+  std::vector<Grain> grains_;
+};
+
+}  // namespace sph

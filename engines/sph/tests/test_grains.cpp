@@ -1,0 +1,190 @@
+// Rigid grains that the fluid drags (grains.h, grain_pairs.h): a sphere of particles in a fluid. Checked: the
+// momentum of fluid and grain together in a periodic box (viscous fluid, every pair term of eq. G1), their angular
+// momentum in a free blob (inviscid: central pair forces), the grain's particles kept rigid, a grain in a fluid at
+// rest left at rest, 1 and 2 threads bitwise equal, and the deck's refusals.
+#include <omp.h>
+
+#include <cmath>
+
+#include <nlohmann/json.hpp>
+
+#include "check.h"
+#include "deck.h"
+#include "simulation.h"
+
+using namespace sph;
+
+namespace {
+
+using Viscous = Simulation<3, term::morris_viscosity | term::grains>;
+using Inviscid = Simulation<3, term::artificial_viscosity | term::grains>;
+
+constexpr double dx = 1e-3, rho0 = 1000.0, c0 = 2.0;
+constexpr int n = 10;              // the box: n^3 lattice sites
+constexpr double radius = 2.6 * dx;  // the grain: the sites within this radius of the box's centre
+
+// A Newtonian fluid (nu 1e-4 m^2/s) with one grain of density `density` moving at V, turning at omega;
+// periodic on every axis when `periodic`.
+RunParameters grain_deck(unsigned terms, bool periodic, double density) {
+  RunParameters d;
+  d.dimension = 3, d.terms = terms, d.rho0 = rho0, d.c0 = c0, d.v_max = 0.2, d.viscosity = 1e-4;
+  d.alpha = 0.1, d.dx = dx, d.h = 1.3 * dx;
+  if (periodic) d.periodic_axes = {0, 1, 2}, d.periodic_lo = {0, 0, 0}, d.periodic_hi = {n * dx, n * dx, n * dx};
+  GrainSpec g;
+  g.name = "ball", g.density = density, g.velocity = {0.05, -0.02, 0.01}, g.angular_velocity = {3.0, -5.0, 20.0};
+  g.body_force = {0, 0, 0};
+  d.grains = {g};
+  return d;
+}
+
+// The lattice of the box, its sites within `radius` of the centre (shifted off the lattice's symmetry) the grain's,
+// the fluid moving in a shear wave of amplitude u (m/s).
+Particles<3> grain_in_fluid(double u) {
+  Particles<3> P;
+  P.grains = true;
+  P.resize(n * n * n);
+  const Vec<3> centre = dx * Vec<3>(0.5 * n + 0.1, 0.5 * n - 0.2, 0.5 * n + 0.05);
+  int k = 0;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      for (int l = 0; l < n; ++l, ++k) {
+        P.x[k] = dx * Vec<3>(i + 0.5, j + 0.5, l + 0.5);
+        P.v[k] = u * Vec<3>(std::sin(2 * M_PI * (j + 0.5) / n), 0.3 * std::cos(2 * M_PI * (l + 0.5) / n), 0.0);
+        P.rho[k] = rho0, P.mass[k] = rho0 * dx * dx * dx, P.id[k] = k;
+        const bool inside = (P.x[k] - centre).norm() < radius;
+        P.kind[k] = inside ? Kind::body : Kind::fluid, P.grain[k] = inside ? 0 : -1;
+      }
+  return P;
+}
+
+struct Totals {
+  Vec<3> momentum, angular;  // kg m/s, kg m^2/s (about the origin)
+  double scale_p, scale_l;   // sums of |m v| and |m x x v|: what rounding is relative to
+};
+template <class Sim>
+Totals totals(const Sim& sim) {
+  const auto& P = sim.particles();
+  const auto& g = sim.grains().grains()[0];
+  Totals t{sim.grains().momentum(), sim.grains().angular_momentum(), 0.0, 0.0};
+  t.scale_p = g.body.mass * g.state.velocity.norm(), t.scale_l = t.angular.norm();
+  for (std::size_t i = 0; i < P.size(); ++i) {
+    if (!P.moves(i)) continue;
+    t.momentum += P.mass[i] * P.v[i], t.angular += P.mass[i] * P.x[i].cross(P.v[i]);
+    t.scale_p += P.mass[i] * P.v[i].norm(), t.scale_l += P.mass[i] * P.x[i].cross(P.v[i]).norm();
+  }
+  return t;
+}
+
+// Largest deviation (m) of the grain's particle distances from their start, over the particles of grain 0.
+double rigidity(const Particles<3>& P, const Particles<3>& start) {
+  double worst = 0.0;
+  for (std::size_t a = 0; a < P.size(); ++a)
+    for (std::size_t b = a + 1; b < P.size(); ++b) {
+      if (P.kind[a] != Kind::body || P.kind[b] != Kind::body) continue;
+      std::size_t a0 = 0, b0 = 0;  // the same particles (by id) at the start
+      for (std::size_t i = 0; i < start.size(); ++i) a0 = start.id[i] == P.id[a] ? i : a0, b0 = start.id[i] == P.id[b] ? i : b0;
+      worst = std::max(worst, std::abs((P.x[a] - P.x[b]).norm() - (start.x[a0] - start.x[b0]).norm()));
+    }
+  return worst;
+}
+
+}  // namespace
+
+TEST(grain_and_viscous_fluid_keep_their_momentum_in_a_periodic_box) {
+  Viscous sim(grain_deck(term::morris_viscosity | term::grains, true, 3000.0), grain_in_fluid(0.05));
+  const Particles<3> start = sim.particles();
+  const Totals t0 = totals(sim);
+  const double dt = 0.2 * 1.3 * dx / c0;
+  double worst = 0.0;
+  for (int s = 0; s < 200; ++s) {
+    const Totals before = totals(sim);
+    CHECK(sim.step(dt, NoCrossings{}));
+    const Totals now = totals(sim);
+    worst = std::max(worst, (now.momentum - before.momentum).norm() / before.scale_p);
+  }
+  const auto& g = sim.grains().grains()[0];
+  const double rigid = rigidity(sim.particles(), start);
+  std::fprintf(stderr, "  %zu grain particles; momentum change per step %.2e of sum |m v|; grain V = (%.4f %.4f %.4f) "
+               "m/s from (0.05 -0.02 0.01), |F| %.3g N; distances kept to %.2e m\n", g.particles, worst,
+               g.state.velocity.x(), g.state.velocity.y(), g.state.velocity.z(), g.wrench.force.norm(), rigid);
+  CHECK(g.particles == 72);  // the sites within 2.6 dx of the centre
+  CHECK(worst < 1e-13);                                          // action and reaction pair by pair (eq. G1)
+  CHECK((totals(sim).momentum - t0.momentum).norm() < 1e-12 * t0.scale_p);
+  CHECK(g.wrench.force.norm() > 0.0 && (g.state.velocity - Vec<3>(0.05, -0.02, 0.01)).norm() > 1e-4);  // dragged
+  CHECK(rigid < 1e-15);                                          // placed rigidly (eq. G3)
+}
+
+TEST(grain_and_inviscid_blob_keep_their_angular_momentum) {
+  Inviscid sim(grain_deck(term::artificial_viscosity | term::grains, false, 1500.0), grain_in_fluid(0.05));
+  const double dt = 0.2 * 1.3 * dx / c0;
+  double worst_l = 0.0, worst_p = 0.0;
+  for (int s = 0; s < 200; ++s) {
+    const Totals before = totals(sim);
+    CHECK(sim.step(dt, NoCrossings{}));
+    const Totals now = totals(sim);
+    worst_l = std::max(worst_l, (now.angular - before.angular).norm() / before.scale_l);
+    worst_p = std::max(worst_p, (now.momentum - before.momentum).norm() / before.scale_p);
+  }
+  const auto& g = sim.grains().grains()[0];
+  std::fprintf(stderr, "  angular momentum change per step %.2e of sum |m x x v|, momentum %.2e; grain omega "
+               "(%.3f %.3f %.3f) rad/s from (3 -5 20)\n", worst_l, worst_p, g.state.angular_velocity.x(),
+               g.state.angular_velocity.y(), g.state.angular_velocity.z());
+  CHECK(worst_l < 1e-12);  // central pair forces at the mid-step positions, summed about the grain's mid-step centre
+  CHECK(worst_p < 1e-13);
+}
+
+TEST(grain_in_fluid_at_rest_stays_at_rest) {
+  RunParameters d = grain_deck(term::morris_viscosity | term::grains, true, 1000.0);
+  d.grains[0].velocity = {0, 0, 0}, d.grains[0].angular_velocity = {0, 0, 0};
+  Viscous sim(d, grain_in_fluid(0.0));
+  for (int s = 0; s < 100; ++s) CHECK(sim.step(0.2 * 1.3 * dx / c0, NoCrossings{}));
+  const auto& g = sim.grains().grains()[0];
+  std::fprintf(stderr, "  at rest: |V| %.2e m/s, |omega| %.2e rad/s\n", g.state.velocity.norm(),
+               g.state.angular_velocity.norm());
+  CHECK(g.state.velocity.norm() < 1e-6 && g.state.angular_velocity.norm() < 1e-3);
+}
+
+TEST(grain_steps_do_not_depend_on_the_thread_count) {
+  Particles<3> result[2];
+  Vec<3> omega[2];
+  for (int threads = 1; threads <= 2; ++threads) {
+    omp_set_num_threads(threads);
+    Viscous sim(grain_deck(term::morris_viscosity | term::grains, true, 3000.0), grain_in_fluid(0.05));
+    for (int s = 0; s < 40; ++s) CHECK(sim.step(0.2 * 1.3 * dx / c0, NoCrossings{}));
+    result[threads - 1] = sim.particles(), omega[threads - 1] = sim.grains().grains()[0].state.angular_velocity;
+  }
+  omp_set_num_threads(1);
+  CHECK(omega[0] == omega[1]);
+  for (std::size_t i = 0; i < result[0].size(); ++i) CHECK(result[0].x[i] == result[1].x[i] && result[0].v[i] == result[1].v[i]);
+}
+
+TEST(grain_deck_refusals_name_the_key) {
+  auto refused = [](const std::string& text, const std::string& expected, int dimension = 3) {
+    std::string message;
+    RunParameters d;
+    d.dimension = dimension, d.dx = dx;
+    try {
+      parse_grains(nlohmann::json::parse(text), d);
+    } catch (const InputError& e) {
+      message = e.what();
+    }
+    if (message.find(expected) == std::string::npos)
+      std::fprintf(stderr, "  expected '%s' in '%s'\n", expected.c_str(), message.c_str());
+    return message.find(expected) != std::string::npos;
+  };
+  CHECK(refused(R"([{"name": "g", "density": 0}])", "grains[0].density' must be > 0"));
+  CHECK(refused(R"([{"name": "g", "density": -2}])", "grains[0].density' must be > 0"));
+  CHECK(refused(R"([{"name": "g", "density": 2, "spin": 1}])", "unknown key 'grains[0].spin'"));
+  CHECK(refused(R"([{"name": "g", "density": 2, "velocity": [1, 2]}])", "grains[0].velocity"));
+  CHECK(refused(R"([{"name": "g", "density": 2}])", "3D only", 2));
+  // A grain without particles.
+  RunParameters d = grain_deck(term::morris_viscosity | term::grains, true, 2000.0);
+  d.grains.push_back(d.grains[0]), d.grains[1].name = "empty";
+  bool empty = false;
+  try {
+    Viscous sim(d, grain_in_fluid(0.0));
+  } catch (const InputError& e) {
+    empty = std::string(e.what()).find("grains[1] ('empty') has no particle") != std::string::npos;
+  }
+  CHECK(empty);
+}

@@ -1,0 +1,128 @@
+"""Rigid grains of an SPH case ([[grains]]): bodies made of the lattice's particles that the fluid drags
+(engines/sph/README.md, "Rigid grains", eqs. G1-G3). The scene builder turns the fluid sites inside a grain's
+shape into the grain's particles; the engine moves them as one rigid body whose force and torque are the sums of
+the fluid's pair terms on them. 3D only. SI units (m, kg, s).
+
+With ``physics.balance_mean_weight`` the box is periodic along the body force g and has no bottom: the mixture's
+mean weight is carried by a mean pressure gradient rho_m g (rho_m the mean density of fluid and grains), so the
+fluid takes the body force g (1 - rho_m / rho_f) and each grain g (1 - rho_m / rho_g), and the external forces
+on the box sum to zero (the standard set-up of a settling array, e.g. Hasimoto 1959).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Literal
+
+import numpy as np
+from pydantic import Field
+
+from orchestrator.case.common import Frozen, Name, Positive
+
+Vector3 = tuple[float, float, float]
+
+#: The particle kind of a grain's particles in the sph executable's input (engines/sph/src/physics_terms.h).
+BODY = 4
+
+
+class Grain(Frozen):
+    """One rigid grain: its shape, density and initial motion."""
+
+    name: Name = Field(description="unique name (series grain_<name>_*)")
+    shape: Literal["sphere"] = Field("sphere", description="the grain's shape: 'sphere' (the lattice sites within "
+                                     "radius of centre become its particles)")
+    radius: Positive = Field(description="radius of the sphere, m")
+    density: Positive = Field(description="density of the grain, kg/m^3 (the fluid's: neutrally buoyant)")
+    centre: Vector3 = Field(description="centre of the sphere, m")
+    velocity: Vector3 = Field((0.0, 0.0, 0.0), description="initial velocity of the centre of mass, m/s")
+    angular_velocity: Vector3 = Field((0.0, 0.0, 0.0), description="initial angular velocity, rad/s (world axes)")
+
+    def inside(self, points: np.ndarray) -> np.ndarray:
+        """Which of the points (n, 3) m lie inside the grain (bool mask)."""
+        return np.linalg.norm(points - np.asarray(self.centre), axis=1) < self.radius
+
+    def rigid_velocity(self, points: np.ndarray) -> np.ndarray:
+        """V + omega x (x - centre), m/s, at points (n, 3) m."""
+        arm = points - np.asarray(self.centre)
+        return np.asarray(self.velocity) + np.cross(np.asarray(self.angular_velocity), arm)
+
+
+def check_grains(case) -> None:
+    """ValueError naming the key unless the grains are 3D, uniquely named, inside the domain, smaller than it, apart,
+    within fluid.max_speed, and a balanced mean weight has what it needs."""
+    grains = case.grains
+    if case.physics.balance_mean_weight:
+        if not grains:
+            raise ValueError("physics.balance_mean_weight balances the weight of [[grains]]; the case has none")
+        if case.physics.body_force is None or "body_force" not in case.physics.terms:
+            raise ValueError("physics.balance_mean_weight needs physics.body_force and 'body_force' in physics.terms "
+                             "(the weight it balances)")
+        if len(case.materials) > 1:
+            raise ValueError("physics.balance_mean_weight needs one fluid material (one fluid density)")
+    if grains and case.lees_edwards is not None:
+        raise ValueError("grains: a Lees-Edwards cell ([lees_edwards]) takes fluid particles only; remove the grains")
+    names: set[str] = set()
+    lo, hi = np.asarray(case.domain.lo), np.asarray(case.domain.hi)
+    for i, g in enumerate(grains):
+        if case.dimension != 3:
+            raise ValueError(f"grains[{i}]: grains act in 3D only (domain.dimension = {case.dimension})")
+        if g.name in names:
+            raise ValueError(f"grains[{i}].name = {g.name!r} is used twice; names must be unique")
+        names.add(g.name)
+        size = float((hi - lo).min())
+        if 2.0 * g.radius >= size:
+            raise ValueError(f"grains[{i}].radius = {g.radius:g} m: the grain ({2 * g.radius:g} m across) is larger "
+                             f"than the domain box ({size:g} m along its shortest side)")
+        centre = np.asarray(g.centre)
+        if np.any(centre - g.radius < lo) or np.any(centre + g.radius > hi):
+            raise ValueError(f"grains[{i}].centre = {list(g.centre)}: the grain (radius {g.radius:g} m) reaches "
+                             f"outside the domain box [{list(case.domain.lo)}, {list(case.domain.hi)}]")
+        speed = math.hypot(*g.velocity) + math.hypot(*g.angular_velocity) * g.radius
+        if speed > case.fluid.max_speed:
+            raise ValueError(f"grains[{i}]: its surface moves at up to {speed:g} m/s (velocity and angular_velocity), "
+                             f"above fluid.max_speed = {case.fluid.max_speed} m/s")
+        for j, other in enumerate(grains[:i]):
+            gap = float(np.linalg.norm(centre - np.asarray(other.centre))) - g.radius - other.radius
+            if gap < 0.0:
+                raise ValueError(f"grains[{i}].centre: grain {g.name!r} overlaps grains[{j}] ({other.name!r}) by "
+                                 f"{-gap:.4g} m")
+
+
+def carve_grains(grains, positions: np.ndarray, kind: np.ndarray, velocities: np.ndarray, dx: float):
+    """The fluid sites (kind 0) inside each grain become its particles: returns (kind, velocities, grain index (n,)
+    int32, -1 for the others). ValueError naming the grain when it holds no fluid site."""
+    kind, velocities = kind.copy(), velocities.copy()
+    grain = np.full(len(kind), -1, dtype=np.int32)
+    for i, g in enumerate(grains):
+        mine = g.inside(positions) & (kind == 0)
+        if not mine.any():
+            raise ValueError(f"grains[{i}] ({g.name!r}): no fluid site of the lattice (dx = {dx:g} m) lies inside "
+                             f"it; the grain must sit in the fluid and be wider than dx")
+        kind[mine] = BODY
+        grain[mine] = i
+        velocities[mine] = g.rigid_velocity(positions[mine])
+    return kind, velocities, grain
+
+
+def grain_decks(case, masses: np.ndarray, kind: np.ndarray, grain: np.ndarray, rho_fluid: float):
+    """(the fluid's body force m/s^2 or None, the deck's grain objects). Without a balanced mean weight each grain
+    takes the case's body force; with it the fluid takes g (1 - rho_m / rho_f) and grain k g (1 - rho_m / rho_k),
+    rho_m = (M_f + sum M_k) / (V_f + sum V_k) from the particles (M_k = rho_k N_k dx^3 as the engine counts it)."""
+    on = case.physics.body_force is not None and "body_force" in case.physics.terms
+    g = np.asarray(case.physics.body_force, dtype=float) if on else None
+    fluid_force = None if g is None else g
+    forces = [np.zeros(3) if g is None else g for _ in case.grains]
+    if case.physics.balance_mean_weight:
+        fluid_mass = float(masses[kind == 0].sum())
+        volume = fluid_mass / rho_fluid
+        mass = fluid_mass
+        for k, gr in enumerate(case.grains):
+            v = float(masses[grain == k].sum()) / rho_fluid  # the grain's particles carry the fluid's mass
+            volume, mass = volume + v, mass + gr.density * v
+        rho_m = mass / volume
+        fluid_force = g * (1.0 - rho_m / rho_fluid)
+        forces = [g * (1.0 - rho_m / gr.density) for gr in case.grains]
+    decks = [{"name": gr.name, "density": float(gr.density), "velocity": [float(c) for c in gr.velocity],
+              "angular_velocity": [float(c) for c in gr.angular_velocity], "body_force": [float(c) for c in f]}
+             for gr, f in zip(case.grains, forces)]
+    return (None if fluid_force is None else tuple(float(c) for c in fluid_force)), decks
