@@ -37,6 +37,9 @@ constexpr unsigned viscosity_correction = 1u << 10;
 // Not a deck term: set by the dispatcher for the deck key `eddy_viscosity` (Smagorinsky's sub-particle
 // viscosity nu_t = (cs dx)^2 |S| added to the Morris term's, eq. SM1 of eddy_viscosity.h).
 constexpr unsigned eddy_viscosity = 1u << 11;
+// Not a deck term: set by the dispatcher when a PTT material gives `stress_diffusion` (the pair loop then sums the
+// Laplacian of the mode stresses, eq. SD1 of materials/ptt.h).
+constexpr unsigned stress_diffusion = 1u << 12;
 
 struct Named {
   const char* name;

@@ -45,6 +45,7 @@ class Simulation {
   // No-slip velocities of boundary particles (Morris term; tensor path: eq. T2 and the wall stress, eq. W1).
   static constexpr bool no_slip = has(term::morris_viscosity) || tensor;
   static constexpr bool eddy = has(term::eddy_viscosity);  // Smagorinsky's nu_t (eddy_viscosity.h)
+  static constexpr bool diffused = has(term::stress_diffusion);  // eq. SD1 (materials/ptt.h)
 
   // Cells of half the list range (5^D stencil) test fewer far pairs than cells of the full range (3^D).
   static constexpr int cell_reach = 2;  // the Verlet skin: deck.neighbour_skin (parameters.h)
@@ -64,6 +65,7 @@ class Simulation {
     walls_together_ = walls_move_together(P_);
     const std::size_t n = P_.size(), capacity = P_.x.capacity();
     P_.has_stress = Models::any_single_stress, P_.modes = Models::any_modes ? modes : 0, P_.eddy = eddy, P_.solid = Models::any_solid;
+    P_.diffuses = diffused;
     P_.resize(n), P_.set_wall_frames(), start_solids<Models>(P_, materials_);  // the caller's wall offsets; solids at T0
     P_.reserve(capacity);
     for (auto* a : {&x_pred_, &x_build_}) a->reserve(capacity);
@@ -217,6 +219,7 @@ class Simulation {
     }
     if constexpr (tensor) P_.grad_v[i].setZero(), P_.shape[i].setZero();
     if constexpr (eddy) P_.grad_v[i].setZero();
+    if constexpr (diffused) P_.mode_laplacian[i].setZero();
     if constexpr (Models::any_solid) P_.solid_state.rate[i].setZero();  // the pair loop sums de/dt into it
   }
   // close_rates of particle a: body force and wall penalty of a fluid particle; the velocity gradient G M^-1
@@ -227,6 +230,8 @@ class Simulation {
     if (P_.moves(a)) {
       external_.add(images_, P_.x[a], P_.mass[a], P_.acc[a]);  // body force, walls, impactors
       if constexpr (tensor) close_constitutive_rates<Models>(P_, materials_, a, correct_gradient_);
+      if constexpr (diffused)  // eq. SD1: kappa times the Laplacian of each mode stress
+        P_.mode_stress.rate[a] += materials_[P_.material[a]].modes.diffusion * P_.mode_laplacian[a];
     } else if (P_.kind[a] == Kind::outlet || (hold_inlets_ && P_.kind[a] == Kind::inlet) || holds_density(P_, a)) {
       P_.drho[a] = 0.0;
     }
