@@ -9,10 +9,9 @@
 //   eq. T2  G_a       += V_b (v_b - v_a) (x) grad_a W_ab,  M_a += V_b (x_b - x_a) (x) grad_a W_ab
 //           (velocity gradient L_a = G_a, or G_a M_a^-1 kernel-corrected: exact for linear v; close_rates)
 // Both:  eqs. 11-12 artificial viscosity and eq. 10 Morris viscosity (mu_ab of material.h).
-// Lees-Edwards (term::sheared): b's image moves at v_b + jump(code) (box_policy.h, eq. LE2),
-// so v_ab = v_a - v_b - jump(code) in every term.
-// grad_a W_ab = F r_ab with F of eq. 8; grad_b W_ba = -F r_ab. Pairs of the
-// skin, beyond 2h, add exact zeros (the kernel factor is clamped to 0).
+// Lees-Edwards (term::sheared): b's image moves at v_b + jump(code) (box_policy.h, eq. LE2): v_ab = v_a - v_b - jump.
+// Stress diffusion (term::stress_diffusion): eq. SD1's Laplacian sums of the mode stresses (stress_diffusion.h).
+// grad_a W_ab = F r_ab with F of eq. 8; grad_b W_ba = -F r_ab. Pairs of the skin, beyond 2h, add exact zeros.
 #pragma once
 #include <algorithm>
 #include <cmath>
@@ -27,6 +26,7 @@
 #include "pair_chunk.h"
 #include "particles.h"
 #include "physics_terms.h"
+#include "stress_diffusion.h"
 #include "tensor_pair_math.h"
 #include "viscosity_correction.h"
 #include "wall_sums.h"
@@ -313,10 +313,7 @@ class PairLoop {
       if constexpr (AMoves && !BMoves) v_ab_grad = va - v_noslip[b] - jump;
       if constexpr (!AMoves && BMoves) v_ab_grad = vns_a - v[b] - jump;
       subtract_outer_products(v_ab_grad, r, F * vol[b], F * vol_a, G_a, M_a, grad_v[b], shape[b]);
-      if constexpr (has(term::stress_diffusion) && AMoves && BMoves) {  // eq. SD1 (materials/ptt.h)
-        const double w = 2.0 * F * r2 / (r2 + 0.01 * kernel_.h * kernel_.h);
-        diffusion_pair(a, b, w * vol[b], w * vol_a);
-      }
+      if constexpr (has(term::stress_diffusion) && AMoves && BMoves) stress_diffusion_pair(P_, a, b, F, r2, kernel_.h);
       if constexpr (AMoves || BMoves) {
         // Eq. T1 and eqs. 11-12 (along r_ab): symmetric in a and b; grad_b W_ba = -F r_ab.
         const double radial = viscous_radial<AMoves, BMoves>(model, r2, v_ab.dot(r), rho_a, rho_b, c_a, c[b], F);
@@ -339,18 +336,6 @@ class PairLoop {
     grad_v[a] += G_a, shape[a] += M_a;
     if constexpr (Models::any_solid) P_.solid_state.rate[a][slot::energy] += work_a;
     (void)mu_row, (void)jumps, (void)work_a;
-  }
-  // Eq. SD1's pair: the Laplacian sums of the mode stresses, wa (tau_a - tau_b) into a and wb (tau_b - tau_a) into b.
-  inline __attribute__((always_inline)) void diffusion_pair(int a, int b, double wa, double wb) const {
-    const ModeStress<D>& ta = P_.mode_stress.value[a];
-    const ModeStress<D>& tb = P_.mode_stress.value[b];
-    double* const la = P_.mode_laplacian[a].data();
-    double* const lb = P_.mode_laplacian[b].data();
-    const double *const pa = ta.data(), *const pb = tb.data();
-    for (Eigen::Index k = 0; k < ta.size(); ++k) {
-      const double d = pa[k] - pb[k];
-      la[k] += wa * d, lb[k] -= wb * d;
-    }
   }
   // Eqs. 11-12 of the pair: -Pi_ab F, the factor of m_b r_ab in dv_a/dt (times 0 or 1 against a fixed particle).
   template <bool AMoves, bool BMoves>
@@ -412,5 +397,4 @@ class PairLoop {
   ArtificialStressFactor artificial_stress_;  // solids (set at each list build)
   ViscosityCorrection<D> correction_;  // eq. VC1 (corrected configurations only)
 };
-
 }  // namespace sph
