@@ -149,7 +149,7 @@ class Material(Frozen):
                                          "([materials.cross_loss]: zero_shear_viscosity, infinite_shear_viscosity "
                                          "Pa s, time_constant s, exponent -)")
     stress_diffusion: NonNegative | None = Field(None, description="ptt: diffusivity kappa of the mode stresses, m^2/s "
-                                                 "(eq. SD1 of the engine; default 0: none; Lees-Edwards cells only)")
+                                                 "(eq. SD1 of the engine; default 0: none; compiled for a Lees-Edwards cell with morris_viscosity)")
     solid: SolidMaterial | None = Field(None, description="johnson_cook: the [materials.solid] table (elasticity, "
                                                           "equation of state, strength, heat, failure)")
 
