@@ -11,7 +11,10 @@ d tau_p/dt = L tau_p + tau_p L^T + G_p (L + L^T) (eq. R2), and Monaghan's predic
 evaluation per step (eqs. P1-P4). Every particle is fluid; every axis is periodic (box at least 4h long,
 so each pair has one image within the support 2h). With subtract_mean_stress the momentum equation takes
 sigma - tau_B, tau_B the volume mean of the extra stress at the start of the step (the deck's
-lees_edwards.subtract_mean_stress; a uniform stress moves nothing in a periodic box). SI units throughout.
+lees_edwards.subtract_mean_stress; a uniform stress moves nothing in a periodic box). With stress_diffusion kappa
+each mode stress also takes kappa sum_b V_b 2 F r_ab^2 / (r_ab^2 + 0.01 h^2) (tau_a - tau_b) (eq. SD1); with morris
+the solvent viscosity eta_s is the Morris pair term instead of 2 eta_s D, dv_a/dt += sum_b 2 eta_s F r_ab^2 /
+(r_ab^2 + 0.01 h^2) V_b / rho_a (v_a - v_b) (eq. 10, the deck's morris_viscosity). SI units.
 """
 
 from __future__ import annotations
@@ -41,6 +44,8 @@ class PttFluid:
     subtract_mean_stress: bool = False
     plateau: float = 0.0
     cross: tuple[float, float, float, float] | None = None
+    stress_diffusion: float = 0.0
+    morris: bool = False
 
 
 @dataclass(frozen=True)
@@ -151,8 +156,21 @@ def rates(state: PttState, fluid: PttFluid, background: np.ndarray | None = None
     np.add.at(G, b, -(F * vol[a])[:, None, None] * vr)
     np.add.at(M, b, -(F * vol[a])[:, None, None] * rr)
     L = G @ np.linalg.inv(M)
-    return replace(state, acc=acc, drho=drho, dtau=ptt_mode_rates(L, state.tau, fluid),
-                   tau_solvent=solvent_stress(L, fluid))
+    dtau = ptt_mode_rates(L, state.tau, fluid)
+    r2 = np.einsum("ij,ij->i", r, r)
+    w = 2.0 * F * r2 / (r2 + 0.01 * h * h)
+    if fluid.morris:  # eq. 10 with mu = eta_s
+        s = fluid.eta_s * w
+        np.add.at(acc, a, (s * vol[b] / state.rho[a])[:, None] * v_ab)
+        np.add.at(acc, b, -(s * vol[a] / state.rho[b])[:, None] * v_ab)
+    if fluid.stress_diffusion > 0.0:  # eq. SD1
+        diff = state.tau[a] - state.tau[b]
+        lap = np.zeros_like(state.tau)
+        np.add.at(lap, a, (w * vol[b])[:, None, None, None] * diff)
+        np.add.at(lap, b, -(w * vol[a])[:, None, None, None] * diff)
+        dtau = dtau + fluid.stress_diffusion * lap
+    solvent = np.zeros_like(L) if fluid.morris else solvent_stress(L, fluid)
+    return replace(state, acc=acc, drho=drho, dtau=dtau, tau_solvent=solvent)
 
 
 def step(state: PttState, fluid: PttFluid, dt: float) -> PttState:

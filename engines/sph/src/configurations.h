@@ -35,6 +35,7 @@ constexpr unsigned sheared = term::sheared;  // Lees-Edwards boundaries (the dec
 constexpr unsigned corrected = term::viscosity_correction;  // the deck's `viscosity_correction`
 constexpr unsigned eddy = term::eddy_viscosity;  // the deck's `eddy_viscosity` (Smagorinsky, eq. SM1)
 constexpr unsigned grains = term::grains;  // the deck's `grains` (rigid grains the fluid drags, eq. G1)
+constexpr unsigned diffused = term::stress_diffusion;  // a PTT material's `stress_diffusion` (eq. SD1)
 }  // namespace config
 
 using Configurations = std::tuple<                           //
@@ -56,6 +57,7 @@ using Configurations = std::tuple<                           //
     Configuration<config::P, config::av>,                                     //   with artificial viscosity
     Configuration<config::P, config::sheared>,                                // PTT Lees-Edwards cell (rheometer)
     Configuration<config::P, config::morris | config::sheared>,               //   with a Morris solvent (steady shear)
+    Configuration<config::P, config::morris | config::sheared | config::diffused>,  //   and stress diffusion (high Wi)
     Configuration<config::P, config::morris>,   // PTT whose solvent viscosity is the Morris term (walled channels)
     Configuration<config::J, 0>,                // Johnson-Cook solid (artificial stress: a material key)
     Configuration<config::J, config::av>,       //   with artificial viscosity (shocks, impacts)

@@ -42,6 +42,7 @@ struct ModeParameters {
   double eta_s = 0.0;                              // solvent viscosity, Pa s
   double plateau = 0.0;                            // G_p, Pa: > 0 adds the elastic column `count`
   bool cross = false;                              // a Cross-law solvent beside eta_s
+  double diffusion = 0.0;                          // kappa m^2/s of eq. SD1 (materials/ptt.h; 0: none)
   CrossViscosity cross_law;
   // Stress columns of the material: its modes, and the plateau's elastic stress after them.
   int columns() const { return count + (plateau > 0.0 ? 1 : 0); }

@@ -9,9 +9,9 @@
 //   eq. T2  G_a       += V_b (v_b - v_a) (x) grad_a W_ab,  M_a += V_b (x_b - x_a) (x) grad_a W_ab
 //           (velocity gradient L_a = G_a, or G_a M_a^-1 kernel-corrected: exact for linear v; close_rates)
 // Both:  eqs. 11-12 artificial viscosity and eq. 10 Morris viscosity (mu_ab of material.h); grains: eq. G1.
-// Lees-Edwards (term::sheared): b's image moves at v_b + jump(code) (box_policy.h, eq. LE2), so
-// v_ab = v_a - v_b - jump(code) in every term. grad_a W_ab = F r_ab with F of eq. 8; grad_b W_ba = -F r_ab.
-// Pairs of the skin, beyond 2h, add exact zeros (the kernel factor is clamped to 0).
+// Lees-Edwards (term::sheared): b's image moves at v_b + jump(code) (box_policy.h, eq. LE2): v_ab = v_a - v_b - jump.
+// Stress diffusion (term::stress_diffusion): eq. SD1's Laplacian sums of the mode stresses (stress_diffusion.h).
+// grad_a W_ab = F r_ab with F of eq. 8; grad_b W_ba = -F r_ab. Pairs of the skin, beyond 2h, add exact zeros.
 #pragma once
 #include <algorithm>
 #include <cmath>
@@ -27,6 +27,7 @@
 #include "pair_chunk.h"
 #include "particles.h"
 #include "physics_terms.h"
+#include "stress_diffusion.h"
 #include "tensor_pair_math.h"
 #include "viscosity_correction.h"
 #include "wall_sums.h"
@@ -312,6 +313,7 @@ class PairLoop {
       if constexpr (AMoves && !BMoves) v_ab_grad = va - v_noslip[b] - jump;
       if constexpr (!AMoves && BMoves) v_ab_grad = vns_a - v[b] - jump;
       subtract_outer_products(v_ab_grad, r, F * vol[b], F * vol_a, G_a, M_a, grad_v[b], shape[b]);
+      if constexpr (has(term::stress_diffusion) && AMoves && BMoves) stress_diffusion_pair(P_, a, b, F, r2, kernel_.h);
       if constexpr (AMoves || BMoves) {
         // Eq. T1 and eqs. 11-12 (along r_ab): symmetric in a and b; grad_b W_ba = -F r_ab.
         const double radial = viscous_radial<AMoves, BMoves>(model, r2, v_ab.dot(r), rho_a, rho_b, c_a, c[b], F);
@@ -395,5 +397,4 @@ class PairLoop {
   ArtificialStressFactor artificial_stress_;  // solids (set at each list build)
   ViscosityCorrection<D> correction_;  // eq. VC1 (corrected configurations only)
 };
-
 }  // namespace sph

@@ -90,6 +90,7 @@ struct MaterialSpec {
   double epsilon = 0, solvent_viscosity = 0;
   // PTT's plateau modulus G_p Pa and Cross solvent eta_0, eta_inf Pa s, K s, m - (eta_0 = 0: no Cross law)
   double storage_plateau = 0, cross_eta_0 = 0, cross_eta_inf = 0, cross_time = 0, cross_exponent = 0;
+  double stress_diffusion = 0;  // PTT: diffusivity kappa of the mode stresses, m^2/s (eq. SD1; 0: none)
   SolidParameters solid;  // johnson_cook (materials/johnson_cook_material.h); c0 is then its wave speed
 };
 

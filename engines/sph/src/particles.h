@@ -123,6 +123,8 @@ struct Particles {
   std::vector<Mat<D>> shape;         // kernel-correction sum, then its inverse (tensor())
   std::vector<Mat<D>> sigma_rho2;    // (-p I + tau) / rho^2 (tensor())
   std::vector<Mat<D>> art_stress;    // Monaghan's artificial stress R / rho^2 (solid)
+  bool diffuses = false;             // stress diffusion (eq. SD1 of materials/ptt.h): mode_laplacian summed
+  std::vector<ModeStress<D>> mode_laplacian;  // sum_b V_b 2 F r^2 / (r^2 + 0.01 h^2) (tau_a - tau_b) per mode, Pa/m^2
 
   // Short names of the integrated values and rates used all over the solver.
   std::vector<Vec<D>>& v = vel.value;
@@ -197,6 +199,7 @@ struct Particles {
     else if (eddy)
       grad_v.resize(n, Mat<D>::Zero());
     if (solid) art_stress.resize(n, Mat<D>::Zero());
+    if (diffuses && modes) mode_laplacian.resize(n, zero<ModeStress<D>>(modes));
   }
 
   // Capacity for n particles in every array, so later growth up to n does not allocate.
@@ -211,6 +214,7 @@ struct Particles {
     else if (eddy)
       grad_v.reserve(n);
     if (solid) art_stress.reserve(n);
+    if (diffuses && modes) mode_laplacian.reserve(n);
     reserved_ = n;
   }
 
@@ -289,7 +293,7 @@ struct Particles {
     const std::size_t cap = std::max(o.reserved_, o.x.capacity());
     SPH_TAKE(x), SPH_TAKE(x0), SPH_TAKE(next_x), SPH_TAKE(next_x0), SPH_TAKE(vel), SPH_TAKE(dens), SPH_TAKE(stress);
     SPH_TAKE(has_stress), SPH_TAKE(eddy), SPH_TAKE(nu_t), SPH_TAKE(next_nu_t), SPH_TAKE(mode_stress), SPH_TAKE(modes), SPH_TAKE(tau_solvent), SPH_TAKE(next_tau_solvent);
-    SPH_TAKE(solid_state), SPH_TAKE(solid), SPH_TAKE(art_stress);
+    SPH_TAKE(solid_state), SPH_TAKE(solid), SPH_TAKE(art_stress), SPH_TAKE(diffuses), SPH_TAKE(mode_laplacian);
     SPH_TAKE(has_wall_points), SPH_TAKE(wall_offset), SPH_TAKE(next_wall_offset), SPH_TAKE(wall_frame),
     SPH_TAKE(next_wall_frame), SPH_TAKE(x_noslip), SPH_TAKE(wall_fit);
     SPH_TAKE(grains), SPH_TAKE(grain), SPH_TAKE(next_grain), SPH_TAKE(grain_offset), SPH_TAKE(next_grain_offset);

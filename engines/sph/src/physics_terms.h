@@ -40,6 +40,9 @@ constexpr unsigned eddy_viscosity = 1u << 11;
 // Not a deck term: set by the dispatcher for the deck key `grains` (rigid grains of particles that the fluid drags:
 // the pair loop also sums the fluid's pair forces on the grains' particles, grain_pairs.h eq. G1).
 constexpr unsigned grains = 1u << 12;
+// Not a deck term: set by the dispatcher when a PTT material gives `stress_diffusion` (the pair loop then sums the
+// Laplacian of the mode stresses, eq. SD1 of materials/ptt.h).
+constexpr unsigned stress_diffusion = 1u << 13;
 
 struct Named {
   const char* name;

@@ -56,6 +56,8 @@ inline Wanted wanted_by(const RunParameters& deck) {
   if (deck.viscosity_correction) w.terms |= term::viscosity_correction;
   if (deck.smagorinsky_cs > 0) w.terms |= term::eddy_viscosity;
   if (!deck.grains.empty()) w.terms |= term::grains;
+  for (const auto& m : materials)
+    if (m.stress_diffusion > 0) w.terms |= term::stress_diffusion;
   return w;
 }
 template <class Models>

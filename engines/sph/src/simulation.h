@@ -62,7 +62,8 @@ class Simulation {
     for (std::size_t i = 0; i < P_.size(); ++i) images_.wrap(P_.x[i], P_.v[i]);
     walls_together_ = walls_move_together(P_);
     const std::size_t n = P_.size(), capacity = P_.x.capacity();
-    P_.has_stress = Models::any_single_stress, P_.modes = Models::any_modes ? modes : 0, P_.eddy = eddy, P_.solid = Models::any_solid;
+    P_.has_stress = Models::any_single_stress, P_.modes = Models::any_modes ? modes : 0, P_.eddy = eddy, P_.solid = Models::any_solid,
+    P_.diffuses = has(term::stress_diffusion);  // eq. SD1 (stress_diffusion.h)
     P_.resize(n), P_.set_wall_frames(), start_solids<Models>(P_, materials_);  // the caller's wall offsets; solids at T0
     P_.reserve(capacity);
     for (auto* a : {&x_pred_, &x_build_}) a->reserve(capacity);
@@ -218,18 +219,18 @@ class Simulation {
         if constexpr (tensor) clear_wall_stress<Models>(P_, i);  // its sum of the fluid stresses (eq. W1)
       }
     }
-    if constexpr (tensor) P_.grad_v[i].setZero(), P_.shape[i].setZero();
+    if constexpr (tensor) P_.grad_v[i].setZero(), P_.shape[i].setZero(), clear_laplacian<has(term::stress_diffusion)>(P_, i);
     if constexpr (eddy) P_.grad_v[i].setZero();
     if constexpr (Models::any_solid) P_.solid_state.rate[i].setZero();  // the pair loop sums de/dt into it
   }
-  // close_rates of particle a: body force and wall penalty of a fluid particle; the velocity gradient G M^-1
-  // (eq. T2) and the rate d tau/dt of its material (constitutive_rates.h); an outlet particle keeps the density
-  // it left with (zero-gradient), an extrapolating inlet's the one the last update gave it.
+  // close_rates of particle a: body force and walls of a fluid particle; L = G M^-1 (eq. T2) and d tau/dt of its
+  // material (constitutive_rates.h; eq. SD1); an outlet keeps the density it left with, an extrapolating inlet its last.
   void close_rates_at(std::ptrdiff_t a) {
     if constexpr (eddy) P_.nu_t[a] = P_.moves(a) ? smagorinsky_.nu_t<D>(P_.grad_v[a]) : 0.0;  // eq. SM1, next step's
     if (P_.moves(a)) {
       external_.add(images_, P_.x[a], P_.mass[a], P_.acc[a]);  // body force, walls, impactors
       if constexpr (tensor) close_constitutive_rates<Models>(P_, materials_, a, correct_gradient_);
+      if constexpr (has(term::stress_diffusion)) add_stress_diffusion(P_, materials_, a);  // eq. SD1
     } else if (P_.kind[a] == Kind::outlet || (hold_inlets_ && P_.kind[a] == Kind::inlet) || holds_density(P_, a)) {
       P_.drho[a] = 0.0;
     }
@@ -396,5 +397,4 @@ class Simulation {
   StageTimes times_;
   Smagorinsky smagorinsky_;  // eq. SM1 (eddy only)
 };
-
 }  // namespace sph

@@ -197,9 +197,12 @@ class RheometerNumerics(Frozen):
     subtract_mean_stress: bool = Field(True, description="steady shear: the momentum equation takes the extra "
                                        "stress minus the sample's mean (physics.py: without it N1 above the rest "
                                        "pressure puts the sample in tension)")
-    damping_viscosity_ratio: NonNegative = Field(0.01, le=1.0, description="steady shear: a Morris viscosity of "
+    damping_viscosity_ratio: NonNegative = Field(0.1, le=1.0, description="steady shear: a Morris viscosity of "
                                                  "this fraction of the modes' expected shear viscosity damps the "
                                                  "row zig-zag mode (physics.py); not part of the measured stress, -")
+    stress_diffusion_ratio: NonNegative = Field(0.1, le=10.0, description="steady shear: the mode stresses diffuse "
+                                                "with kappa = this x h^2 |gamma_dot| (physics.py: damps the sliding "
+                                                "lattice's slow mode; nothing in homogeneous shear), -")
 
 
 class RheometerExpected(Frozen):

@@ -28,10 +28,15 @@ Steady shear (docs/rheometry.md, "Steady shear"). The first normal stress differ
 clumps (the tensile instability of SPH). A higher rest pressure does not help (a pressure of 30 G_0 or more stirs
 the sliding lattice), neither do a higher sound speed or a shorter step (measured). So a steady run (1) subtracts
 the sample's mean extra stress in the momentum equation (numerics.subtract_mean_stress: a uniform stress moves
-nothing in the periodic cell, the stress itself is unchanged) and (2) damps the row zig-zag mode with a Morris
+nothing in the periodic cell, the stress itself is unchanged), (2) damps the rows' velocity modes with a Morris
 viscosity of numerics.damping_viscosity_ratio x the modes' expected shear viscosity sum eta_i / f_i (with the
 material's solvent viscosity it is the Morris term's; in homogeneous shear its stress is eta gamma_dot exactly,
-so the measured viscosity adds the material's solvent viscosity and leaves the damping out).
+so the measured viscosity adds the material's solvent viscosity and leaves the damping out) and (3) diffuses the
+mode stresses with kappa = numerics.stress_diffusion_ratio x h^2 |gamma_dot| (the engine's eq. SD1; zero for the
+uniform stress of homogeneous shear). Without (2) and (3) a slow mode of the sliding lattice (rows turning wavy,
+the stress following them) grows by 0.13-0.15 per unit strain at Wi = 5 and 20 and ends any run after about 200
+strain units; (3) alone leaves a mode of the rows' x velocities (period three rows) growing at 0.14, (2) at 10 %
+alone slows the first to 0.09; both together hold it to round-off (docs/rheometry.md).
 """
 
 from __future__ import annotations
@@ -54,6 +59,7 @@ class SampleNumerics:
     rest_pressure: float
     morris_viscosity: float = 0.0
     subtract_mean_stress: bool = False
+    stress_diffusion: float = 0.0
 
 
 def sample_numerics(case) -> SampleNumerics:
@@ -76,6 +82,9 @@ def sample_numerics(case) -> SampleNumerics:
     viscous = max(morris, float(material.solvent_shear_viscosity(0.0)))  # a Cross law is largest at rest (eta_0)
     if viscous > 0.0:
         limits["viscous (solvent)"] = numerics.viscous_factor * h * h * rho / viscous
+    kappa = 0.0 if shear.oscillatory else numerics.stress_diffusion_ratio * h * h * abs(shear.shear_rate)
+    if kappa > 0.0:
+        limits["stress diffusion"] = numerics.viscous_factor * h * h / kappa
     which = min(limits, key=limits.get)
     dt = limits[which]
     # a whole number of steps per record: the series then samples the cycles evenly
@@ -83,4 +92,4 @@ def sample_numerics(case) -> SampleNumerics:
     dt = record / math.ceil(record / dt * (1.0 - 1e-12))
     rest = numerics.rest_ratio(sample.arrangement, sample.dimension) * max(material.instantaneous_modulus, modulus)
     subtract = numerics.subtract_mean_stress and not shear.oscillatory
-    return SampleNumerics(rho, c0, dt, which, wave, edge, rest, morris, subtract)
+    return SampleNumerics(rho, c0, dt, which, wave, edge, rest, morris, subtract, kappa)

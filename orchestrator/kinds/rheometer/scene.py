@@ -38,6 +38,7 @@ def flow_case(case: RheometerCase) -> SphFlowCase:
                        "solvent_viscosity": sn.morris_viscosity or material.solvent_viscosity,
                        "modes": [m.model_dump() for m in material.modes],
                        "storage_plateau": material.storage_plateau,
+                       "stress_diffusion": sn.stress_diffusion or None,
                        "cross_loss": None if material.cross_loss is None else material.cross_loss.model_dump()}],
         "physics": {"terms": ["morris_viscosity"] if sn.morris_viscosity > 0.0 else []},
         "blocks": [{"name": "sample", "kind": "fluid", "material": MATERIAL, "lo": [0.0] * d, "hi": [size] * d}],

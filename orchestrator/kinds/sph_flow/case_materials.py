@@ -73,7 +73,7 @@ EQUATIONS_OF_STATE = ("tait", "quadratic")
 MAX_MODES = 8
 
 #: Keys only a ptt material takes.
-PTT_KEYS = ("modes", "epsilon", "solvent_viscosity", "storage_plateau", "cross_loss")
+PTT_KEYS = ("modes", "epsilon", "solvent_viscosity", "storage_plateau", "cross_loss", "stress_diffusion")
 
 #: Keys of [fluid] that each [[materials]] table takes instead when the case has materials.
 MATERIAL_KEYS = ("density", "viscosity", "sound_speed", "gamma", "background_pressure")
@@ -148,6 +148,8 @@ class Material(Frozen):
     cross_loss: CrossLoss | None = Field(None, description="ptt: a Cross-law solvent viscosity beside eta_s "
                                          "([materials.cross_loss]: zero_shear_viscosity, infinite_shear_viscosity "
                                          "Pa s, time_constant s, exponent -)")
+    stress_diffusion: NonNegative | None = Field(None, description="ptt: diffusivity kappa of the mode stresses, m^2/s "
+                                                 "(eq. SD1 of the engine; default 0: none; compiled for a Lees-Edwards cell with morris_viscosity)")
     solid: SolidMaterial | None = Field(None, description="johnson_cook: the [materials.solid] table (elasticity, "
                                                           "equation of state, strength, heat, failure)")
 
@@ -185,6 +187,7 @@ class RunMaterial:
     storage_plateau: float = 0.0
     cross_loss: dict | None = None  # the engine's cross_viscosity object (CrossLoss.deck)
     solid: dict | None = None  # johnson_cook: its deck keys (case_solids.SolidMaterial.deck); c0 is its wave speed
+    stress_diffusion: float = 0.0  # ptt: kappa m^2/s of eq. SD1 (0: none)
 
     def deck(self) -> dict:
         """The material as the deck's JSON object (engines/sph/README.md, `materials`), SI units."""
@@ -205,6 +208,8 @@ class RunMaterial:
                 item["storage_plateau"] = float(self.storage_plateau)
             if self.cross_loss is not None:
                 item["cross_viscosity"] = dict(self.cross_loss)
+            if self.stress_diffusion > 0.0:
+                item["stress_diffusion"] = float(self.stress_diffusion)
         return item
 
     @property
@@ -223,7 +228,8 @@ def run_materials(case) -> tuple[RunMaterial, ...]:
                              m.viscosity, m.eos, tuple((mode.relaxation_time, mode.viscosity) for mode in m.modes),
                              m.epsilon or 0.0, m.solvent_viscosity or 0.0, m.storage_plateau or 0.0,
                              None if m.cross_loss is None else m.cross_loss.deck(),
-                             None if m.solid is None else m.solid.deck()) for m in case.materials)
+                             None if m.solid is None else m.solid.deck(), m.stress_diffusion or 0.0)
+                 for m in case.materials)
 
 
 def _sound_speed(m: Material, default: float) -> float:

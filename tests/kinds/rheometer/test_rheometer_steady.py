@@ -43,12 +43,17 @@ def test_a_steady_sample_subtracts_its_mean_stress_and_is_damped():
     case = load_case(UCM, overrides=[*STEADY, "material.solvent_viscosity=2.0"]).model
     sn = sample_numerics(case)
     expected = 1000.0 / float(ptt_f_in_shear(5.0, 0.01))
-    assert sn.subtract_mean_stress and sn.morris_viscosity == pytest.approx(2.0 + 0.01 * expected, rel=1e-12)
+    assert sn.subtract_mean_stress and sn.morris_viscosity == pytest.approx(2.0 + 0.1 * expected, rel=1e-12)
+    h = case.sample.h_over_dx * case.sample.dx  # the mode stresses diffuse with kappa = 0.1 h^2 gamma_dot (eq. SD1)
+    assert sn.stress_diffusion == pytest.approx(0.1 * h * h * 5.0, rel=1e-12)
+    assert sn.dt <= 0.125 * h * h / sn.stress_diffusion
     off = sample_numerics(load_case(UCM, overrides=[*STEADY, "numerics.damping_viscosity_ratio=0.0",
-                                                    "numerics.subtract_mean_stress=false"]).model)
-    assert off.morris_viscosity == 0.0 and not off.subtract_mean_stress
+                                                    "numerics.subtract_mean_stress=false",
+                                                    "numerics.stress_diffusion_ratio=0.0"]).model)
+    assert off.morris_viscosity == 0.0 and not off.subtract_mean_stress and off.stress_diffusion == 0.0
     oscillating = sample_numerics(load_case(UCM).model)  # the SAOS sample is unchanged
     assert oscillating.morris_viscosity == 0.0 and not oscillating.subtract_mean_stress
+    assert oscillating.stress_diffusion == 0.0
 
 
 @pytest.mark.parametrize("override,key", [("material.modes=[{relaxation_time=0.0, viscosity=1.0}]",

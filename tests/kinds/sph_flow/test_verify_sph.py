@@ -58,6 +58,7 @@ def test_every_sph_scene_has_checks_and_units():
                                        "sph_two_layer_poiseuille", "sph_two_layer_couette",
                                        "sph_pipe_hagen_poiseuille", "sph_annulus_laminar",
                                        "sph_saos_one_mode", "sph_saos_table3", "sph_steady_ptt", "sph_steady_ptt_wi5",
+                                       "sph_steady_ptt_wi20",
                                        "sph_newtonian_cell", "sph_oldroyd_b_poiseuille",
                                        "sph_settling_sphere_16dx", "sph_settling_sphere_24dx"}
     for path in files:
@@ -169,7 +170,10 @@ def test_every_scene_at_its_quick_preset_passes(tmp_path):
     # steady PTT at Wi = 5 (epsilon 0.01) for 20 relaxation times: eta, N1 and the normal-stress ratio
     wi5 = [r for r in rows if r["scene"] == "sph_steady_ptt_wi5"]
     assert len(wi5) == 3 and all(r["passed"] for r in wi5)
-    assert len(rows) == 30 + 22 + 3 + 2
+    # and at Wi = 20 (epsilon 0.1) with the stress diffusion and the 10 % Morris damping of a steady sample
+    wi20 = [r for r in rows if r["scene"] == "sph_steady_ptt_wi20"]
+    assert len(wi20) == 3 and all(r["passed"] for r in wi20)
+    assert len(rows) == 30 + 22 + 3 + 3 + 2
 
 
 @needs_sph

@@ -30,6 +30,9 @@
 //   0 < m <= 1 keeps the shear stress eta_C gamma_dot non-decreasing in
 //   gamma_dot at any eta_inf >= 0 (m > 1 gives a flow curve with a falling
 //   branch: an ill-posed, shear-banding solvent);
+// - stress diffusion (key `stress_diffusion`, kappa m^2/s; pair loop, configuration PTT + Morris + Lees-Edwards):
+//     d tau_i,a/dt += kappa sum_b V_b 2 F_ab r_ab^2 / (r_ab^2 + 0.01 h^2) (tau_i,a - tau_i,b)      (eq. SD1)
+//   the Laplacian of each mode stress in the form of the Morris term (eq. 10); zero for a uniform stress;
 // - a plateau modulus G_p (key `storage_plateau`): the stress column after the
 //   modes integrates the upper-convected elastic law
 //     d tau_p/dt = L tau_p + tau_p L^T + 2 G_p D                             (eq. R2)
@@ -59,7 +62,7 @@ struct Ptt {
   static constexpr int stress_modes = max_stress_modes;  // its stress lives in the per-mode field
 
   static std::vector<std::string> keys() {
-    return {"epsilon", "solvent_viscosity", "modes", "storage_plateau", "cross_viscosity"};
+    return {"epsilon", "solvent_viscosity", "modes", "storage_plateau", "cross_viscosity", "stress_diffusion"};
   }
   static void parse(const MaterialKeys& k, MaterialSpec& m) {
     m.epsilon = k.non_negative_or("epsilon", 0.0);
@@ -71,6 +74,7 @@ struct Ptt {
       m.viscosity = m.solvent_viscosity / m.rho0;
     }
     m.storage_plateau = k.non_negative_or("storage_plateau", 0.0);
+    m.stress_diffusion = k.non_negative_or("stress_diffusion", 0.0);
     const std::size_t most = max_stress_modes - (m.storage_plateau > 0.0 ? 1 : 0);  // the plateau takes a column
     const std::vector<MaterialKeys> modes = k.objects("modes", 1, max_stress_modes, {"lambda", "eta"});
     if (modes.size() > most)
@@ -101,6 +105,7 @@ struct Ptt {
     p.eta_s = spec.viscosity > 0.0 ? 0.0 : spec.solvent_viscosity;  // 0: the solvent is the Morris term
     p.plateau = spec.storage_plateau;
     p.cross = spec.cross_eta_0 > 0.0;
+    p.diffusion = spec.stress_diffusion;
     p.cross_law = {spec.cross_eta_0, spec.cross_eta_inf, spec.cross_time, p.cross ? spec.cross_exponent : 1.0};
   }
 
