@@ -171,8 +171,5 @@ class LammpsCrater(MachdynAdapter):
     def context(self, scene) -> dict:
         return deck_context(scene)
 
-    def steps(self, scene) -> tuple[int, float, int]:
-        return run_steps(scene)
-
     def read(self, workdir: Path, scene, steps):
         return read_crater_output(workdir, scene, steps)

@@ -13,7 +13,7 @@ import numpy as np
 from orchestrator.engines.liggghts_files import read_dump
 from orchestrator.errors import OrchestratorError
 from orchestrator.kinds.base import Adapter
-from orchestrator.kinds.sph_flow.machdyn import refusal, solid_material
+from orchestrator.kinds.sph_flow.machdyn import refusal, run_steps, solid_material
 from orchestrator.templating import render
 
 #: The frame dump, written by the decks of both kinds.
@@ -65,8 +65,8 @@ def frame_arrays(rows: np.ndarray, masses, kind=None) -> dict[str, np.ndarray]:
 class MachdynAdapter(Adapter):
     """A solid kind on LAMMPS MACHDYN: the kind's deck (templates[0]) and data file. A kind sets `label` (its name
     in messages), the equations of state it maps (`eos`), whether an elastic solid may run (`elastic`), the file
-    names, and the four functions of its scene: write_data(scene, path), context(scene) -> the template's
-    variables, steps(scene) -> (planned steps, dt s, steps per frame), read(workdir, scene, steps) -> Result."""
+    names, and defines the three methods of its scene that this class calls: write_data(scene, path),
+    context(scene) -> the template's variables, read(workdir, scene, steps) -> Result."""
 
     engine = "lammps"
     label = "solid"
@@ -75,17 +75,9 @@ class MachdynAdapter(Adapter):
     deck_file = "lammps.in"
     data_file = "solid.data"
 
-    def write_data(self, scene, path: Path) -> None:
-        raise NotImplementedError
-
-    def context(self, scene) -> dict:
-        raise NotImplementedError
-
     def steps(self, scene) -> tuple[int, float, int]:
-        raise NotImplementedError
-
-    def read(self, workdir: Path, scene, steps):
-        raise NotImplementedError
+        """(planned steps, dt s, steps per frame) of the run (machdyn.run_steps)."""
+        return run_steps(scene)
 
     def check_scene(self, profile, scene) -> None:
         """OrchestratorError naming what MACHDYN lacks for this solid (exit 2 at the command line)."""

@@ -108,8 +108,5 @@ class LammpsTaylorBar(MachdynAdapter):
     def context(self, scene) -> dict:
         return deck_context(scene)
 
-    def steps(self, scene) -> tuple[int, float, int]:
-        return run_steps(scene)
-
     def read(self, workdir: Path, scene, steps):
         return read_taylor_bar_output(workdir, scene, steps)
