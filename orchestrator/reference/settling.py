@@ -10,10 +10,13 @@ cubic array of spheres (a sphere in a periodic box), Hasimoto (1959). SI units.
   Zick & Homsy 1982 use for the permeability). Against the exact values of Zick & Homsy
   (1982) for the simple cubic array the truncated series is within 0.1 % at c = 0.027 (K = 2.008) and 0.7 % at
   c = 0.064 (2.810), and 5.6 % high at c = 0.125: use it for c <= 0.07.
-- Terminal speed of a sphere of density rho_s in a fluid of density rho_f under g, with the mixture's weight
-  balanced (rho_m = c rho_s + (1 - c) rho_f): the net force (rho_s - rho_m) V g = (1 - c) (rho_s - rho_f) V g
-  equals the drag: U = (1 - c) (rho_s - rho_f) g (4/3 pi a^3) / (6 pi mu a K), and the sphere's speed relative to
-  the fluid's mean is U / (1 - c).
+- Terminal speed of a sphere of density rho_s in a fluid of density rho_f under g: Hasimoto's F is the force the
+  fluid exerts on the sphere when the fluid carries no body force (its weight moved into the pressure), so in
+  sedimentation it is the weight less Archimedes' buoyancy at the fluid's density, F = (rho_s - rho_f) V g, not
+  the net force (rho_s - rho_m) V g = (1 - c) (rho_s - rho_f) V g left over after the buoyancy of the mixture's mean
+  pressure gradient (that gradient's own buoyancy is part of Hasimoto's F: n F = -grad P). Hence
+  U = (rho_s - rho_f) g (4/3 pi a^3) / (6 pi mu a K), the hindered settling U / U_Stokes = 1 / K of a simple cubic
+  array in the frame of zero volume flux, where the sphere's speed is the superficial slip velocity.
 """
 
 from __future__ import annotations
@@ -45,8 +48,9 @@ def hasimoto_factor(c: float) -> float:
 
 def periodic_terminal_speed(rho_s: float, rho_f: float, mu: float, g: float, radius: float, box: float) -> float:
     """Terminal superficial slip velocity (m/s: (1 - c) times the speed relative to the fluid's mean) of a sphere
-    (density rho_s kg/m^3, radius m) in a cubic periodic box (side m) of a fluid (rho_f kg/m^3, mu Pa s) under gravity g (m/s^2), the mixture's weight
-    balanced by the mean pressure gradient; Stokes with Hasimoto's factor."""
+    (density rho_s kg/m^3, radius m) in a cubic periodic box (side m) of a fluid (rho_f kg/m^3, mu Pa s) under
+    gravity g (m/s^2), the mixture's weight balanced by the mean pressure gradient: Stokes with Hasimoto's factor,
+    the drag (rho_s - rho_f) V g (the module's docstring says why not (1 - c) of it)."""
     c = solid_fraction(radius, box)
-    weight = (1.0 - c) * (rho_s - rho_f) * g * 4.0 / 3.0 * math.pi * radius**3
+    weight = (rho_s - rho_f) * g * 4.0 / 3.0 * math.pi * radius**3
     return weight / (6.0 * math.pi * mu * radius * hasimoto_factor(c))

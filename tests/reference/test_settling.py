@@ -32,8 +32,10 @@ def test_solid_fraction_and_terminal_speed_balance():
     c = solid_fraction(1.0, 4.0)
     assert c == pytest.approx(math.pi / 48.0, rel=1e-15)
     u = periodic_terminal_speed(2000.0, 1000.0, 0.1, 9.81, 1e-3, 8e-3)
-    weight = (1 - solid_fraction(1e-3, 8e-3)) * 1000.0 * 9.81 * 4.0 / 3.0 * math.pi * 1e-9
+    weight = 1000.0 * 9.81 * 4.0 / 3.0 * math.pi * 1e-9  # (rho_s - rho_f) V g: Hasimoto's F includes the buoyancy
     assert stokes_drag(0.1, 1e-3, u) * hasimoto_factor(solid_fraction(1e-3, 8e-3)) == pytest.approx(weight, rel=1e-14)
+    # hindered settling: U / U_Stokes = 1 / K
+    assert u == pytest.approx(2.0 / 9.0 * 1000.0 * 9.81 * 1e-6 / 0.1 / hasimoto_factor(solid_fraction(1e-3, 8e-3)), rel=1e-14)
 
 
 def test_hasimoto_factor_refuses_fractions_outside_the_series():

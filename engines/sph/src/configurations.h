@@ -51,6 +51,8 @@ using Configurations = std::tuple<                           //
     Configuration<config::N, config::morris | config::eddy>,                  // Smagorinsky eddy viscosity
     Configuration<config::N, config::morris | config::av | config::eddy>,     //   (the drill's jets and clearances)
     Configuration<config::N, config::morris | config::grains>,                // grains in a viscous fluid
+    Configuration<config::N, config::morris | config::corrected | config::grains>,  //   renormalised (eq. VC1)
+    Configuration<config::N, config::morris | config::av | config::corrected | config::grains>,  //
     Configuration<config::N, config::morris | config::av | config::grains>,   //
     Configuration<config::N, config::av | config::grains>,                    //   (inviscid: angular momentum)
     Configuration<config::P, 0>,                                              // PTT viscoelastic fluid (Nutto et al.)

@@ -53,9 +53,11 @@ inline __attribute__((always_inline)) void pair_coefficients(PairChunk<D>& k, in
         if constexpr (Loop::pair_mu) s = model.morris.factor(k.mu[j], F, k.r2[j]);
         else s = model.morris.factor(F, k.r2[j]);
         if constexpr (Loop::eddy) k.F[j] = F;
-        if constexpr (Loop::corrected)  // eq. VC1: each side its own factor
-          k.visc_a[j] = o.corr * (s * k.vol[j] * o.inv_rho), k.visc_b[j] = k.corr[j] * (s * o.vol / k.rho[j]);
-        else
+        if constexpr (Loop::corrected) {  // eq. VC1: each moving side its own factor; against a fixed particle
+          // both sides take the moving one's, so a grain's reaction (eq. G1) is the fluid's force, opposite
+          const double ka = (AMoves || !BMoves) ? o.corr : k.corr[j], kb = (BMoves || !AMoves) ? k.corr[j] : o.corr;
+          k.visc_a[j] = ka * (s * k.vol[j] * o.inv_rho), k.visc_b[j] = kb * (s * o.vol / k.rho[j]);
+        } else
           k.visc_a[j] = s * k.vol[j] * o.inv_rho, k.visc_b[j] = s * o.vol / k.rho[j];
       }
     }

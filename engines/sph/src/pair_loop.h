@@ -49,7 +49,7 @@ class PairLoop {
   // The mu_ab of eq. 10 per pair: several materials' table or the eddy viscosity's (pass A gathers it).
   static constexpr bool pair_mu = has(term::several_materials) || eddy;
   static constexpr bool grains = has(term::grains);  // eq. G1 (grain_pairs.h)
-  static_assert(!grains || (!tensor && !corrected && !eddy), "eq. G1: the scalar path, plain Morris sum");
+  static_assert(!grains || (!tensor && !eddy), "eq. G1: the scalar path, plain or renormalised Morris sum");
 
   PairLoop(Particles<D>& P, const NeighbourList<D>& list, const WendlandC2<D>& kernel, const Model& model,
            const MaterialTable& materials, std::vector<double>& shepard)

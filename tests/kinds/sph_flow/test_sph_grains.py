@@ -18,11 +18,12 @@ from orchestrator.errors import CaseError
 from orchestrator.kinds import bind, build_scene
 from orchestrator.kinds.sph_flow.sph import deck_context
 
-SETTLING = REPO / "cases/verification/sph_settling_sphere_16dx.toml"
+SETTLING = REPO / "cases/verification/sph_settling_sphere_box4a.toml"
 
 
 def _scene(overrides=()):
-    return build_scene(load_case(SETTLING, overrides=list(overrides)).model)
+    """The small settling box at dx = 1 mm: 16^3 sites, the 280 within 4 mm of the centre the grain's."""
+    return build_scene(load_case(SETTLING, overrides=["numerics.dx=0.001", *overrides]).model)
 
 
 def test_the_sphere_is_carved_out_of_the_fluid_lattice():

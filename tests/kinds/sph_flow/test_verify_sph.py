@@ -60,7 +60,7 @@ def test_every_sph_scene_has_checks_and_units():
                                        "sph_saos_one_mode", "sph_saos_table3", "sph_steady_ptt", "sph_steady_ptt_wi5",
                                        "sph_steady_ptt_wi20",
                                        "sph_newtonian_cell", "sph_oldroyd_b_poiseuille",
-                                       "sph_settling_sphere_16dx", "sph_settling_sphere_24dx"}
+                                       "sph_settling_sphere_box4a", "sph_settling_sphere_box6a"}
     for path in files:
         case = load_case(path).model
         checks = CHECKS if case.case.kind == "sph_flow" else RHEOMETER_CHECKS
@@ -120,13 +120,8 @@ def test_dam_break_check_compares_over_the_measured_range():
                                              "surge_front_Z[martin_moyce_1952_a2.25in]"}
 
 
-#: Checks that fail today, with the largest error accepted until they are fixed (the 3D annulus, its 5 mm gap
-#: 5 particles across at dx = 1 mm, missed 3 % (profile 5.27 %, gradient 7.82 % low); at dx = 0.5 mm it passes and
-#: is the suite's annulus; the 1 mm scene is in cases/verification/coarse). The settling sphere (a = 4.06 dx) settles too fast against Stokes x Hasimoto: at its quick preset 19.7 % (c = 0.068)
-#: and 9.3 % (c = 0.020); 17.6 % and 8.8 % over the full 20 ms; 15.1 % and 6.6 % at a = 6 dx: the drag of a radius
-#: about 5 % below the volume radius (docs/verify_sph.md).
-KNOWN_FAILURES: dict[tuple[str, str], float] = {("sph_settling_sphere_16dx", "terminal_speed"): 0.21,
-                                                ("sph_settling_sphere_24dx", "terminal_speed"): 0.10}
+#: Checks that fail, with the largest error accepted until they are fixed (none: every scene passes its quick preset).
+KNOWN_FAILURES: dict[tuple[str, str], float] = {}
 
 
 def _key(row) -> tuple[str, str]:
