@@ -112,7 +112,7 @@ class SphState:
     """Particle state: x (n, D) m, v (n, D) m/s, rho (n) kg/m^3, mass (n) kg, kind (n) 0 fluid / 1 boundary;
     acc (n, D) m/s^2 and drho (n) kg/m^3/s: the rates of the last evaluation (None before the first step);
     material (n) index into SphModel.material_list() (None: all 0); nu_t (n) m^2/s: the eddy viscosity of the last
-    evaluation (None: 0)."""
+    evaluation (None: 0); spin (n, 3) rad/s: a grain particle's grain's angular velocity (None: no grains)."""
 
     x: np.ndarray
     v: np.ndarray
@@ -123,6 +123,7 @@ class SphState:
     drho: np.ndarray | None = None
     material: np.ndarray | None = None
     nu_t: np.ndarray | None = None
+    spin: np.ndarray | None = None
 
 
 def particle_materials(state: SphState, model: SphModel) -> SphMaterial:
@@ -171,17 +172,8 @@ def rates(state: SphState, model: SphModel) -> tuple[np.ndarray, np.ndarray]:
     drho = np.where(moving, state.rho[a] * vol[b] * v_dot_grad, state.mass[b] * v_dot_grad)
     acc_pairs = -(state.mass[b] * (p_rho2[a] + p_rho2[b]))[:, None] * grad_w
     if model.viscous:
-        index = np.zeros(n, dtype=np.int64) if state.material is None else np.asarray(state.material)
-        mu = pair_viscosity(model)[index[a], index[b]]
         v_noslip = _no_slip_velocities(state, model)
-        if model.eddy_viscosity is not None and state.nu_t is not None:  # eq. SM2
-            wall = 1.0 if model.eddy_walls else 0.0
-            nu_ab = np.where(fluid[a] & fluid[b], 0.5 * (state.nu_t[a] + state.nu_t[b]),
-                             wall * (state.nu_t[a] + state.nu_t[b]))
-            mu = mu + model.rho0 * nu_ab
-        s = 2.0 * mu * vol[b] / state.rho[a] * np.einsum("ij,ij->i", r_ab, grad_w) / (r2 + model.eta2)
-        if model.viscosity_correction:
-            s = s * morris_correction_factors(a, r2, vol[b], n, model)[a]
+        s = _morris_factors(state, model, a, b, r_ab, r2, grad_w)
         acc_pairs += s[:, None] * (state.v[a] - v_noslip[b])
     if model.alpha is not None:
         vr = np.einsum("ij,ij->i", v_ab, r_ab)
@@ -205,6 +197,42 @@ def rates(state: SphState, model: SphModel) -> tuple[np.ndarray, np.ndarray]:
         acc[fluid] += model.walls.forces(state.x[fluid]) / state.mass[fluid][:, None]
     acc[~(fluid | grain)] = 0.0
     return acc, drho_sum
+
+
+def _morris_factors(state: SphState, model: SphModel, a, b, r_ab, r2, grad_w) -> np.ndarray:
+    """Eq. 10's factor of each pair (a, b), 1/s: 2 mu_ab V_b / rho_a (r_ab . grad W) / (r_ab^2 + eta^2), with the eddy
+    viscosity (eq. SM2) and the renormalisation k_a (eq. VC1) where the model has them."""
+    n = len(state.mass)
+    fluid = state.kind == FLUID
+    vol = state.mass / state.rho
+    index = np.zeros(n, dtype=np.int64) if state.material is None else np.asarray(state.material)
+    mu = pair_viscosity(model)[index[a], index[b]]
+    if model.eddy_viscosity is not None and state.nu_t is not None:  # eq. SM2
+        wall = 1.0 if model.eddy_walls else 0.0
+        nu_ab = np.where(fluid[a] & fluid[b], 0.5 * (state.nu_t[a] + state.nu_t[b]),
+                         wall * (state.nu_t[a] + state.nu_t[b]))
+        mu = mu + model.rho0 * nu_ab
+    s = 2.0 * mu * vol[b] / state.rho[a] * np.einsum("ij,ij->i", r_ab, grad_w) / (r2 + model.eta2)
+    if model.viscosity_correction:
+        s = s * morris_correction_factors(a, r2, vol[b], n, model)[a]
+    return s
+
+
+def grain_levers(state: SphState, model: SphModel) -> np.ndarray:
+    """Eq. G5 (engines/sph/src/grain_pairs.h) of every particle, m/s: a grain particle g's sum over its fluid pairs of
+    its side's viscous factor times x_g - x_f (zero elsewhere); m_g omega x q_g is the part of its viscous reaction
+    that answers the grain's own rotation, which the grain's torque leaves out (sph_grains.wrenches)."""
+    n, d = state.x.shape
+    levers = np.zeros((n, d))
+    if not model.viscous:
+        return levers
+    a, b, r_ab = neighbour_pairs(state.x, model)
+    r2 = np.einsum("ij,ij->i", r_ab, r_ab)
+    grad_w = kernel_gradient_factor(np.sqrt(r2), model.h, d)[:, None] * r_ab
+    s = _morris_factors(state, model, a, b, r_ab, r2, grad_w)  # the fluid side's factor; the grain's: m_a/m_b s
+    react = (state.kind[a] == FLUID) & (state.kind[b] == GRAIN)
+    a, b, r_ab, s = a[react], b[react], r_ab[react], s[react]
+    return _sum_to(b, -(state.mass[a] / state.mass[b] * s)[:, None] * r_ab, n)  # m_a/m_b s (x_b - x_a)
 
 
 def eddy_viscosities(state: SphState, model: SphModel) -> np.ndarray:
@@ -238,7 +266,9 @@ def morris_correction_factors(a: np.ndarray, r2: np.ndarray, vol_b: np.ndarray, 
 
 
 def _no_slip_velocities(state: SphState, model: SphModel) -> np.ndarray:
-    """v for fluid; 2 v_b - (Shepard average of the fluid velocity within 2h) for boundary and grain particles, m/s."""
+    """v for fluid; 2 v_b - (Shepard average of the fluid velocity within 2h) for boundary particles; for a grain's
+    particle the fluid's velocity relative to the grain's rotation, v_f - omega x (x_f - x_b), is averaged (engine eq.
+    G4), m/s."""
     v_noslip = state.v.copy()
     boundary = np.nonzero((state.kind == BOUNDARY) | (state.kind == GRAIN))[0]
     fluid = np.nonzero(state.kind == FLUID)[0]
@@ -247,7 +277,10 @@ def _no_slip_velocities(state: SphState, model: SphModel) -> np.ndarray:
     b, f, r_bf = _pairs_including_coincident(state.x[boundary], state.x[fluid], model)
     w = kernel_value(np.linalg.norm(r_bf, axis=1), model.h, model.dimension)
     weight = _sum_to(b, w, len(boundary))
-    velocity = _sum_to(b, w[:, None] * state.v[fluid][f], len(boundary))
+    seen = state.v[fluid][f]
+    if state.spin is not None:  # r_bf = x_b - x_f: omega x (x_f - x_b) = -omega x r_bf
+        seen = seen + np.cross(state.spin[boundary][b], r_bf)
+    velocity = _sum_to(b, w[:, None] * seen, len(boundary))
     wet = weight > 0.0
     rows = boundary[wet]
     v_noslip[rows] = 2.0 * state.v[rows] - velocity[wet] / weight[wet][:, None]

@@ -23,6 +23,17 @@ namespace sph {
 // (v_noslip holds the Shepard sum of PairLoop::no_slip_sums_of_block before,
 // shepard the weight sums.)
 //
+// A grain's particle mirrors the fluid's velocity relative to the grain's
+// rigid motion, not to its own velocity: with omega its grain's angular
+// velocity and r_fb = x_f - x_b,
+//   v_b' = v_b - sum_f W_bf (v_f - v_b - omega x r_fb) / sum_f W_bf       (eq. G4)
+// i.e. 2 v_b - v~_b + omega x r~_b (r~_b the Shepard mean of r_fb), so fluid
+// turning with the grain sees exactly the rigid rotation (eq. 10 sums to
+// zero on it). The plain mirror 2 v_b - v~_b is that of a wall translating at
+// v_b: next to a turning grain it hands the fluid the rigid velocity of the
+// point mirrored inward, slower by omega |r~_b| (about omega dx), as large as
+// the shear across the first layer at any resolution.
+//
 // With a wall point x_w (the nearest point of the true wall surface, input
 // dataset `wall_point`; Particles::has_wall_points), the fluid velocity is
 // extrapolated along the wall normal instead, so the no-slip lies on the true
@@ -192,6 +203,13 @@ struct NoSlipSums {
 // Add fluid particle f at r_fb = x_f - x_b, weight w > 0, to the sums s of boundary particle b.
 template <int D>
 inline __attribute__((always_inline)) void add_no_slip(const Particles<D>& P, int b, int f, double w, const Vec<D>& r_fb, NoSlipSums<D> s) {
+  if constexpr (D == 3) {
+    if (P.grains && P.kind[b] == Kind::body) {  // eq. G4: the fluid's velocity relative to the grain's rotation
+      s.v += w * Vec<D>(P.v[f] - P.grain_spin[b].cross(r_fb));
+      s.weight += w;
+      return;
+    }
+  }
   s.v += w * P.v[f];
   s.weight += w;
   if (!P.has_wall_points) return;

@@ -55,6 +55,7 @@ using Configurations = std::tuple<                           //
     Configuration<config::N, config::morris | config::av | config::corrected | config::grains>,  //
     Configuration<config::N, config::morris | config::av | config::grains>,   //
     Configuration<config::N, config::av | config::grains>,                    //   (inviscid: angular momentum)
+    Configuration<config::N, config::morris | config::sheared | config::grains>,  //   in a Lees-Edwards cell
     Configuration<config::P, 0>,                                              // PTT viscoelastic fluid (Nutto et al.)
     Configuration<config::P, config::av>,                                     //   with artificial viscosity
     Configuration<config::P, config::sheared>,                                // PTT Lees-Edwards cell (rheometer)

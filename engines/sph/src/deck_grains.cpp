@@ -15,7 +15,6 @@ void parse_grains(const json& j, RunParameters& d) {
   if (!j.empty() && d.dimension != 3) fail("'grains' act in 3D only (dimension = " + std::to_string(d.dimension) + ")");
   if (!j.empty() && (d.t_start > 0.0 || d.step_start > 0))
     fail("'grains' cannot resume a run (t_start, step_start): a grain's orientation is not in the particle file");
-  if (!j.empty() && d.lees_edwards.on) fail("'grains' cannot sit in a 'lees_edwards' cell (it takes fluid particles only)");
   std::set<std::string> seen;
   for (std::size_t i = 0; i < j.size(); ++i) {
     const json& e = j[i];

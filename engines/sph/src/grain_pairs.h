@@ -6,6 +6,11 @@
 // (r_fg = x_f - x_g, grad_f W_fg = F r_fg, s_fg eq. 10's factor of the pair: pass B's f_b and visc_b), so
 // m_f dv_f/dt + m_g dv_g/dt = 0 pair by pair (to rounding) and the grain's sum of m_g dv_g/dt (eq. G2) is the
 // fluid's force on it. Under Lees-Edwards the velocity differences carry the image's jump, as the fluid's do.
+// The viscous reactions also sum, per grain particle, the lever
+//   q_g = sum_f s_gf (x_g - x_f)                                                                       (G5)
+// (s_gf the grain side's factor, visc_b or visc_a) for the torque's correction of grains.h: the part of eq. 10's
+// reaction that answers the grain's own rotation, s_gf omega x (x_g - x_f), is the Laplacian's flux of a rigid
+// rotation, which carries no stress.
 #pragma once
 #include "pair_chunk.h"
 #include "particles.h"
@@ -30,6 +35,9 @@ inline __attribute__((always_inline)) void grain_reaction(Particles<D>& P, const
       Vec<D> dv = P.v_noslip[b] - va;
       if constexpr (Sheared) dv += jumps[k.code[j]];
       acc_b.noalias() += k.visc_b[j] * dv;
+      Vec<D> r;  // r_ab = x_a - x_b: the lever of eq. G5 takes s_b (x_b - x_a)
+      for (int d = 0; d < D; ++d) r[d] = k.r[d][j];
+      P.grain_lever[b].noalias() -= k.visc_b[j] * r;
     }
     (void)vns_a, (void)acc_a;
   } else {  // a fixed, b fluid: a's reaction when it is a grain's
@@ -41,6 +49,9 @@ inline __attribute__((always_inline)) void grain_reaction(Particles<D>& P, const
       Vec<D> dv = vns_a - P.v[b];
       if constexpr (Sheared) dv -= jumps[k.code[j]];
       acc_a.noalias() += k.visc_a[j] * dv;
+      Vec<D> r;  // r_ab = x_a - x_b, a the grain's particle (a's row: one thread)
+      for (int d = 0; d < D; ++d) r[d] = k.r[d][j];
+      P.grain_lever[a].noalias() += k.visc_a[j] * r;
     }
     (void)va;
   }

@@ -16,11 +16,13 @@
 // of the step, x_i = x_i^n + (X' - X) + (R' - R) r_i (positions stay in the periodic image they were wrapped to),
 // and moves at v_i = V + omega x R r_i. 3D only.
 #pragma once
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <string>
 #include <vector>
 
+#include "cell_list.h"
 #include "material.h"
 #include "parameters.h"
 #include "particles.h"
@@ -76,6 +78,7 @@ class Grains {
           P.grain_offset[i] = offsets[k];
           const Vec<3> arm = b.rotation * offsets[k];
           P.x[i] = b.state.position + arm, P.v[i] = b.seen_velocity + b.seen_omega.cross(arm);
+          P.grain_spin[i] = b.seen_omega;
         }
         grains_.push_back(std::move(b));
       }
@@ -106,23 +109,31 @@ class Grains {
       const Vec<3>& offset = P.grain_offset[i];
       const Vec<3> arm = b.rotation * offset;
       P.x[i] = P.x0[i] + (b.state.position - b.start.position) + (arm - b.start_rotation * offset);
-      P.v[i] = b.seen_velocity + b.seen_omega.cross(arm);
+      P.v[i] = b.seen_velocity + b.seen_omega.cross(arm), P.grain_spin[i] = b.seen_omega;
     } else {
       (void)P, (void)i;
     }
   }
 
   // The fluid's force and torque on every grain from the pair loop's reactions (G2), in index order; with dt > 0
-  // (s) the corrector of G3. Serial: call between the pair loop and the particles' corrector.
-  void gather(const Particles<D>& P, double dt) {
+  // (s) the corrector of G3. The torque leaves out the viscous reactions' answer to the grain's own rotation,
+  // m_i omega x q_i (eq. G5's lever q_i, then zeroed): eq. 10 is the Laplacian form of the viscous force, whose
+  // flux through a surface is mu (n . grad) v, not the traction of the stress; the two differ by mu grad(v . n) -
+  // v_j grad n_j, which on a rigid body's no-slip surface is mu (n x omega) alone, a torque of 2 mu V omega on a
+  // body of volume V that a free sphere in shear would turn 1.5 times too fast with. Serial: call between the pair
+  // loop and the particles' corrector.
+  void gather(Particles<D>& P, double dt) {
     if constexpr (D == 3) {
       for (auto& b : grains_) b.wrench = {Vec<3>::Zero(), Vec<3>::Zero()};
       for (std::size_t i = 0; i < P.size(); ++i) {
         if (P.kind[i] != Kind::body) continue;
         Grain& b = grains_[P.grain[i]];
         const Vec<3> f = P.mass[i] * P.acc[i];
+        const Vec<3> rigid = P.mass[i] * P.grain_spin[i].cross(P.grain_lever[i]);  // eq. G5
+        P.grain_lever[i].setZero();
+        const Vec<3> arm = b.rotation * P.grain_offset[i];
         b.wrench.force += f;
-        b.wrench.torque += (b.rotation * P.grain_offset[i]).cross(f);
+        b.wrench.torque += arm.cross(f) - arm.cross(rigid);
       }
       if (!(dt > 0.0)) return;
       for (auto& b : grains_) {
@@ -133,6 +144,22 @@ class Grains {
       }
     } else {
       (void)P, (void)dt;
+    }
+  }
+
+  // In a Lees-Edwards cell: InputError unless every grain particle lies at least `margin` (m: the kernel's support
+  // and the Verlet skin) inside the box's faces across `axis` (the gradient axis), so that no pair of a grain's
+  // particle crosses the sheared faces (its no-slip velocity, boundary_particles.h, takes no image velocity jump).
+  void check_inside(int axis, const PeriodicBox<D>& box, double margin, const Particles<D>& P) const {
+    const double lo = box.lo[axis], hi = box.hi[axis];
+    for (std::size_t i = 0; i < P.size(); ++i) {
+      if (P.kind[i] != Kind::body) continue;
+      const double y = P.x[i][axis];
+      if (y - lo < margin || hi - y < margin)
+        throw InputError("grains[" + std::to_string(P.grain[i]) + "] ('" + grains_[P.grain[i]].name +
+                         "'): a particle lies " + std::to_string(std::min(y - lo, hi - y)) +
+                         " m from a sheared face of the Lees-Edwards cell (axis " + std::to_string(axis) +
+                         "); a grain must stay " + std::to_string(margin) + " m (support and skin) inside");
     }
   }
 

@@ -37,9 +37,9 @@ Particles<D> make_particles(const RunParameters& deck, const ParticleInput& in, 
     P.mass[i] = in.masses[i];
     P.rho[i] = in.densities[i];
     P.kind[i] = static_cast<Kind>(in.kind[i]);
-    if (deck.lees_edwards.on && P.kind[i] != Kind::fluid)
-      throw InputError("particle " + std::to_string(i) + " is not fluid (kind " + std::to_string(in.kind[i]) +
-                       "): a 'lees_edwards' cell takes fluid particles only");
+    if (deck.lees_edwards.on && P.kind[i] != Kind::fluid && P.kind[i] != Kind::body)
+      throw InputError("particle " + std::to_string(i) + " is neither fluid nor a grain's (kind " +
+                       std::to_string(in.kind[i]) + "): a 'lees_edwards' cell takes fluid and grains only");
     P.id[i] = in.ids.empty() ? static_cast<std::int64_t>(i) : in.ids[i];
     const std::int32_t mat = in.material.empty() ? 0 : in.material[i];
     if (mat < 0 || static_cast<std::size_t>(mat) >= nm)

@@ -44,7 +44,6 @@ class Simulation {
   // No-slip velocities of boundary particles (Morris term; tensor path: eq. T2 and the wall stress, eq. W1).
   static constexpr bool no_slip = has(term::morris_viscosity) || tensor;
   static constexpr bool eddy = has(term::eddy_viscosity);  // Smagorinsky's nu_t (eddy_viscosity.h)
-
   // Cells of half the list range (5^D stencil) test fewer far pairs than cells of the full range (3^D).
   static constexpr int cell_reach = 2;  // the Verlet skin: deck.neighbour_skin (parameters.h)
 
@@ -71,6 +70,7 @@ class Simulation {
     list_.reserve(capacity);
     list_.configure(images_);
     skin_ = deck.neighbour_skin * kernel_.support_radius();
+    if (deck.lees_edwards.on) grains_.check_inside(Images::gradient_axis, box, kernel_.support_radius() + skin_, P_);
     cells_.configure(kernel_.support_radius() + skin_, cell_reach, box, std::max<std::size_t>(64 * n, 1u << 22));
     sort_particles();
     equation_of_state();

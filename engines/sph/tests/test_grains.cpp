@@ -1,7 +1,8 @@
 // Rigid grains that the fluid drags (grains.h, grain_pairs.h): a sphere of particles in a fluid. Checked: the
 // momentum of fluid and grain together in a periodic box (viscous fluid, every pair term of eq. G1), their angular
 // momentum in a free blob (inviscid: central pair forces), the grain's particles kept rigid, a grain in a fluid at
-// rest left at rest, 1 and 2 threads bitwise equal, and the deck's refusals.
+// rest left at rest, a grain turning with the fluid free of viscous torque (eqs. G4-G5), 1 and 2 threads bitwise
+// equal, and the deck's refusals.
 #include <omp.h>
 
 #include <cmath>
@@ -142,6 +143,42 @@ TEST(grain_in_fluid_at_rest_stays_at_rest) {
   std::fprintf(stderr, "  at rest: |V| %.2e m/s, |omega| %.2e rad/s\n", g.state.velocity.norm(),
                g.state.angular_velocity.norm());
   CHECK(g.state.velocity.norm() < 1e-6 && g.state.angular_velocity.norm() < 1e-3);
+}
+
+TEST(grain_turning_with_the_fluid_feels_no_viscous_torque) {
+  // Fluid and grain in one rigid rotation (a free blob, omega = (3, -5, 20) rad/s about the grain's centre): the
+  // strain rate vanishes, so does the viscous stress. Eq. G4 hands the fluid the rigid rotation at the grain's
+  // particles and eq. G5 leaves the Laplacian's flux of the rotation out of the torque, so the viscous pairs add
+  // nothing to it: the torque of the viscous run equals the inviscid run's (pressure only; artificial viscosity
+  // vanishes on a rigid rotation).
+  Vec<3> torque[2];
+  double flux = 0.0;  // the torque eq. G5 removes, 2 mu V |omega| (the rotation's Laplacian flux), N m
+  for (int viscous = 0; viscous <= 1; ++viscous) {
+    const unsigned terms = (viscous ? term::morris_viscosity : term::artificial_viscosity) | term::grains;
+    RunParameters d = grain_deck(terms, false, 1000.0);
+    d.grains[0].velocity = {0, 0, 0};
+    Particles<3> P = grain_in_fluid(0.0);
+    const Vec<3> omega(3.0, -5.0, 20.0);
+    Vec<3> centre = Vec<3>::Zero();
+    int count = 0;
+    for (std::size_t i = 0; i < P.size(); ++i)
+      if (P.kind[i] == Kind::body) centre += P.x[i], ++count;
+    centre /= count;
+    for (std::size_t i = 0; i < P.size(); ++i) P.v[i] = omega.cross(P.x[i] - centre);
+    flux = 2.0 * rho0 * d.viscosity * count * dx * dx * dx * omega.norm();
+    if (viscous) {
+      Viscous sim(d, P);
+      CHECK(sim.step(1e-9, NoCrossings{}));
+      torque[1] = sim.grains().grains()[0].wrench.torque;
+    } else {
+      Inviscid sim(d, P);
+      CHECK(sim.step(1e-9, NoCrossings{}));
+      torque[0] = sim.grains().grains()[0].wrench.torque;
+    }
+  }
+  std::fprintf(stderr, "  viscous torque on the co-rotating grain %.2e N m (2 mu V |omega| = %.2e N m)\n",
+               (torque[1] - torque[0]).norm(), flux);
+  CHECK((torque[1] - torque[0]).norm() < 1e-6 * flux);
 }
 
 TEST(grain_steps_do_not_depend_on_the_thread_count) {

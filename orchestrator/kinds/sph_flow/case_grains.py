@@ -1,5 +1,5 @@
 """Rigid grains of an SPH case ([[grains]]): bodies made of the lattice's particles that the fluid drags
-(engines/sph/README.md, "Rigid grains", eqs. G1-G3). The scene builder turns the fluid sites inside a grain's
+(engines/sph/README.md, "Rigid grains", eqs. G1-G5). The scene builder turns the fluid sites inside a grain's
 shape into the grain's particles; the engine moves them as one rigid body whose force and torque are the sums of
 the fluid's pair terms on them. 3D only. SI units (m, kg, s).
 
@@ -23,6 +23,8 @@ Vector3 = tuple[float, float, float]
 
 #: The particle kind of a grain's particles in the sph executable's input (engines/sph/src/physics_terms.h).
 BODY = 4
+#: The sph executable's Verlet skin as a fraction of the support 2h (engines/sph/src/parameters.h, neighbour_skin).
+VERLET_SKIN = 0.1
 
 
 class Grain(Frozen):
@@ -59,8 +61,9 @@ def check_grains(case) -> None:
                              "(the weight it balances)")
         if len(case.materials) > 1:
             raise ValueError("physics.balance_mean_weight needs one fluid material (one fluid density)")
-    if grains and case.lees_edwards is not None:
-        raise ValueError("grains: a Lees-Edwards cell ([lees_edwards]) takes fluid particles only; remove the grains")
+    # In a Lees-Edwards cell no pair of a grain's particle may cross the sheared faces (y = lo, hi): the support 2h
+    # and the engine's Verlet skin (0.1 of it) inside them.
+    sheared_margin = 2.0 * case.numerics.h_over_dx * case.numerics.dx * (1.0 + VERLET_SKIN)
     names: set[str] = set()
     lo, hi = np.asarray(case.domain.lo), np.asarray(case.domain.hi)
     for i, g in enumerate(grains):
@@ -77,6 +80,11 @@ def check_grains(case) -> None:
         if np.any(centre - g.radius < lo) or np.any(centre + g.radius > hi):
             raise ValueError(f"grains[{i}].centre = {list(g.centre)}: the grain (radius {g.radius:g} m) reaches "
                              f"outside the domain box [{list(case.domain.lo)}, {list(case.domain.hi)}]")
+        if case.lees_edwards is not None and (centre[1] - g.radius - lo[1] < sheared_margin
+                                              or hi[1] - centre[1] - g.radius < sheared_margin):
+            raise ValueError(f"grains[{i}].centre = {list(g.centre)}: in a Lees-Edwards cell the grain must stay "
+                             f"{sheared_margin:.4g} m (the support 2h and the neighbour list's skin) inside the sheared "
+                             f"faces y = {lo[1]:g} and {hi[1]:g} m")
         speed = math.hypot(*g.velocity) + math.hypot(*g.angular_velocity) * g.radius
         if speed > case.fluid.max_speed:
             raise ValueError(f"grains[{i}]: its surface moves at up to {speed:g} m/s (velocity and angular_velocity), "

@@ -84,6 +84,7 @@ CHECK_QUANTITIES = {
     "penalty_column": ("eq14_wall_force", "min_distance_to_wall", "floor_force"),
     "oldroyd_b_startup": ("centreline_velocity",),
     "settling": ("terminal_speed",),
+    "grain_in_shear": ("rotation_rate", "centre_velocity"),
     "penalty_incline": ("eq14_wall_force", "min_distance_to_wall", "slide_distance", "distance_to_plane",
                         "plane_force"),
 }

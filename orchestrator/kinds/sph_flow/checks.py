@@ -29,7 +29,7 @@ from orchestrator.kinds.sph_flow.checks_base import (
     relative,
     tolerance_of,
 )
-from orchestrator.kinds.sph_flow.checks_grains import check_settling
+from orchestrator.kinds.sph_flow.checks_grains import check_grain_in_shear, check_settling
 from orchestrator.kinds.sph_flow.checks_layers import check_two_layer_couette, check_two_layer_poiseuille
 from orchestrator.kinds.sph_flow.checks_open import check_annulus_laminar, check_hagen_poiseuille
 from orchestrator.kinds.sph_flow.checks_viscoelastic import check_oldroyd_b_startup
@@ -225,6 +225,7 @@ CHECKS = {
     "annulus_laminar": check_annulus_laminar,
     "oldroyd_b_startup": check_oldroyd_b_startup,
     "settling": check_settling,
+    "grain_in_shear": check_grain_in_shear,
 }
 
 

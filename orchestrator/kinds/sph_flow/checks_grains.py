@@ -77,3 +77,61 @@ def check_settling(case, run) -> tuple[list[dict], dict]:
              (time, np.full(len(time), expected), "--", "k", "Stokes x Hasimoto")]
     plot = {"title": f"{name}: settling sphere", "xlabel": "t (s)", "ylabel": "U (m/s)", "lines": lines}
     return rows, plot
+
+
+#: The grain in shear is averaged over this last fraction of the run's series.
+SHEAR_WINDOW = 0.5
+
+
+def check_grain_in_shear(case, run) -> tuple[list[dict], dict]:
+    """A neutrally buoyant grain in the steady Lees-Edwards cell (shear along x, gradient along y, u_x = gamma_dot
+    (y - y_m) with y_m the particles' mean y at the start, where the box's zero momentum puts the still plane): at low Reynolds
+    number a free sphere turns at omega_z = -gamma_dot / 2 (Jeffery 1922; the vorticity's half) and its centre moves
+    with the fluid at its height, V_x = gamma_dot (Y - y_m) (the sheared periodic cell looks alike from every
+    height). Both averaged over the last half of the run: rotation_rate (rad/s) and centre_velocity (m/s)."""
+    name = case.case.name
+    le = case.lees_edwards
+    if len(case.grains) != 1 or le is None or le.shear_rate is None:
+        raise OrchestratorError(f"{name}: check 'grain_in_shear' needs one grain in a steady Lees-Edwards cell "
+                                "([lees_edwards] shear_rate)")
+    grain, fluid = case.grains[0], one_material(case, "grain_in_shear")
+    if abs(grain.density / fluid.rho0 - 1.0) > 1e-9:
+        raise OrchestratorError(f"{name}: check 'grain_in_shear' needs a neutrally buoyant grain (grains[0].density "
+                                f"= {grain.density:g}, the fluid's {fluid.rho0:g} kg/m^3)")
+    frames = frames_of(run)
+    if not frames:
+        raise OrchestratorError(f"{name}: the run has no frame")
+    series = run.get("series", {})
+    time = np.asarray(series.get("time", []), dtype=float)
+    if len(time) == 0:
+        raise OrchestratorError(f"{name}: the run has no series")
+    omega = np.asarray(series[f"grain_{grain.name}_angular_velocity"], dtype=float)
+    velocity = np.asarray(series[f"grain_{grain.name}_velocity"], dtype=float)
+    position = np.asarray(series[f"grain_{grain.name}_position"], dtype=float)
+    window = time >= (1.0 - SHEAR_WINDOW) * time[-1]
+    rate = float(le.shear_rate)
+    y_m = float(np.asarray(frames[0][1]["positions"])[:, 1].mean())  # the lattice's particles: equal masses
+    spin, spin_expected = float(omega[window, 2].mean()), -0.5 * rate
+    v_x = float(velocity[window, 0].mean())
+    v_expected = float(rate * (position[window, 1].mean() - y_m))
+    mu = fluid.rho0 * fluid.viscosity
+    reynolds = fluid.rho0 * abs(rate) * grain.radius**2 / mu
+    off_axis = float(np.abs(omega[window, :2]).max() / abs(spin_expected))
+    drift = float(np.abs(velocity[window, 1:]).max() / abs(v_expected)) if v_expected else math.nan
+    tolerance = {q: tolerance_of(case, q) for q in ("rotation_rate", "centre_velocity")}
+    common = f"averaged over the last {SHEAR_WINDOW:.0%} of the run; Re = rho gamma_dot a^2 / mu = {reynolds:.2g}"
+    rows = [check_row(name, "rotation_rate", spin, spin_expected, relative(spin, spin_expected),
+                      tolerance["rotation_rate"], source="free sphere in simple shear: omega = -gamma_dot / 2",
+                      note=f"rotation_rate: omega_z, {common}; |omega_x|, |omega_y| up to {off_axis:.2g} of it"),
+            check_row(name, "centre_velocity", v_x, v_expected, relative(v_x, v_expected),
+                      tolerance["centre_velocity"], source="the fluid's velocity at the grain's height",
+                      note=f"centre_velocity: V_x against gamma_dot (Y - y_m), Y = {position[window, 1].mean():.5g} m, "
+                           f"y_m = {y_m:.5g} m; |V_y|, |V_z| up to {drift:.2g} of it; {common}")]
+    if run["attrs"].get("status") != "ok":
+        for row in rows:
+            row["passed"] = False
+    lines = [(time, omega[:, 2] / spin_expected, "-", "C0", "omega_z / (-gamma_dot/2)"),
+             (time, velocity[:, 0] / v_expected if v_expected else time * 0.0, "-", "C1", "V_x / gamma_dot (Y - y_m)"),
+             (time, np.ones(len(time)), "--", "k", "free sphere")]
+    plot = {"title": f"{name}: grain in shear", "xlabel": "t (s)", "ylabel": "ratio to the closed form", "lines": lines}
+    return rows, plot

@@ -124,3 +124,15 @@ def test_the_executable_settles_the_grain_and_run_h5_holds_its_series(tmp_path):
     momentum = 1e-6 * frame["velocities"][fluid].sum(axis=0)[2] + 2000.0 * 280e-9 * velocity[-1, 2]
     assert abs(momentum) < 1e-6 * 2000.0 * 280e-9 * abs(velocity[-1, 2]) + 1e-18
     assert math.isfinite(float(result.series["grain_ball_force"].values[-1, 2]))
+
+
+SHEAR = REPO / "cases/verification/sph_grain_in_shear.toml"
+
+
+def test_a_grain_near_the_sheared_faces_is_refused():
+    """The grain's pairs must not cross the Lees-Edwards faces: 2h and the skin, 2 x 1.3 x 1.1 mm, inside them."""
+    assert load_case(SHEAR, overrides=["grains.0.centre=[0.01, 0.01286, 0.01]"]).model.grains[0].centre[1] == 0.01286
+    with pytest.raises(CaseError) as error:
+        load_case(SHEAR, overrides=["grains.0.centre=[0.01, 0.0132, 0.01]"])
+    assert ("grains[0].centre = [0.01, 0.0132, 0.01]: in a Lees-Edwards cell the grain must stay 0.00286 m (the "
+            "support 2h and the neighbour list's skin) inside the sheared faces y = 0 and 0.02 m") in str(error.value)
