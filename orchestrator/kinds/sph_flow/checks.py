@@ -45,15 +45,28 @@ from orchestrator.reference.sph_flows import (
 
 # ------------------------------------------------------------------------------------------- channel flows
 def check_poiseuille(case, run) -> tuple[list[dict], dict]:
-    """Start-up Poiseuille profiles u(y, t) against the series (Morris et al. 1997, eq. 21)."""
+    """Start-up Poiseuille profiles u(y, t) against the series (Morris et al. 1997, eq. 21); the flow along x, across
+    the plates along y (2D) or along the one axis of a 3D box that is not periodic (z between a channel's walls)."""
 
     fluid = block_of(case, "fluid")
     nu = one_material(case, "poiseuille_series").viscosity
-    gap, force = fluid.hi[1] - fluid.lo[1], body_force_of(case)[0]
+    axis = _wall_normal_axis(case)
+    gap, force = fluid.hi[axis] - fluid.lo[axis], body_force_of(case)[0]
     peak = float(poiseuille_steady_velocity(gap / 2, gap, nu, force))
-    return _channel_rows(case, run, fluid.lo[1], gap, peak,
+    return _channel_rows(case, run, fluid.lo[axis], gap, peak,
                          lambda y, t: poiseuille_velocity(y, t, gap, nu, force),
-                         "Morris et al. 1997 eq. 21 (start-up Poiseuille series)")
+                         "Morris et al. 1997 eq. 21 (start-up Poiseuille series)", axis)
+
+
+def _wall_normal_axis(case) -> int:
+    """The axis across a channel's plates: y in 2D; in 3D the one axis that is not periodic."""
+    if case.domain.dimension == 2:
+        return 1
+    open_axes = [d for d in range(3) if d not in case.domain.periodic]
+    if len(open_axes) != 1:
+        raise OrchestratorError(f"{case.case.name}: a 3D channel check needs exactly one axis that is not periodic "
+                                f"(the plates' normal); domain.periodic = {list(case.domain.periodic)}")
+    return open_axes[0]
 
 
 def check_couette(case, run) -> tuple[list[dict], dict]:
@@ -71,7 +84,7 @@ def check_couette(case, run) -> tuple[list[dict], dict]:
                          "Morris et al. 1997 eq. 22 (start-up Couette series)")
 
 
-def _channel_rows(case, run, y0, gap, peak, exact, source):
+def _channel_rows(case, run, y0, gap, peak, exact, source, axis=1):
     frames = frames_of(run)
     name = case.case.name
     t_end = case.simulation.duration
@@ -81,7 +94,7 @@ def _channel_rows(case, run, y0, gap, peak, exact, source):
     for k, t_want in enumerate(times):
         t, frame = frame_at(frames, t_want)
         fluid = fluid_mask(frame)
-        y = np.asarray(frame["positions"])[fluid, 1] - y0
+        y = np.asarray(frame["positions"])[fluid, axis] - y0
         u = np.asarray(frame["velocities"])[fluid, 0]
         u_exact = exact(y, t)
         linf = float(np.max(np.abs(u - u_exact))) / abs(peak)
@@ -138,7 +151,7 @@ def check_hydrostatic(case, run) -> tuple[list[dict], dict]:
     if frames:
         t, frame = frames[-1]
         fluid = fluid_mask(frame)
-        y = np.asarray(frame["positions"])[fluid, 1] - y0
+        y = np.asarray(frame["positions"])[fluid, axis] - y0
         p = np.asarray(frame["pressures"])[fluid]
         exact = hydrostatic_pressure(y, depth, rho0, g)
         l1 = float(np.mean(np.abs(p - exact))) / scale
