@@ -302,7 +302,7 @@ RunParameters parse_deck(const json& j, const std::string& deck_dir) {
                      "viscosity", "alpha", "beta", "artificial_viscosity", "h", "dx", "body_force", "meshes", "wall", "periodic", "inlets",
                      "outlets", "dt", "time_step", "t_end", "t_start", "step_start", "max_steps", "stability", "output", "threads",
                      "materials", "lees_edwards", "neighbour_skin", "viscosity_correction", "eddy_viscosity", "open_boundary_list",
-                     "min_pressure", "impactors", "grains"});
+                     "min_pressure", "impactors", "grains", "grain_contact"});
   RunParameters d;
   parse_basics(j, deck_dir, d);
   parse_fluid(j, d);
@@ -315,6 +315,7 @@ RunParameters parse_deck(const json& j, const std::string& deck_dir) {
   if (j.contains("impactors")) parse_impactors(j["impactors"], d);
   parse_time(j, d);
   if (j.contains("grains")) parse_grains(j["grains"], d);
+  if (j.contains("grain_contact")) parse_grain_contact(j["grain_contact"], d);
   parse_output(need(j, "", "output"), deck_dir, d);
   parse_run_options(j, d);
   return d;

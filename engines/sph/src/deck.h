@@ -26,6 +26,7 @@ void parse_impactors(const nlohmann::json& j, RunParameters& d);
 // The `grains` list into d.grains (deck_grains.cpp; d.dimension, d.terms, d.body_force, the time and the Lees-Edwards
 // cell must be parsed).
 void parse_grains(const nlohmann::json& j, RunParameters& d);
+void parse_grain_contact(const nlohmann::json& j, RunParameters& d);  // after parse_grains
 PlanePatch parse_patch(const nlohmann::json& e, const std::string& path, int dim, std::set<std::string>& seen);
 
 }  // namespace sph

@@ -19,7 +19,7 @@ void parse_grains(const json& j, RunParameters& d) {
   for (std::size_t i = 0; i < j.size(); ++i) {
     const json& e = j[i];
     const std::string path = "grains[" + std::to_string(i) + "]";
-    check_keys(e, path, {"name", "density", "velocity", "angular_velocity", "body_force"});
+    check_keys(e, path, {"name", "density", "velocity", "angular_velocity", "body_force", "contact_radius"});
     GrainSpec s;
     s.name = unique_name(e, path, seen);
     s.density = positive(e, path, "density");
@@ -30,7 +30,19 @@ void parse_grains(const json& j, RunParameters& d) {
     s.velocity = three("velocity", zero);
     s.angular_velocity = three("angular_velocity", zero);
     s.body_force = three("body_force", (d.terms & term::body_force) ? d.body_force : zero);
+    if (e.contains("contact_radius")) s.contact_radius = positive(e, path, "contact_radius");
     d.grains.push_back(s);
+  }
+}
+
+void parse_grain_contact(const json& j, RunParameters& d) {
+  check_keys(j, "grain_contact", {"stiffness", "restitution"});
+  if (d.grains.empty()) fail("'grain_contact' needs 'grains'");
+  d.grain_contact.stiffness = positive(j, "grain_contact", "stiffness");
+  if (j.contains("restitution")) {
+    const double e = positive(j, "grain_contact", "restitution");
+    if (e > 1.0) fail("'grain_contact.restitution' must be in (0, 1] (got " + std::to_string(e) + ")");
+    d.grain_contact.restitution = e;
   }
 }
 

@@ -43,6 +43,8 @@ class Grains {
     Mat<3> rotation = Mat<3>::Identity(), start_rotation = Mat<3>::Identity();  // R of state and start
     Vec<3> body_force = Vec<3>::Zero();  // g_g, m/s^2
     rigid::Wrench wrench{Vec<3>::Zero(), Vec<3>::Zero()};  // the fluid's force and torque of the last evaluation (G2)
+    Vec<3> contact = Vec<3>::Zero();  // the other grains' contact force of the last evaluation (G6), N
+    double contact_radius = 0.0;      // m (0: no contact)
     std::size_t particles = 0;
   };
 
@@ -71,6 +73,7 @@ class Grains {
         rigid::set_velocities(b.body, b.state, Eigen::Map<const Vec<3>>(specs[g].velocity.data()),
                               Eigen::Map<const Vec<3>>(specs[g].angular_velocity.data()));
         b.body_force = Eigen::Map<const Vec<3>>(specs[g].body_force.data());
+        b.contact_radius = specs[g].contact_radius;
         b.start = b.state, b.seen_velocity = b.state.velocity, b.seen_omega = b.state.angular_velocity;
         b.rotation = b.start_rotation = b.state.orientation.toRotationMatrix();
         for (std::size_t k = 0; k < rows.size(); ++k) {
@@ -94,7 +97,7 @@ class Grains {
       b.start = b.state, b.start_rotation = b.rotation;
       rigid::drift(b.body, b.state, 0.5 * dt);
       b.rotation = b.state.orientation.toRotationMatrix();
-      b.seen_velocity = b.start.velocity + (0.5 * dt) * (b.wrench.force / b.body.mass + b.body_force);
+      b.seen_velocity = b.start.velocity + (0.5 * dt) * ((b.wrench.force + b.contact) / b.body.mass + b.body_force);
       const Vec<3> L = b.start.angular_momentum + (0.5 * dt) * b.wrench.torque;
       b.seen_omega = rigid::angular_velocity(b.body, b.state.orientation, L);
     }
@@ -135,9 +138,10 @@ class Grains {
         b.wrench.force += f;
         b.wrench.torque += arm.cross(f) - arm.cross(rigid);
       }
+      contacts();
       if (!(dt > 0.0)) return;
       for (auto& b : grains_) {
-        rigid::kick(b.body, b.state, b.wrench.force + b.body.mass * b.body_force, b.wrench.torque, dt);
+        rigid::kick(b.body, b.state, b.wrench.force + b.contact + b.body.mass * b.body_force, b.wrench.torque, dt);
         rigid::drift(b.body, b.state, 0.5 * dt);
         b.rotation = b.state.orientation.toRotationMatrix();
         b.seen_velocity = b.state.velocity, b.seen_omega = b.state.angular_velocity;
@@ -147,10 +151,17 @@ class Grains {
     }
   }
 
-  // In a Lees-Edwards cell: InputError unless every grain particle lies at least `margin` (m: the kernel's support
-  // and the Verlet skin) inside the box's faces across `axis` (the gradient axis), so that no pair of a grain's
+  // After start: the contact law (eq. G6) and the box its centres are compared in. In a Lees-Edwards cell
+  // (`lees_edwards`, sheared across `axis`): InputError with a contact law, or unless every grain particle lies at least `margin`
+  // (m: the kernel's support and the Verlet skin) inside the faces across `axis`, so that no pair of a grain's
   // particle crosses the sheared faces (its no-slip velocity, boundary_particles.h, takes no image velocity jump).
-  void check_inside(int axis, const PeriodicBox<D>& box, double margin, const Particles<D>& P) const {
+  void configure(const RunParameters& deck, const PeriodicBox<D>& box, int axis, double margin, const Particles<D>& P) {
+    box_ = box, stiffness_ = deck.grain_contact.stiffness;
+    const bool sheared = deck.lees_edwards.on;
+    const double log_e = std::log(deck.grain_contact.restitution);
+    zeta_ = -log_e / std::sqrt(M_PI * M_PI + log_e * log_e);
+    if (!sheared || grains_.empty()) return;
+    if (stiffness_ > 0.0) throw InputError("'grain_contact' cannot act in a 'lees_edwards' cell");
     const double lo = box.lo[axis], hi = box.hi[axis];
     for (std::size_t i = 0; i < P.size(); ++i) {
       if (P.kind[i] != Kind::body) continue;
@@ -161,6 +172,36 @@ class Grains {
                          " m from a sheared face of the Lees-Edwards cell (axis " + std::to_string(axis) +
                          "); a grain must stay " + std::to_string(margin) + " m (support and skin) inside");
     }
+  }
+
+  // Eq. G6: grains whose contact spheres overlap by delta = R_g + R_h - |X_h - X_g| > 0 (the nearest periodic
+  // image) push apart along n = (X_h - X_g) / |X_h - X_g| with
+  //   F = max(0, k delta - c v_n),  c = 2 zeta sqrt(k m),  zeta = -ln e / sqrt(pi^2 + ln^2 e)               (G6)
+  // (m = M_g M_h / (M_g + M_h), v_n = (V_h - V_g) . n at the mid-step pose and velocities the fluid sees): a linear
+  // spring-dashpot, which restores the relative normal speed times e in a head-on collision (exactly without the
+  // compression-only clamp, which ends the contact a little early). Equal and opposite along the line of centres:
+  // momentum and angular momentum kept. Serial, in grain order.
+  void contacts() {
+    for (auto& b : grains_) b.contact.setZero();
+    if (!(stiffness_ > 0.0)) return;
+    for (std::size_t g = 0; g < grains_.size(); ++g)
+      for (std::size_t h = g + 1; h < grains_.size(); ++h) {
+        Grain &A = grains_[g], &B = grains_[h];
+        if (!(A.contact_radius > 0.0 && B.contact_radius > 0.0)) continue;
+        Vec<3> d = B.state.position - A.state.position;
+        for (int a = 0; a < D; ++a)
+          if (box_.periodic[a]) {
+            const double L = box_.hi[a] - box_.lo[a];
+            d[a] -= L * std::round(d[a] / L);
+          }
+        const double distance = d.norm(), overlap = A.contact_radius + B.contact_radius - distance;
+        if (!(overlap > 0.0) || !(distance > 0.0)) continue;
+        const Vec<3> n = d / distance;
+        const double m = A.body.mass * B.body.mass / (A.body.mass + B.body.mass);
+        const double v_n = (B.seen_velocity - A.seen_velocity).dot(n);
+        const double F = std::max(0.0, stiffness_ * overlap - 2.0 * zeta_ * std::sqrt(stiffness_ * m) * v_n);
+        A.contact -= F * n, B.contact += F * n;
+      }
   }
 
   // Momentum (kg m/s) and angular momentum about the origin (kg m^2/s) of the grains.
@@ -177,6 +218,8 @@ class Grains {
 
  private:
   std::vector<Grain> grains_;
+  PeriodicBox<D> box_{};
+  double stiffness_ = 0.0, zeta_ = 0.0;  // eq. G6: k N/m, the damping ratio
 };
 
 }  // namespace sph

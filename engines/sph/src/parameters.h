@@ -130,6 +130,13 @@ struct GrainSpec {
   double density = 0.0;                                // kg/m^3
   std::vector<double> velocity, angular_velocity;      // m/s, rad/s (world), initial
   std::vector<double> body_force;                      // m/s^2 on the grain (default: the deck's body force)
+  double contact_radius = 0.0;                         // m: its sphere of grain-grain contact (0: none, eq. G6)
+};
+
+// Grain-grain contact (grains.h, eq. G6): a linear spring-dashpot along the line of centres, compression only.
+struct GrainContactSpec {
+  double stiffness = 0.0;    // k, N/m (0: no contact)
+  double restitution = 1.0;  // e, normal coefficient of restitution, 0 < e <= 1
 };
 
 // Every setting of a run (what the deck parser returns).
@@ -158,6 +165,7 @@ struct RunParameters {
   double wall_range = 0, wall_s = 0, wall_psi = 0;  // R m, s m, psi N
   std::vector<ImpactorSpec> impactors;               // rigid impactors (3D)
   std::vector<GrainSpec> grains;                     // rigid grains of particles (3D)
+  GrainContactSpec grain_contact;                    // their contact with each other (eq. G6)
   // periodic boundaries
   LeesEdwardsSpec lees_edwards;
   std::vector<int> periodic_axes;

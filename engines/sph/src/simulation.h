@@ -70,7 +70,7 @@ class Simulation {
     list_.reserve(capacity);
     list_.configure(images_);
     skin_ = deck.neighbour_skin * kernel_.support_radius();
-    if (deck.lees_edwards.on) grains_.check_inside(Images::gradient_axis, box, kernel_.support_radius() + skin_, P_);
+    grains_.configure(deck, box, Images::gradient_axis, kernel_.support_radius() + skin_, P_);
     cells_.configure(kernel_.support_radius() + skin_, cell_reach, box, std::max<std::size_t>(64 * n, 1u << 22));
     sort_particles();
     equation_of_state();

@@ -20,7 +20,7 @@ import math
 from pydantic import Field, model_validator
 
 from orchestrator.case.common import CaseMeta, Frozen
-from orchestrator.kinds.sph_flow.case_grains import Grain, check_grains
+from orchestrator.kinds.sph_flow.case_grains import Grain, GrainContact, check_grains
 from orchestrator.kinds.sph_flow.case_impactors import Impactor, check_impactors
 from orchestrator.kinds.sph_flow.case_limits import check_sph
 from orchestrator.kinds.sph_flow.case_materials import (Material, check_materials, largest_c0_and_viscosity,
@@ -62,6 +62,8 @@ class SphFlowCase(Frozen):
                                             "push on the particles (case_impactors.py)")
     grains: tuple[Grain, ...] = Field((), max_length=1000, description="rigid grains (3D) made of the lattice's "
                                       "particles that the fluid drags (case_grains.py)")
+    grain_contact: GrainContact | None = Field(None, description="contact between the grains (engine eq. G6): "
+                                               "stiffness N/m, restitution (case_grains.py)")
     lees_edwards: LeesEdwards | None = Field(None, description="a sheared periodic cell (case_shear.py): steady "
                                              "shear_rate 1/s, or oscillatory amplitude and omega rad/s")
     numerics: SphNumerics

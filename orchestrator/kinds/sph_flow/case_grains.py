@@ -49,6 +49,15 @@ class Grain(Frozen):
         return np.asarray(self.velocity) + np.cross(np.asarray(self.angular_velocity), arm)
 
 
+class GrainContact(Frozen):
+    """Grain-grain contact (engine eq. G6): a linear spring-dashpot between the grains' spheres along the line of
+    centres, in compression only; each sphere grain touches with its own radius."""
+
+    stiffness: Positive = Field(description="normal stiffness k of the contact, N/m")
+    restitution: float = Field(1.0, gt=0.0, le=1.0, description="normal coefficient of restitution e of a head-on "
+                               "collision, - (the damping c = 2 zeta sqrt(k m), zeta = -ln e / sqrt(pi^2 + ln^2 e))")
+
+
 def check_grains(case) -> None:
     """ValueError naming the key unless the grains are 3D, uniquely named, inside the domain, smaller than it, apart,
     within fluid.max_speed, and a balanced mean weight has what it needs."""
@@ -64,6 +73,9 @@ def check_grains(case) -> None:
     # In a Lees-Edwards cell no pair of a grain's particle may cross the sheared faces (y = lo, hi): the support 2h
     # and the engine's Verlet skin (0.1 of it) inside them.
     sheared_margin = 2.0 * case.numerics.h_over_dx * case.numerics.dx * (1.0 + VERLET_SKIN)
+    if case.grain_contact is not None and (not grains or case.lees_edwards is not None):
+        raise ValueError("grain_contact needs [[grains]]" if not grains else
+                         "grain_contact cannot act in a Lees-Edwards cell ([lees_edwards]); remove one of them")
     names: set[str] = set()
     lo, hi = np.asarray(case.domain.lo), np.asarray(case.domain.hi)
     for i, g in enumerate(grains):
@@ -132,5 +144,6 @@ def grain_decks(case, masses: np.ndarray, kind: np.ndarray, grain: np.ndarray, r
         forces = [g * (1.0 - rho_m / gr.density) for gr in case.grains]
     decks = [{"name": gr.name, "density": float(gr.density), "velocity": [float(c) for c in gr.velocity],
               "angular_velocity": [float(c) for c in gr.angular_velocity], "body_force": [float(c) for c in f]}
+             | ({"contact_radius": float(gr.radius)} if case.grain_contact is not None else {})
              for gr, f in zip(case.grains, forces)]
     return (None if fluid_force is None else tuple(float(c) for c in fluid_force)), decks

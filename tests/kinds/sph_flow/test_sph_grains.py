@@ -136,3 +136,21 @@ def test_a_grain_near_the_sheared_faces_is_refused():
         load_case(SHEAR, overrides=["grains.0.centre=[0.01, 0.0132, 0.01]"])
     assert ("grains[0].centre = [0.01, 0.0132, 0.01]: in a Lees-Edwards cell the grain must stay 0.00286 m (the "
             "support 2h and the neighbour list's skin) inside the sheared faces y = 0 and 0.02 m") in str(error.value)
+
+
+def test_grain_contact_reaches_the_deck_with_each_sphere_radius():
+    context = deck_context(_scene(["grain_contact.stiffness=2.5", "grain_contact.restitution=0.5"]))
+    assert json.loads(context["grain_contact"]) == {"stiffness": 2.5, "restitution": 0.5}
+    assert json.loads(context["grains"][0])["contact_radius"] == 0.004
+    plain = deck_context(_scene())
+    assert plain["grain_contact"] is None and "contact_radius" not in json.loads(plain["grains"][0])
+
+
+@pytest.mark.parametrize("overrides,words", [
+    (["grain_contact.stiffness=2.5", "grain_contact.restitution=0.0"], "grain_contact.restitution = 0.0"),
+    (["grain_contact.stiffness=2.5", "grain_contact.restitution=1.5"], "grain_contact.restitution = 1.5"),
+    (["grain_contact.stiffness=-1.0"], "grain_contact.stiffness = -1.0"),
+    (["grain_contact.stiffness=2.5", "grains=[]", "physics.balance_mean_weight=false"], "grain_contact needs [[grains]]"),
+])
+def test_bad_grain_contact_is_named(overrides, words):
+    assert words in _refusal(overrides)
