@@ -85,6 +85,7 @@ CHECK_QUANTITIES = {
     "oldroyd_b_startup": ("centreline_velocity",),
     "settling": ("terminal_speed",),
     "grain_in_shear": ("rotation_rate", "centre_velocity"),
+    "grain_collision": ("restitution", "momentum_change"),
     "penalty_incline": ("eq14_wall_force", "min_distance_to_wall", "slide_distance", "distance_to_plane",
                         "plane_force"),
 }

@@ -29,7 +29,7 @@ from orchestrator.kinds.sph_flow.checks_base import (
     relative,
     tolerance_of,
 )
-from orchestrator.kinds.sph_flow.checks_grains import check_grain_in_shear, check_settling
+from orchestrator.kinds.sph_flow.checks_grains import check_grain_collision, check_grain_in_shear, check_settling
 from orchestrator.kinds.sph_flow.checks_layers import check_two_layer_couette, check_two_layer_poiseuille
 from orchestrator.kinds.sph_flow.checks_open import check_annulus_laminar, check_hagen_poiseuille
 from orchestrator.kinds.sph_flow.checks_viscoelastic import check_oldroyd_b_startup
@@ -151,7 +151,7 @@ def check_hydrostatic(case, run) -> tuple[list[dict], dict]:
     if frames:
         t, frame = frames[-1]
         fluid = fluid_mask(frame)
-        y = np.asarray(frame["positions"])[fluid, axis] - y0
+        y = np.asarray(frame["positions"])[fluid, 1] - y0
         p = np.asarray(frame["pressures"])[fluid]
         exact = hydrostatic_pressure(y, depth, rho0, g)
         l1 = float(np.mean(np.abs(p - exact))) / scale
@@ -239,6 +239,7 @@ CHECKS = {
     "oldroyd_b_startup": check_oldroyd_b_startup,
     "settling": check_settling,
     "grain_in_shear": check_grain_in_shear,
+    "grain_collision": check_grain_collision,
 }
 
 

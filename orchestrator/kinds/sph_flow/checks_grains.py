@@ -135,3 +135,60 @@ def check_grain_in_shear(case, run) -> tuple[list[dict], dict]:
              (time, np.ones(len(time)), "--", "k", "free sphere")]
     plot = {"title": f"{name}: grain in shear", "xlabel": "t (s)", "ylabel": "ratio to the closed form", "lines": lines}
     return rows, plot
+
+
+def check_grain_collision(case, run) -> tuple[list[dict], dict]:
+    """Two grains that collide (engine eq. G6, [grain_contact]): restitution, the relative speed along the line of
+    their centres after the contact over the one before it, against the set coefficient; momentum_change, |P(end) -
+    P(start)| of grains and fluid together over the grains' sum |M V| at the start (the fluid's particles each
+    rho0 dx^3 on the lattice), expected 0 (its tolerance an absolute bound)."""
+    name = case.case.name
+    if len(case.grains) != 2 or case.grain_contact is None:
+        raise OrchestratorError(f"{name}: check 'grain_collision' needs two grains and [grain_contact]")
+    series = run.get("series", {})
+    time = np.asarray(series.get("time", []), dtype=float)
+    frames = frames_of(run)
+    if len(time) < 2 or len(frames) < 2:
+        raise OrchestratorError(f"{name}: the run has too few series samples or frames")
+    a, b = case.grains
+    x = [np.asarray(series[f"grain_{g.name}_position"], dtype=float) for g in (a, b)]
+    v = [np.asarray(series[f"grain_{g.name}_velocity"], dtype=float) for g in (a, b)]
+    line = np.asarray(b.centre, float) - np.asarray(a.centre, float)
+    line /= np.linalg.norm(line)
+    closing = (v[1] - v[0]) @ line
+    gap = np.linalg.norm(x[1] - x[0], axis=1) - a.radius - b.radius
+    touching = np.nonzero(gap < 0.0)[0]
+    if not len(touching) or touching[-1] == len(time) - 1:
+        raise OrchestratorError(f"{name}: the grains did not touch and part again within the run")
+    before, after = float(closing[touching[0] - 1]), float(closing[-1])
+    value, expected = -after / before, float(case.grain_contact.restitution)
+    fluid = one_material(case, "grain_collision")
+    volume = case.numerics.dx ** case.domain.dimension
+    first = frames[0][1]
+    body = np.asarray(first["positions"])[np.asarray(first["kind"]) == BODY]
+    nearer_b = np.linalg.norm(body - x[1][0], axis=1) < np.linalg.norm(body - x[0][0], axis=1)
+    masses = [g.density * volume * n for g, n in zip((a, b), (int((~nearer_b).sum()), int(nearer_b.sum())))]
+    totals = []
+    for t, frame in (frames[0], frames[-1]):
+        kind = np.asarray(frame["kind"])
+        p_fluid = fluid.rho0 * volume * np.asarray(frame["velocities"])[kind == 0].sum(axis=0)
+        p_grains = sum(m * np.array([np.interp(t, time, vk[:, k]) for k in range(3)]) for m, vk in zip(masses, v))
+        totals.append(p_fluid + p_grains)
+    scale = sum(m * np.linalg.norm(vk[0]) for m, vk in zip(masses, v))
+    drift = float(np.linalg.norm(totals[1] - totals[0]) / scale)
+    rows = [check_row(name, "restitution", value, expected, relative(value, expected), tolerance_of(case, "restitution"),
+                      source="the contact law's coefficient (linear spring-dashpot)",
+                      note=f"restitution: -(V_b - V_a) . n after / before the contact (closing at {before:.4g} m/s, "
+                           f"parting at {after:.4g} m/s); closest gap {gap.min():.3g} m between the contact spheres"),
+            check_row(name, "momentum_change", drift, 0.0, drift, tolerance_of(case, "momentum_change"),
+                      passed=drift <= (tolerance_of(case, "momentum_change") or 0.0),
+                      source="grains and fluid exchange equal and opposite forces",
+                      note="momentum_change: |P(end) - P(start)| / sum |M V| at the start, grains (rho_g N dx^3, as the "
+                           "engine counts them) and fluid")]
+    if run["attrs"].get("status") != "ok":
+        for row in rows:
+            row["passed"] = False
+    lines = [(time, closing, "-", "C0", "(V_b - V_a) . n"), (time, -expected * before + 0 * time, "--", "k", "-e x before")]
+    plot = {"title": f"{name}: grain collision", "xlabel": "t (s)", "ylabel": "m/s", "lines": lines}
+    return rows, plot
+

@@ -61,7 +61,7 @@ def test_every_sph_scene_has_checks_and_units():
                                        "sph_steady_ptt_wi20",
                                        "sph_newtonian_cell", "sph_oldroyd_b_poiseuille",
                                        "sph_settling_sphere_box4a", "sph_settling_sphere_box6a", "sph_grain_in_shear",
-                                       "sph_afm_channel_empty"}
+                                       "sph_afm_channel_empty", "sph_grain_collision"}
     for path in files:
         case = load_case(path).model
         checks = CHECKS if case.case.kind == "sph_flow" else RHEOMETER_CHECKS
