@@ -3,7 +3,8 @@
 The same equations as engines/sph (src/materials/johnson_cook_material.h; README "Johnson-Cook solid"), written
 independently of it: Wendland C2 kernel (Canini et al. eq. 8), continuity (eq. 7), the solid's pressure (linear
 or Mie-Grueneisen with the specific internal energy e, clipped at 0 once failed), the tensor momentum equation
-dv_a/dt = sum_b m_b (sigma_a/rho_a^2 + sigma_b/rho_b^2 + f_ab^n (R_a + R_b)) . grad_a W_ab with Monaghan's
+dv_a/dt = sum_b m_b (sigma_a/rho_a^2 + sigma_b/rho_b^2 + f_ab^n (R_a + R_b)) . grad_a W_ab (or, with
+corrected_momentum, eq. KC1: sigma_a/rho_a^2 M_a^-T + sigma_b/rho_b^2 M_b^-T with the M of the last evaluation) with Monaghan's
 artificial stress R = -epsilon sum_i max(sigma_i, 0)/rho^2 e_i e_i^T and f_ab = W(r_ab)/W(dx), Monaghan's
 artificial viscosity (eqs. 11-12) with the solid's wave speed, the kernel-corrected velocity gradient L = G M^-1
 (eq. T2), the hypoelastic Jaumann rate ds/dt = 2 G dev(D) + W s - s W (2D: plane strain, ds_zz/dt = -2 G tr D / 3),
@@ -42,6 +43,7 @@ class SolidScene:
     exponent: int = 4
     alpha: float = 0.0
     beta: float = 0.0
+    corrected_momentum: bool = False
 
     @property
     def wave_speed(self) -> float:
@@ -53,7 +55,8 @@ class SolidScene:
 @dataclass(frozen=True)
 class SolidState:
     """Positions (n, D) m, velocities (n, D) m/s, masses (n) kg, densities (n) kg/m^3, deviatoric stresses
-    (n, D, D) Pa, the solid scalars (n, 6) (the columns above), and the last rates."""
+    (n, D, D) Pa, the solid scalars (n, 6) (the columns above), the last rates, and the last evaluation's kernel
+    correction M^-T (n, D, D) of eq. KC1 (None: the identity)."""
 
     x: np.ndarray
     v: np.ndarray
@@ -65,6 +68,7 @@ class SolidState:
     drho: np.ndarray | None = None
     ds: np.ndarray | None = None
     dscalars: np.ndarray | None = None
+    correction: np.ndarray | None = None
 
 
 def start_scalars(scene: SolidScene, count: int) -> np.ndarray:
@@ -105,6 +109,8 @@ def rates(state: SolidState, scene: SolidScene) -> SolidState:
     p = np.array([pressure(scene, rho, e, f) for rho, e, f in zip(state.rho, state.scalars[:, ENERGY], failed)])
     S = (state.s - p[:, None, None] * eye) / state.rho[:, None, None] ** 2
     R = artificial_stress(S, scene.artificial_stress)
+    if scene.corrected_momentum and state.correction is not None:  # eq. KC1: sigma_a / rho_a^2 M_a^-T grad W
+        S = S @ state.correction
     a, b, r = _pairs(state.x, scene)
     q = np.sqrt(np.einsum("ij,ij->i", r, r)) / h
     t = np.maximum(1.0 - 0.5 * q, 0.0)
@@ -133,6 +139,7 @@ def rates(state: SolidState, scene: SolidScene) -> SolidState:
         np.add.at(G, owner, weight * np.einsum("pi,pj->pij", v_ab, r))
         np.add.at(M, owner, weight * np.einsum("pi,pj->pij", r, r))
     L = G @ np.linalg.inv(M)
+    correction = np.where(failed[:, None, None], eye, np.swapaxes(np.linalg.inv(M), 1, 2))
     stretching, spin = 0.5 * (L + np.swapaxes(L, 1, 2)), 0.5 * (L - np.swapaxes(L, 1, 2))
     third = np.trace(stretching, axis1=1, axis2=2) / 3.0
     shear = scene.solid.shear_modulus
@@ -145,7 +152,8 @@ def rates(state: SolidState, scene: SolidScene) -> SolidState:
     power = np.einsum("pi,pi->p", v_ab, f)
     np.add.at(dscalars[:, ENERGY], a, -0.5 * state.m[b] * power)
     np.add.at(dscalars[:, ENERGY], b, -0.5 * state.m[a] * power)
-    return replace(state, acc=acc, drho=drho, ds=ds, dscalars=dscalars)
+    return replace(state, acc=acc, drho=drho, ds=ds, dscalars=dscalars,
+                   correction=correction if scene.corrected_momentum else None)
 
 
 def _return_mapping(scene: SolidScene, s: np.ndarray, scalars: np.ndarray, rho: float, dt: float):
@@ -199,12 +207,16 @@ def step(state: SolidState, scene: SolidScene, dt: float) -> SolidState:
     for i in range(len(rho)):
         s[i], scalars[i] = _return_mapping(scene, s[i], scalars[i], rho[i], dt)
     return SolidState(x=state.x + dt * (state.v + half * mid.acc), v=state.v + dt * mid.acc, m=state.m, rho=rho,
-                      s=s, scalars=scalars, acc=mid.acc, drho=mid.drho, ds=mid.ds, dscalars=mid.dscalars)
+                      s=s, scalars=scalars, acc=mid.acc, drho=mid.drho, ds=mid.ds, dscalars=mid.dscalars,
+                      correction=mid.correction)
 
 
 def simulate(state: SolidState, scene: SolidScene, dt: float, n_steps: int) -> SolidState:
-    """n_steps steps of dt s from a state without rates (the initial rates are evaluated first)."""
+    """n_steps steps of dt s from a state without rates (the initial rates are evaluated first; twice with eq.
+    KC1, whose M^-T the first gives)."""
     state = rates(state, scene)
+    if scene.corrected_momentum:
+        state = rates(state, scene)
     for _ in range(n_steps):
         state = step(state, scene, dt)
     return state

@@ -30,20 +30,24 @@ RHO0 = 2703.0  # kg/m^3
 SHEAR = 26e9  # Pa
 EXECUTABLE = Path(os.environ.get("ORCHESTRATOR_SPH") or REPO / "engines/sph/build/sph")
 
-#: The scenes: dimension, particles per side, eos, failure, heat fraction, artificial stress epsilon, AV alpha, beta.
+#: The scenes: dimension, particles per side, eos, failure, heat fraction, artificial stress epsilon, AV alpha, beta,
+#: momentum sum (eq. T1 plain or eq. KC1 corrected).
 SCENES = {
-    "linear_2d": (2, 8, "linear", False, 0.0, 0.3, 0.0, 0.0),
-    "shock_failure_2d": (2, 8, "mie_gruneisen", True, 0.95, 0.3, 1.0, 1.0),
-    "linear_3d": (3, 6, "linear", False, 0.95, 0.3, 1.0, 0.0),
+    "linear_2d": (2, 8, "linear", False, 0.0, 0.3, 0.0, 0.0, "plain"),
+    "shock_failure_2d": (2, 8, "mie_gruneisen", True, 0.95, 0.3, 1.0, 1.0, "plain"),
+    "linear_3d": (3, 6, "linear", False, 0.95, 0.3, 1.0, 0.0, "plain"),
+    "corrected_failure_2d": (2, 8, "mie_gruneisen", True, 0.95, 0.3, 1.0, 1.0, "corrected"),
+    "corrected_3d": (3, 6, "linear", False, 0.95, 0.3, 1.0, 0.0, "corrected"),
 }
 
 
 def _scene(name: str) -> tuple[ref.SolidState, ref.SolidScene, dict]:
-    dim, n, eos_name, fails, chi, epsilon, alpha, beta = SCENES[name]
+    dim, n, eos_name, fails, chi, epsilon, alpha, beta, momentum = SCENES[name]
     eos = LinearEos(RHO0, 70e9) if eos_name == "linear" else MieGruneisen(RHO0, 5240.0, 1.4, 1.97)
     failure = jc.Failure(D1=0.002, D2=0.01, D3=-0.47, D4=0.0, D5=1.6) if fails else None
     solid = jc.Solid(SHEAR, eos, jc.AL6061_T6_STRENGTH, failure, heat_capacity=896.0, heat_fraction=chi)
-    scene = ref.SolidScene(solid, True, 1.3 * DX, DX, (n * DX,) * dim, epsilon, 4, alpha, beta)
+    scene = ref.SolidScene(solid, True, 1.3 * DX, DX, (n * DX,) * dim, epsilon, 4, alpha, beta,
+                           momentum == "corrected")
     rng = np.random.default_rng(3 + dim)
     grid = np.stack(np.meshgrid(*[np.arange(n)] * dim, indexing="ij"), -1).reshape(-1, dim)
     count = len(grid)
@@ -54,7 +58,7 @@ def _scene(name: str) -> tuple[ref.SolidState, ref.SolidScene, dict]:
     material = {"name": "al", "model": "johnson_cook", "rho0": RHO0, "shear_modulus": SHEAR,
                 "yield_stress": 324e6, "hardening_modulus": 114e6, "hardening_exponent": 0.42,
                 "rate_sensitivity": 0.002, "thermal_exponent": 1.34, "melting_temperature": 925.0,
-                "artificial_stress": {"epsilon": epsilon, "exponent": 4}}
+                "artificial_stress": {"epsilon": epsilon, "exponent": 4}, "momentum": momentum}
     if eos_name == "linear":
         material["bulk_modulus"] = 70e9
     else:
@@ -120,6 +124,9 @@ def test_executable_solid_agrees_with_the_reference(name, tmp_path):
         assert mine.scalars[:, ref.TEMPERATURE].max() > 294.0
     plain = ref.simulate(start, replace(scene, artificial_stress=0.0), DT, STEPS)
     assert np.abs(plain.v - mine.v).max() > 1e3 * TOLERANCE * np.abs(mine.v).max()
+    if scene.corrected_momentum:  # eq. KC1 matters on the perturbed lattice
+        uncorrected = ref.simulate(start, replace(scene, corrected_momentum=False), DT, STEPS)
+        assert np.abs(uncorrected.v - mine.v).max() > 1e3 * TOLERANCE * np.abs(mine.v).max()
 
 
 def test_artificial_stress_takes_the_tensile_principal_stresses():

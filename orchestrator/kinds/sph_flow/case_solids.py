@@ -50,6 +50,10 @@ SOLID_EOS = ("linear", "mie_gruneisen")
 #: The rate factor of eqs. 10 and 14: (1 + epsdot*)^C as the paper prints it, or Johnson and Cook's 1 + C ln epsdot*.
 RATE_FORMS = ("power", "log")
 
+#: The momentum sum of a solid: eq. T1 with grad W (plain) or with the kernel-corrected gradient M^-T grad W of
+#: eq. KC1 (corrected; Bonet & Lok 1999).
+MOMENTUM_SUMS = ("plain", "corrected")
+
 #: Keys of [materials.solid] that only a plastic solid (one with a yield_stress) takes.
 STRENGTH_KEYS = ("hardening_modulus", "hardening_exponent", "rate_sensitivity", "thermal_exponent",
                  "reference_rate", "rate_form", "room_temperature", "melting_temperature", "failure")
@@ -102,6 +106,9 @@ class SolidMaterial(Frozen):
     failure: SolidFailure | None = Field(None, description="Johnson-Cook damage (eqs. 13-14); needs yield_stress")
     artificial_stress: ArtificialStress | None = Field(None, description="Monaghan's artificial stress (off "
                                                                          "without the table)")
+    momentum: str = Field("plain", description="the momentum sum: plain (eq. T1) or corrected (eq. KC1: each "
+                                               "particle's stress times its M^-T, the kernel correction of the "
+                                               "velocity gradient, from the last evaluation; Bonet & Lok 1999)")
 
     def bulk(self, density: float) -> float:
         """The bulk modulus of the reference state, Pa (rho0 C0^2 for mie_gruneisen)."""
@@ -206,6 +213,8 @@ def check_solid_table(where: str, s: SolidMaterial) -> None:
     stress, Tm above T0, C_p with heating; ValueError naming the key as <where>.solid.<key>."""
     _check_eos(where, s)
     _check_strength(where, s)
+    if s.momentum not in MOMENTUM_SUMS:
+        raise ValueError(f"{where}.solid.momentum = {s.momentum!r}: allowed: {', '.join(MOMENTUM_SUMS)}")
     if s.heat_fraction > 0.0 and s.heat_capacity is None:
         raise ValueError(f"{where}.solid.heat_capacity is missing; heat_fraction = {s.heat_fraction} heats the "
                          "solid by eq. 12, which needs C_p (J/(kg K))")

@@ -73,6 +73,7 @@ inline void parse_johnson_cook(const MaterialKeys& k, MaterialSpec& m) {
   else if (k.has("heat_capacity")) k.fail("heat_capacity", "is given but heat_fraction is 0 (isothermal): give both or neither");
   parse_failure(k, s);
   parse_artificial_stress(k, s);
+  s.corrected_momentum = k.text_or("momentum", "plain", {"plain", "corrected"}) == "corrected";  // eq. KC1
   m.c0 = s.wave_speed();
 }
 

@@ -44,7 +44,7 @@ struct JohnsonCook {
     return {"shear_modulus", "eos", "bulk_modulus", "bulk_sound_speed", "hugoniot_slope", "gruneisen",
             "yield_stress", "hardening_modulus", "hardening_exponent", "rate_sensitivity", "thermal_exponent",
             "reference_rate", "rate_form", "room_temperature", "melting_temperature", "heat_capacity",
-            "heat_fraction", "failure", "artificial_stress"};
+            "heat_fraction", "failure", "artificial_stress", "momentum"};
   }
   static void parse(const MaterialKeys& k, MaterialSpec& m) { parse_johnson_cook(k, m); }  // johnson_cook_keys.h
   // The parsed parameters into the run's material, with the deck's particle spacing dx (m) of W(dx).
@@ -171,6 +171,7 @@ void solid_equation_of_state(Particles<D>& P, const MaterialTable& materials, st
     P.p_rho2[i] = P.p[i] / rho2;
     P.sigma_rho2[i] = (P.tau[i] - P.p[i] * Mat<D>::Identity()) / rho2;
     P.art_stress[i] = Model::artificial_stress(mat, P.sigma_rho2[i]);
+    if (mat.solid.corrected_momentum) P.sigma_rho2[i] = P.sigma_rho2[i] * P.grad_correction[i];  // eq. KC1
   });
 }
 
