@@ -1,4 +1,5 @@
 // The deck's rigid grains (parameters.h GrainSpec, grains.h): the `grains` list.
+#include <cmath>
 #include <set>
 #include <string>
 
@@ -36,13 +37,27 @@ void parse_grains(const json& j, RunParameters& d) {
 }
 
 void parse_grain_contact(const json& j, RunParameters& d) {
-  check_keys(j, "grain_contact", {"stiffness", "restitution"});
+  check_keys(j, "grain_contact", {"stiffness", "restitution", "walls"});
   if (d.grains.empty()) fail("'grain_contact' needs 'grains'");
   d.grain_contact.stiffness = positive(j, "grain_contact", "stiffness");
   if (j.contains("restitution")) {
     const double e = positive(j, "grain_contact", "restitution");
     if (e > 1.0) fail("'grain_contact.restitution' must be in (0, 1] (got " + std::to_string(e) + ")");
     d.grain_contact.restitution = e;
+  }
+  if (!j.contains("walls")) return;
+  if (!j["walls"].is_array()) fail("'grain_contact.walls' must be a list of planes {point, normal}");
+  if (d.dimension != 3) fail("'grain_contact.walls' act in 3D only");
+  for (std::size_t i = 0; i < j["walls"].size(); ++i) {  // eq. G7's planes
+    const json& w = j["walls"][i];
+    const std::string path = "grain_contact.walls[" + std::to_string(i) + "]";
+    check_keys(w, path, {"point", "normal"});
+    if (!w.contains("point") || !w.contains("normal")) fail("'" + path + "' needs 'point' and 'normal'");
+    const std::vector<double> p = vector_of(w["point"], where(path, "point"), 3);
+    std::vector<double> n = vector_of(w["normal"], where(path, "normal"), 3);
+    const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (!(length > 0.0)) fail("'" + path + ".normal' must not be zero");
+    d.grain_contact.walls.push_back({p[0], p[1], p[2], n[0] / length, n[1] / length, n[2] / length});
   }
 }
 

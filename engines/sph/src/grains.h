@@ -17,6 +17,7 @@
 // and moves at v_i = V + omega x R r_i. 3D only.
 #pragma once
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <string>
@@ -156,7 +157,7 @@ class Grains {
   // (m: the kernel's support and the Verlet skin) inside the faces across `axis`, so that no pair of a grain's
   // particle crosses the sheared faces (its no-slip velocity, boundary_particles.h, takes no image velocity jump).
   void configure(const RunParameters& deck, const PeriodicBox<D>& box, int axis, double margin, const Particles<D>& P) {
-    box_ = box, stiffness_ = deck.grain_contact.stiffness;
+    box_ = box, stiffness_ = deck.grain_contact.stiffness, walls_ = deck.grain_contact.walls;
     const bool sheared = deck.lees_edwards.on;
     const double log_e = std::log(deck.grain_contact.restitution);
     zeta_ = -log_e / std::sqrt(M_PI * M_PI + log_e * log_e);
@@ -180,7 +181,9 @@ class Grains {
   // (m = M_g M_h / (M_g + M_h), v_n = (V_h - V_g) . n at the mid-step pose and velocities the fluid sees): a linear
   // spring-dashpot, which restores the relative normal speed times e in a head-on collision (exactly without the
   // compression-only clamp, which ends the contact a little early). Equal and opposite along the line of centres:
-  // momentum and angular momentum kept. Serial, in grain order.
+  // momentum and angular momentum kept. A grain on a wall plane (point p, unit normal n into the fluid) the same way
+  // with the grain's mass and delta = R_g - (X_g - p) . n, v_n = V_g . n, the force along n on the grain:       (G7)
+  // F = max(0, k delta - c v_n), c = 2 zeta sqrt(k M_g). Serial, in grain order.
   void contacts() {
     for (auto& b : grains_) b.contact.setZero();
     if (!(stiffness_ > 0.0)) return;
@@ -202,6 +205,16 @@ class Grains {
         const double F = std::max(0.0, stiffness_ * overlap - 2.0 * zeta_ * std::sqrt(stiffness_ * m) * v_n);
         A.contact -= F * n, B.contact += F * n;
       }
+    for (auto& b : grains_) {  // eq. G7: each grain on each wall plane
+      if (!(b.contact_radius > 0.0)) continue;
+      for (const auto& w : walls_) {
+        const Vec<3> point(w[0], w[1], w[2]), n(w[3], w[4], w[5]);
+        const double overlap = b.contact_radius - (b.state.position - point).dot(n);
+        if (!(overlap > 0.0)) continue;
+        const double v_n = b.seen_velocity.dot(n);
+        b.contact += std::max(0.0, stiffness_ * overlap - 2.0 * zeta_ * std::sqrt(stiffness_ * b.body.mass) * v_n) * n;
+      }
+    }
   }
 
   // Momentum (kg m/s) and angular momentum about the origin (kg m^2/s) of the grains.
@@ -220,6 +233,7 @@ class Grains {
   std::vector<Grain> grains_;
   PeriodicBox<D> box_{};
   double stiffness_ = 0.0, zeta_ = 0.0;  // eq. G6: k N/m, the damping ratio
+  std::vector<std::array<double, 6>> walls_;  // eq. G7: point (m) and unit normal of each plane
 };
 
 }  // namespace sph

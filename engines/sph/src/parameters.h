@@ -1,6 +1,7 @@
 // The parameters of a run in SI units: plain structs that the physics code takes. The deck parser (deck.h)
 // fills them from the JSON deck and validates them; nothing here knows the deck's format.
 #pragma once
+#include <array>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -137,6 +138,7 @@ struct GrainSpec {
 struct GrainContactSpec {
   double stiffness = 0.0;    // k, N/m (0: no contact)
   double restitution = 1.0;  // e, normal coefficient of restitution, 0 < e <= 1
+  std::vector<std::array<double, 6>> walls;  // planes the grains touch (eq. G7): a point (m), a unit normal into the fluid
 };
 
 // Every setting of a run (what the deck parser returns).

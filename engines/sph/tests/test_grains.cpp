@@ -1,8 +1,9 @@
 // Rigid grains that the fluid drags (grains.h, grain_pairs.h): a sphere of particles in a fluid. Checked: the
 // momentum of fluid and grain together in a periodic box (viscous fluid, every pair term of eq. G1), their angular
 // momentum in a free blob (inviscid: central pair forces), the grain's particles kept rigid, a grain in a fluid at
-// rest left at rest, a grain turning with the fluid free of viscous torque (eqs. G4-G5), 1 and 2 threads bitwise
-// equal, and the deck's refusals.
+// rest left at rest, a grain turning with the fluid free of viscous torque (eqs. G4-G5), two grains colliding
+// (eq. G6) and a grain bouncing off a wall plane (eq. G7) at the set restitution, 1 and 2 threads bitwise equal, and
+// the deck's refusals.
 #include <omp.h>
 
 #include <cmath>
@@ -253,6 +254,57 @@ TEST(two_grains_collide_at_the_set_restitution_keeping_momentum) {
   CHECK(worst_p < 1e-13 && worst_l < 1e-12);
 }
 
+TEST(grain_bounces_off_a_wall_plane_at_the_set_restitution) {
+  // One grain of 1000 kg/m^3 (the sites within 2.1 dx of a centre) moves at 0.1 m/s against a wall plane whose
+  // normal is off the lattice's axes, through a free blob of fluid a thousand times lighter; eq. G7 with e = 0.7,
+  // a contact of about 60 steps. Checked: the normal speed after against -e times the speed before, the tangential
+  // velocity kept (the contact is frictionless), and the grain stopped by the plane short of its contact radius.
+  constexpr int nx = 12, ny = 8;
+  const double rho_f = 1.0, rho_g = 1000.0, e = 0.7;
+  RunParameters d;
+  d.dimension = 3, d.terms = term::artificial_viscosity | term::grains, d.rho0 = rho_f, d.c0 = c0, d.v_max = 0.2;
+  d.alpha = 0.1, d.dx = dx, d.h = 1.3 * dx;
+  const Vec<3> n = Vec<3>(1.0, 0.15, 0.1).normalized();
+  const Vec<3> tangent = Vec<3>(0.0, 0.02, -0.01) - Vec<3>(0.0, 0.02, -0.01).dot(n) * n;  // along the plane
+  const Vec<3> centre = dx * Vec<3>(0.5 * nx + 0.05, 0.5 * ny + 0.1, 0.5 * ny - 0.05);
+  const Vec<3> plane = centre - 4.0 * dx * n;  // the contact sphere (2.9 dx) touches after 1.1 dx
+  GrainSpec s;
+  s.name = "ball", s.density = rho_g, s.contact_radius = 2.9 * dx, s.body_force = {0, 0, 0};
+  const Vec<3> v = -0.1 * n + tangent;
+  s.velocity = {v.x(), v.y(), v.z()}, s.angular_velocity = {0, 0, 0};
+  d.grains = {s};
+  d.grain_contact.restitution = e;
+  d.grain_contact.walls = {{plane.x(), plane.y(), plane.z(), n.x(), n.y(), n.z()}};
+  Particles<3> P;
+  P.grains = true;
+  P.resize(nx * ny * ny);
+  int k = 0, count = 0;
+  for (int i = 0; i < nx; ++i)
+    for (int j = 0; j < ny; ++j)
+      for (int l = 0; l < ny; ++l, ++k) {
+        P.x[k] = dx * Vec<3>(i + 0.5, j + 0.5, l + 0.5), P.v[k].setZero();
+        P.rho[k] = rho_f, P.mass[k] = rho_f * dx * dx * dx, P.id[k] = k;
+        const bool inside = (P.x[k] - centre).norm() < 2.1 * dx;
+        P.kind[k] = inside ? Kind::body : Kind::fluid, P.grain[k] = inside ? 0 : -1, count += inside;
+      }
+  const double dt = 0.2 * 1.3 * dx / c0, contact_time = 60 * dt;  // t_c = pi sqrt(M / k) undamped
+  d.grain_contact.stiffness = M_PI * M_PI * rho_g * count * dx * dx * dx / (contact_time * contact_time);
+  Inviscid sim(d, P);
+  double nearest = 1.0;
+  for (int step = 0; step < 160; ++step) {
+    CHECK(sim.step(dt, NoCrossings{}));
+    nearest = std::min(nearest, (sim.grains().grains()[0].state.position - plane).dot(n));
+  }
+  const Vec<3> after = sim.grains().grains()[0].state.velocity;
+  const Vec<3> slide = after - after.dot(n) * n;
+  std::fprintf(stderr, "  normal speed -0.1 -> %.5f m/s: restitution %.4f (set %.2f); tangential change %.1e m/s; "
+               "nearest centre %.2f dx from the plane\n", after.dot(n), after.dot(n) / 0.1, e, (slide - tangent).norm(),
+               nearest / dx);
+  CHECK(std::abs(after.dot(n) / 0.1 - e) < 0.02 * e);
+  CHECK((slide - tangent).norm() < 1e-3 * tangent.norm());
+  CHECK(nearest < 2.9 * dx && nearest > 2.0 * dx);
+}
+
 TEST(grain_steps_do_not_depend_on_the_thread_count) {
   Particles<3> result[2];
   Vec<3> omega[2];
@@ -286,6 +338,19 @@ TEST(grain_deck_refusals_name_the_key) {
   CHECK(refused(R"([{"name": "g", "density": 2, "spin": 1}])", "unknown key 'grains[0].spin'"));
   CHECK(refused(R"([{"name": "g", "density": 2, "velocity": [1, 2]}])", "grains[0].velocity"));
   CHECK(refused(R"([{"name": "g", "density": 2}])", "3D only", 2));
+  auto contact_refused = [](const std::string& text, const std::string& expected) {
+    RunParameters d;
+    d.dimension = 3, d.grains = {GrainSpec{}};
+    try {
+      parse_grain_contact(nlohmann::json::parse(text), d);
+    } catch (const InputError& e) {
+      return std::string(e.what()).find(expected) != std::string::npos;
+    }
+    return false;
+  };
+  CHECK(contact_refused(R"({"stiffness": 1, "walls": [{"point": [0, 0, 0], "normal": [0, 0, 0]}]})",
+                        "grain_contact.walls[0].normal' must not be zero"));
+  CHECK(contact_refused(R"({"stiffness": 1, "walls": [{"point": [0, 0, 0]}]})", "needs 'point' and 'normal'"));
   // A grain without particles.
   RunParameters d = grain_deck(term::morris_viscosity | term::grains, true, 2000.0);
   d.grains.push_back(d.grains[0]), d.grains[1].name = "empty";

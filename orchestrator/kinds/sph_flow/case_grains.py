@@ -18,6 +18,7 @@ import numpy as np
 from pydantic import Field
 
 from orchestrator.case.common import Frozen, Name, Positive
+from orchestrator.kinds.sph_flow.case_limits import sph_timestep
 
 Vector3 = tuple[float, float, float]
 
@@ -25,6 +26,9 @@ Vector3 = tuple[float, float, float]
 BODY = 4
 #: The sph executable's Verlet skin as a fraction of the support 2h (engines/sph/src/parameters.h, neighbour_skin).
 VERLET_SKIN = 0.1
+#: The fewest time steps a grain contact (pi sqrt(m / k), undamped) may last: the spring-dashpot's restitution is
+#: then within about 1 % of the set one (engines/sph/tests/test_grains.cpp runs its contacts over some 60 steps).
+CONTACT_STEPS = 20
 
 
 class Grain(Frozen):
@@ -49,13 +53,37 @@ class Grain(Frozen):
         return np.asarray(self.velocity) + np.cross(np.asarray(self.angular_velocity), arm)
 
 
+class ContactWall(Frozen):
+    """A plane the grains touch (engine eq. G7): a point on it and its normal into the fluid."""
+
+    point: Vector3 = Field(description="a point of the plane, m")
+    normal: Vector3 = Field(description="its normal, pointing into the fluid (any length but zero), -")
+
+    def unit_normal(self) -> np.ndarray:
+        """The normal scaled to length 1 (zero when it is zero)."""
+        n = np.asarray(self.normal, dtype=float)
+        length = float(np.linalg.norm(n))
+        return n / length if length > 0.0 else n
+
+
 class GrainContact(Frozen):
-    """Grain-grain contact (engine eq. G6): a linear spring-dashpot between the grains' spheres along the line of
-    centres, in compression only; each sphere grain touches with its own radius."""
+    """Grain contact (engine eqs. G6, G7): a linear spring-dashpot between the grains' spheres along the line of
+    centres, and between a grain's sphere and each wall plane along its normal, in compression only and without
+    friction; each sphere grain touches with its own radius."""
 
     stiffness: Positive = Field(description="normal stiffness k of the contact, N/m")
     restitution: float = Field(1.0, gt=0.0, le=1.0, description="normal coefficient of restitution e of a head-on "
                                "collision, - (the damping c = 2 zeta sqrt(k m), zeta = -ln e / sqrt(pi^2 + ln^2 e))")
+    walls: tuple[ContactWall, ...] = Field((), description="planes the grains touch (eq. G7; e.g. a channel's wall "
+                                           "faces): [[grain_contact.walls]] tables of point and normal")
+
+    def deck(self) -> dict:
+        """The deck's grain_contact object (engines/sph/README.md), the normals of unit length."""
+        out = {"stiffness": float(self.stiffness), "restitution": float(self.restitution)}
+        if self.walls:
+            out["walls"] = [{"point": [float(c) for c in w.point], "normal": [float(c) for c in w.unit_normal()]}
+                            for w in self.walls]
+        return out
 
 
 def check_grains(case) -> None:
@@ -76,6 +104,8 @@ def check_grains(case) -> None:
     if case.grain_contact is not None and (not grains or case.lees_edwards is not None):
         raise ValueError("grain_contact needs [[grains]]" if not grains else
                          "grain_contact cannot act in a Lees-Edwards cell ([lees_edwards]); remove one of them")
+    if case.grain_contact is not None:
+        _check_contact(case)
     names: set[str] = set()
     lo, hi = np.asarray(case.domain.lo), np.asarray(case.domain.hi)
     for i, g in enumerate(grains):
@@ -106,6 +136,38 @@ def check_grains(case) -> None:
             if gap < 0.0:
                 raise ValueError(f"grains[{i}].centre: grain {g.name!r} overlaps grains[{j}] ({other.name!r}) by "
                                  f"{-gap:.4g} m")
+
+
+def _check_contact(case) -> None:
+    """The contact walls (a normal, across a bounded axis, clear of every grain at the start) and the contact's
+    duration pi sqrt(m / k) against the run's largest step: at least CONTACT_STEPS steps."""
+    contact, periodic = case.grain_contact, set(case.domain.periodic)
+    for j, wall in enumerate(contact.walls):
+        n = wall.unit_normal()
+        if not np.any(n):
+            raise ValueError(f"grain_contact.walls[{j}].normal = {list(wall.normal)}: must not be zero")
+        across = [axis for axis in periodic if abs(n[axis]) > 1e-9]
+        if across:
+            raise ValueError(f"grain_contact.walls[{j}].normal = {list(wall.normal)} has a component along the "
+                             f"periodic axis {across[0]}: a wall plane must lie along the periodic axes")
+        for i, g in enumerate(case.grains):
+            distance = float((np.asarray(g.centre) - np.asarray(wall.point)) @ n)
+            if distance < g.radius:
+                raise ValueError(f"grains[{i}].centre = {list(g.centre)}: grain {g.name!r} (radius {g.radius:g} m) "
+                                 f"lies {distance:.4g} m from grain_contact.walls[{j}] (on its side of the normal), "
+                                 "overlapping it; move the grain or the wall")
+    masses = [g.density * 4.0 / 3.0 * math.pi * g.radius ** 3 for g in case.grains]
+    pairs = [a * b / (a + b) for i, a in enumerate(masses) for b in masses[:i]]
+    lightest = min(pairs + (masses if contact.walls else []), default=None)
+    if lightest is None:
+        return
+    duration = math.pi * math.sqrt(lightest / contact.stiffness)
+    dt = sph_timestep(case)
+    if duration < CONTACT_STEPS * dt:
+        raise ValueError(f"grain_contact.stiffness = {contact.stiffness:g} N/m makes a contact of pi sqrt(m / k) = "
+                         f"{duration:.3g} s (m = {lightest:.3g} kg), {duration / dt:.3g} steps of the run's largest "
+                         f"step {dt:.3g} s; the contact needs at least {CONTACT_STEPS}: at most "
+                         f"{math.pi ** 2 * lightest / (CONTACT_STEPS * dt) ** 2:.3g} N/m")
 
 
 def carve_grains(grains, positions: np.ndarray, kind: np.ndarray, velocities: np.ndarray, dx: float):

@@ -86,6 +86,7 @@ CHECK_QUANTITIES = {
     "settling": ("terminal_speed",),
     "grain_in_shear": ("rotation_rate", "centre_velocity"),
     "grain_collision": ("restitution", "momentum_change"),
+    "grain_wall_bounce": ("restitution", "tangential_change"),
     "penalty_incline": ("eq14_wall_force", "min_distance_to_wall", "slide_distance", "distance_to_plane",
                         "plane_force"),
 }

@@ -29,7 +29,12 @@ from orchestrator.kinds.sph_flow.checks_base import (
     relative,
     tolerance_of,
 )
-from orchestrator.kinds.sph_flow.checks_grains import check_grain_collision, check_grain_in_shear, check_settling
+from orchestrator.kinds.sph_flow.checks_grains import (
+    check_grain_collision,
+    check_grain_in_shear,
+    check_grain_wall_bounce,
+    check_settling,
+)
 from orchestrator.kinds.sph_flow.checks_layers import check_two_layer_couette, check_two_layer_poiseuille
 from orchestrator.kinds.sph_flow.checks_open import check_annulus_laminar, check_hagen_poiseuille
 from orchestrator.kinds.sph_flow.checks_viscoelastic import check_oldroyd_b_startup
@@ -240,6 +245,7 @@ CHECKS = {
     "settling": check_settling,
     "grain_in_shear": check_grain_in_shear,
     "grain_collision": check_grain_collision,
+    "grain_wall_bounce": check_grain_wall_bounce,
 }
 
 

@@ -192,3 +192,46 @@ def check_grain_collision(case, run) -> tuple[list[dict], dict]:
     plot = {"title": f"{name}: grain collision", "xlabel": "t (s)", "ylabel": "m/s", "lines": lines}
     return rows, plot
 
+
+
+def check_grain_wall_bounce(case, run) -> tuple[list[dict], dict]:
+    """One grain that bounces off the first wall plane of [grain_contact] (engine eq. G7): restitution, minus its
+    velocity along the wall's normal at the end over the one at the start, against the set coefficient;
+    tangential_change, the change of its velocity along the wall over its speed at the start, expected 0 (the contact
+    is frictionless; its tolerance an absolute bound)."""
+    name = case.case.name
+    contact = case.grain_contact
+    if len(case.grains) != 1 or contact is None or not contact.walls:
+        raise OrchestratorError(f"{name}: check 'grain_wall_bounce' needs one grain and [[grain_contact.walls]]")
+    series = run.get("series", {})
+    time = np.asarray(series.get("time", []), dtype=float)
+    if len(time) < 2:
+        raise OrchestratorError(f"{name}: the run has too few series samples")
+    grain, wall = case.grains[0], contact.walls[0]
+    n = wall.unit_normal()
+    x = np.asarray(series[f"grain_{grain.name}_position"], dtype=float)
+    v = np.asarray(series[f"grain_{grain.name}_velocity"], dtype=float)
+    distance = (x - np.asarray(wall.point)) @ n
+    normal = v @ n
+    if distance.min() >= grain.radius or normal[-1] <= 0.0:
+        raise OrchestratorError(f"{name}: the grain did not touch the wall and leave it within the run")
+    before, after = float(normal[0]), float(normal[-1])
+    value, expected = -after / before, float(contact.restitution)
+    tangential = v - normal[:, None] * n
+    slide = float(np.linalg.norm(tangential[-1] - tangential[0]) / np.linalg.norm(v[0]))
+    rows = [check_row(name, "restitution", value, expected, relative(value, expected), tolerance_of(case, "restitution"),
+                      source="the contact law's coefficient (linear spring-dashpot on a plane)",
+                      note=f"restitution: -V . n after / before the contact ({before:.4g} m/s in, {after:.4g} m/s "
+                           f"out); nearest centre {distance.min():.4g} m from the plane, contact radius "
+                           f"{grain.radius:.4g} m"),
+            check_row(name, "tangential_change", slide, 0.0, slide, tolerance_of(case, "tangential_change"),
+                      passed=slide <= (tolerance_of(case, "tangential_change") or 0.0),
+                      source="a frictionless contact leaves the velocity along the wall",
+                      note="tangential_change: |V_t(end) - V_t(start)| / |V(start)| (the light fluid's drag "
+                           "included)")]
+    if run["attrs"].get("status") != "ok":
+        for row in rows:
+            row["passed"] = False
+    lines = [(time, normal, "-", "C0", "V . n"), (time, -expected * before + 0 * time, "--", "k", "-e x before")]
+    plot = {"title": f"{name}: grain on a wall", "xlabel": "t (s)", "ylabel": "m/s", "lines": lines}
+    return rows, plot

@@ -105,7 +105,7 @@ def deck_context(scene, threads: int = 1) -> dict:
         "flow_planes": [_patch_json(p) for p in output.flow_planes],
         "impactors": [json.dumps(imp.deck(stiffness_scale(scene.materials, numerics.dx))) for imp in case.impactors],
         "grains": [json.dumps(g) for g in scene.grains],
-        "grain_contact": None if case.grain_contact is None else json.dumps(case.grain_contact.model_dump()),
+        "grain_contact": None if case.grain_contact is None else json.dumps(case.grain_contact.deck()),
     }
 
 

@@ -154,3 +154,28 @@ def test_grain_contact_reaches_the_deck_with_each_sphere_radius():
 ])
 def test_bad_grain_contact_is_named(overrides, words):
     assert words in _refusal(overrides)
+
+
+WALL_BOUNCE = REPO / "cases/verification/sph_grain_wall_bounce.toml"
+
+
+def test_contact_walls_reach_the_deck_with_unit_normals():
+    case = load_case(WALL_BOUNCE, overrides=["grain_contact.walls.0.normal=[0.0, 0.0, 2.0]"]).model
+    deck = json.loads(deck_context(build_scene(case))["grain_contact"])
+    assert deck == {"stiffness": 24.0, "restitution": 0.8, "walls": [{"point": [0.0, 0.0, 0.003],
+                                                                      "normal": [0.0, 0.0, 1.0]}]}
+
+
+@pytest.mark.parametrize("overrides,words", [
+    (["grain_contact.walls.0.normal=[0.0, 0.0, 0.0]"], "grain_contact.walls[0].normal = [0.0, 0.0, 0.0]: must not be zero"),
+    (["grain_contact.walls.0.normal=[1.0, 0.0, 1.0]"], "has a component along the periodic axis 0"),
+    (["grains.0.centre=[0.004, 0.004, 0.004]"], "grain 'ball' (radius 0.0021 m) lies 0.001 m from grain_contact.walls[0]"),
+    # pi sqrt(M / k): 3.88e-5 kg at 1e5 N/m lasts 6.2e-5 s, about one step of 6.5e-5 s
+    (["grain_contact.stiffness=1e5"], "grain_contact.stiffness = 100000 N/m makes a contact of pi sqrt(m / k) = "
+                                      "6.19e-05 s (m = 3.88e-05 kg), 0.952 steps"),
+])
+def test_bad_contact_walls_and_stiffness_are_named(overrides, words):
+    with pytest.raises(CaseError) as error:
+        load_case(WALL_BOUNCE, overrides=overrides)
+    lines = str(error.value).splitlines()
+    assert len(lines) == 2 and words in lines[1], lines

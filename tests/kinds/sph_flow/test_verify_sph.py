@@ -61,7 +61,7 @@ def test_every_sph_scene_has_checks_and_units():
                                        "sph_steady_ptt_wi20",
                                        "sph_newtonian_cell", "sph_oldroyd_b_poiseuille",
                                        "sph_settling_sphere_box4a", "sph_settling_sphere_box6a", "sph_grain_in_shear",
-                                       "sph_afm_channel_empty", "sph_grain_collision"}
+                                       "sph_afm_channel_empty", "sph_grain_collision", "sph_grain_wall_bounce"}
     for path in files:
         case = load_case(path).model
         checks = CHECKS if case.case.kind == "sph_flow" else RHEOMETER_CHECKS
@@ -169,11 +169,13 @@ def test_every_scene_at_its_quick_preset_passes(tmp_path):
     # and at Wi = 20 (epsilon 0.1) with the stress diffusion and the 10 % Morris damping of a steady sample
     wi20 = [r for r in rows if r["scene"] == "sph_steady_ptt_wi20"]
     assert len(wi20) == 3 and all(r["passed"] for r in wi20)
-    # the grains: settling (2), in shear (2), colliding (2); the empty abrasive-flow channel (1)
+    # the grains: settling (2), in shear (2), colliding (2), on a wall (2); the empty abrasive-flow channel (1)
     assert by[("sph_grain_in_shear", "rotation_rate")]["rel_error"] < 0.01
     assert by[("sph_grain_collision", "restitution")]["rel_error"] < 0.01
+    assert by[("sph_grain_wall_bounce", "restitution")]["rel_error"] < 0.01
+    assert by[("sph_grain_wall_bounce", "tangential_change")]["value"] < 1e-3
     assert by[("sph_afm_channel_empty", "u_profile")]["rel_error"] < 0.005
-    assert len(rows) == 30 + 22 + 3 + 3 + 2 + 5
+    assert len(rows) == 30 + 22 + 3 + 3 + 2 + 7
 
 
 @needs_sph
