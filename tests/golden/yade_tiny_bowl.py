@@ -135,7 +135,7 @@ if RESUME:
 # approach speed; a contact starts where g <= 0 < g + u dt
 IMPACT_WINDOW = (0.0, 0.1)
 IMPACT_SEGMENTS = 8
-IMPACT_ALPHA0 = 0.3926990816987239
+IMPACT_ALPHA0 = 0.39269908169872425
 IMPACT_APOTHEM = 0.002309698831278217
 IMPACT_SECTOR = 0.7853981633974483
 impact_file = open(os.path.join(OUT, "impacts.csv"), "a" if RESUME else "w") if IMPACT_WINDOW else None
@@ -158,12 +158,13 @@ def vectors(values):
 
 
 # the balls the impact test looks at, with their State objects (live views of the scene, so emptied when the
-# scene is reloaded) and radii; rebuilt every IMPACT_REFRESH steps
+# scene is reloaded) and radii; rebuilt every IMPACT_MARGIN / IMPACT_SPEED of simulated time (5 ms); every ball's
+# State and radius are gathered once per scene (a rebuild reads only their positions)
 impact_near = {}
-IMPACT_REFRESH = 50
 # a ball further than this from the rod at a rebuild cannot touch it before the next one: it would need 3 mm in
-# 50 steps, 0.6 m/s even at a step of 1e-4 s, where the fastest contact starts are about 0.1 m/s
+# 5 ms, 0.6 m/s, where the fastest contact starts are about 0.1 m/s
 IMPACT_MARGIN = 3e-3
+IMPACT_SPEED = 0.6
 
 
 def rod_gaps(p, r, th, tip):
@@ -187,15 +188,15 @@ def impacts():
         return
     axis, angle = O.bodies[ROD_IDS[0]].state.ori.toAxisAngle()  # the carousel's turn so far
     th = angle if axis[2] >= 0 else -angle
-    if O.iter >= state.get("impact_refresh", -1) or not impact_near:
-        tip = rod_tip_z()
-        every = [O.bodies[i] for i in SPHERE_IDS]
-        r = np.array([b.shape.radius for b in every])
-        gs, ga, _ = rod_gaps(vectors([b.state.pos for b in every]), r, th, tip)
+    if O.time >= state.get("impact_refresh", -1.0) or not impact_near:
+        if "all_states" not in impact_near:
+            every = [O.bodies[i] for i in SPHERE_IDS]
+            impact_near.update(all_states=[b.state for b in every], all_radii=np.array([b.shape.radius for b in every]))
+        tip, every, r = rod_tip_z(), impact_near["all_states"], impact_near["all_radii"]
+        gs, ga, _ = rod_gaps(vectors([x.pos for x in every]), r, th, tip)
         near = np.flatnonzero(np.maximum(gs, ga) < IMPACT_MARGIN)
-        impact_near.update(ids=[SPHERE_IDS[k] for k in near], states=[every[k].state for k in near],
-                           radius=r[near], tip=tip)
-        state["impact_refresh"] = O.iter + IMPACT_REFRESH
+        impact_near.update(ids=[SPHERE_IDS[k] for k in near], states=[every[k] for k in near], radius=r[near], tip=tip)
+        state["impact_refresh"] = O.time + IMPACT_MARGIN / IMPACT_SPEED
     ids, states, r = impact_near["ids"], impact_near["states"], impact_near["radius"]
     if not ids:
         return
