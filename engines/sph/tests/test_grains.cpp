@@ -7,6 +7,7 @@
 #include <omp.h>
 
 #include <cmath>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -88,6 +89,36 @@ double rigidity(const Particles<3>& P, const Particles<3>& start) {
       worst = std::max(worst, std::abs((P.x[a] - P.x[b]).norm() - (start.x[a0] - start.x[b0]).norm()));
     }
   return worst;
+}
+
+// The contact tests' fluid: inviscid (artificial viscosity only) and light, rho_f kg/m^3.
+constexpr double rho_f = 1.0, rho_g = 1000.0;  // the fluid's and the grains' densities, kg/m^3
+RunParameters light_fluid_deck() {
+  RunParameters d;
+  d.dimension = 3, d.terms = term::artificial_viscosity | term::grains, d.rho0 = rho_f, d.c0 = c0, d.v_max = 0.2;
+  d.alpha = 0.1, d.dx = dx, d.h = 1.3 * dx;
+  return d;
+}
+
+// An nx x ny x ny lattice of that fluid at rest whose sites within 2.1 dx of centres[g] are grain g's; count[g]
+// their numbers.
+Particles<3> light_blob(int nx, int ny, const std::vector<Vec<3>>& centres, std::vector<int>& count) {
+  Particles<3> P;
+  P.grains = true;
+  P.resize(nx * ny * ny);
+  count.assign(centres.size(), 0);
+  int k = 0;
+  for (int i = 0; i < nx; ++i)
+    for (int j = 0; j < ny; ++j)
+      for (int l = 0; l < ny; ++l, ++k) {
+        P.x[k] = dx * Vec<3>(i + 0.5, j + 0.5, l + 0.5), P.v[k].setZero();
+        P.rho[k] = rho_f, P.mass[k] = rho_f * dx * dx * dx, P.id[k] = k;
+        int grain = -1;
+        for (std::size_t g = 0; g < centres.size(); ++g) grain = (P.x[k] - centres[g]).norm() < 2.1 * dx ? int(g) : grain;
+        P.kind[k] = grain >= 0 ? Kind::body : Kind::fluid, P.grain[k] = grain;
+        if (grain >= 0) ++count[grain];
+      }
+  return P;
 }
 
 }  // namespace
@@ -189,13 +220,11 @@ TEST(two_grains_collide_at_the_set_restitution_keeping_momentum) {
   // normal speed after against e times the speed before (the fluid's drag on the way in and out brings about 1e-3),
   // momentum and angular momentum of grains and fluid (a free blob) together per step.
   constexpr int nx = 16, ny = 8;
-  const double rho_f = 1.0, rho_g = 1000.0, e = 0.8;
-  RunParameters d;
-  d.dimension = 3, d.terms = term::artificial_viscosity | term::grains, d.rho0 = rho_f, d.c0 = c0, d.v_max = 0.2;
-  d.alpha = 0.1, d.dx = dx, d.h = 1.3 * dx;
+  const double e = 0.8;
+  RunParameters d = light_fluid_deck();
   const Vec<3> line = Vec<3>(1.0, 0.15, 0.1).normalized();
   const Vec<3> mid = dx * Vec<3>(0.5 * nx + 0.05, 0.5 * ny + 0.1, 0.5 * ny - 0.05);
-  const Vec<3> centres[2] = {mid - 3.0 * dx * line, mid + 3.0 * dx * line};
+  const std::vector<Vec<3>> centres = {mid - 3.0 * dx * line, mid + 3.0 * dx * line};
   for (int g = 0; g < 2; ++g) {
     GrainSpec s;
     s.name = g ? "right" : "left", s.density = rho_g, s.contact_radius = 2.9 * dx, s.body_force = {0, 0, 0};
@@ -204,19 +233,9 @@ TEST(two_grains_collide_at_the_set_restitution_keeping_momentum) {
     d.grains.push_back(s);
   }
   d.grain_contact.restitution = e;
-  Particles<3> P;
-  P.grains = true;
-  P.resize(nx * ny * ny);
-  int k = 0, count = 0;
-  for (int i = 0; i < nx; ++i)
-    for (int j = 0; j < ny; ++j)
-      for (int l = 0; l < ny; ++l, ++k) {
-        P.x[k] = dx * Vec<3>(i + 0.5, j + 0.5, l + 0.5), P.v[k].setZero();
-        P.rho[k] = rho_f, P.mass[k] = rho_f * dx * dx * dx, P.id[k] = k;
-        int grain = -1;
-        for (int g = 0; g < 2; ++g) grain = (P.x[k] - centres[g]).norm() < 2.1 * dx ? g : grain;
-        P.kind[k] = grain >= 0 ? Kind::body : Kind::fluid, P.grain[k] = grain, count += grain == 0;
-      }
+  std::vector<int> counts;
+  const Particles<3> P = light_blob(nx, ny, centres, counts);
+  const int count = counts[0];
   const double m_eff = 0.5 * rho_g * count * dx * dx * dx;
   const double dt = 0.2 * 1.3 * dx / c0, contact_time = 60 * dt;  // t_c = pi sqrt(m / k) undamped
   d.grain_contact.stiffness = M_PI * M_PI * m_eff / (contact_time * contact_time);
@@ -260,10 +279,8 @@ TEST(grain_bounces_off_a_wall_plane_at_the_set_restitution) {
   // a contact of about 60 steps. Checked: the normal speed after against -e times the speed before, the tangential
   // velocity kept (the contact is frictionless), and the grain stopped by the plane short of its contact radius.
   constexpr int nx = 12, ny = 8;
-  const double rho_f = 1.0, rho_g = 1000.0, e = 0.7;
-  RunParameters d;
-  d.dimension = 3, d.terms = term::artificial_viscosity | term::grains, d.rho0 = rho_f, d.c0 = c0, d.v_max = 0.2;
-  d.alpha = 0.1, d.dx = dx, d.h = 1.3 * dx;
+  const double e = 0.7;
+  RunParameters d = light_fluid_deck();
   const Vec<3> n = Vec<3>(1.0, 0.15, 0.1).normalized();
   const Vec<3> tangent = Vec<3>(0.0, 0.02, -0.01) - Vec<3>(0.0, 0.02, -0.01).dot(n) * n;  // along the plane
   const Vec<3> centre = dx * Vec<3>(0.5 * nx + 0.05, 0.5 * ny + 0.1, 0.5 * ny - 0.05);
@@ -275,18 +292,9 @@ TEST(grain_bounces_off_a_wall_plane_at_the_set_restitution) {
   d.grains = {s};
   d.grain_contact.restitution = e;
   d.grain_contact.walls = {{plane.x(), plane.y(), plane.z(), n.x(), n.y(), n.z()}};
-  Particles<3> P;
-  P.grains = true;
-  P.resize(nx * ny * ny);
-  int k = 0, count = 0;
-  for (int i = 0; i < nx; ++i)
-    for (int j = 0; j < ny; ++j)
-      for (int l = 0; l < ny; ++l, ++k) {
-        P.x[k] = dx * Vec<3>(i + 0.5, j + 0.5, l + 0.5), P.v[k].setZero();
-        P.rho[k] = rho_f, P.mass[k] = rho_f * dx * dx * dx, P.id[k] = k;
-        const bool inside = (P.x[k] - centre).norm() < 2.1 * dx;
-        P.kind[k] = inside ? Kind::body : Kind::fluid, P.grain[k] = inside ? 0 : -1, count += inside;
-      }
+  std::vector<int> counts;
+  const Particles<3> P = light_blob(nx, ny, {centre}, counts);
+  const int count = counts[0];
   const double dt = 0.2 * 1.3 * dx / c0, contact_time = 60 * dt;  // t_c = pi sqrt(M / k) undamped
   d.grain_contact.stiffness = M_PI * M_PI * rho_g * count * dx * dx * dx / (contact_time * contact_time);
   Inviscid sim(d, P);

@@ -176,21 +176,13 @@ def check_grain_collision(case, run) -> tuple[list[dict], dict]:
         totals.append(p_fluid + p_grains)
     scale = sum(m * np.linalg.norm(vk[0]) for m, vk in zip(masses, v))
     drift = float(np.linalg.norm(totals[1] - totals[0]) / scale)
-    rows = [check_row(name, "restitution", value, expected, relative(value, expected), tolerance_of(case, "restitution"),
-                      source="the contact law's coefficient (linear spring-dashpot)",
-                      note=f"restitution: -(V_b - V_a) . n after / before the contact (closing at {before:.4g} m/s, "
-                           f"parting at {after:.4g} m/s); closest gap {gap.min():.3g} m between the contact spheres"),
-            check_row(name, "momentum_change", drift, 0.0, drift, tolerance_of(case, "momentum_change"),
-                      passed=drift <= (tolerance_of(case, "momentum_change") or 0.0),
-                      source="grains and fluid exchange equal and opposite forces",
-                      note="momentum_change: |P(end) - P(start)| / sum |M V| at the start, grains (rho_g N dx^3, as the "
-                           "engine counts them) and fluid")]
-    if run["attrs"].get("status") != "ok":
-        for row in rows:
-            row["passed"] = False
-    lines = [(time, closing, "-", "C0", "(V_b - V_a) . n"), (time, -expected * before + 0 * time, "--", "k", "-e x before")]
-    plot = {"title": f"{name}: grain collision", "xlabel": "t (s)", "ylabel": "m/s", "lines": lines}
-    return rows, plot
+    rows = _contact_rows(case, value, "the contact law's coefficient (linear spring-dashpot)",
+                         f"restitution: -(V_b - V_a) . n after / before the contact (closing at {before:.4g} m/s, "
+                         f"parting at {after:.4g} m/s); closest gap {gap.min():.3g} m between the contact spheres",
+                         "momentum_change", drift, "grains and fluid exchange equal and opposite forces",
+                         "momentum_change: |P(end) - P(start)| / sum |M V| at the start, grains (rho_g N dx^3, as the "
+                         "engine counts them) and fluid")
+    return _contact_result(run, rows, f"{name}: grain collision", time, closing, "(V_b - V_a) . n", expected * before)
 
 
 
@@ -219,19 +211,29 @@ def check_grain_wall_bounce(case, run) -> tuple[list[dict], dict]:
     value, expected = -after / before, float(contact.restitution)
     tangential = v - normal[:, None] * n
     slide = float(np.linalg.norm(tangential[-1] - tangential[0]) / np.linalg.norm(v[0]))
-    rows = [check_row(name, "restitution", value, expected, relative(value, expected), tolerance_of(case, "restitution"),
-                      source="the contact law's coefficient (linear spring-dashpot on a plane)",
-                      note=f"restitution: -V . n after / before the contact ({before:.4g} m/s in, {after:.4g} m/s "
-                           f"out); nearest centre {distance.min():.4g} m from the plane, contact radius "
-                           f"{grain.radius:.4g} m"),
-            check_row(name, "tangential_change", slide, 0.0, slide, tolerance_of(case, "tangential_change"),
-                      passed=slide <= (tolerance_of(case, "tangential_change") or 0.0),
-                      source="a frictionless contact leaves the velocity along the wall",
-                      note="tangential_change: |V_t(end) - V_t(start)| / |V(start)| (the light fluid's drag "
-                           "included)")]
+    rows = _contact_rows(case, value, "the contact law's coefficient (linear spring-dashpot on a plane)",
+                         f"restitution: -V . n after / before the contact ({before:.4g} m/s in, {after:.4g} m/s out); "
+                         f"nearest centre {distance.min():.4g} m from the plane, contact radius {grain.radius:.4g} m",
+                         "tangential_change", slide, "a frictionless contact leaves the velocity along the wall",
+                         "tangential_change: |V_t(end) - V_t(start)| / |V(start)| (the light fluid's drag included)")
+    return _contact_result(run, rows, f"{name}: grain on a wall", time, normal, "V . n", expected * before)
+
+
+def _contact_rows(case, restitution, source, note, quantity, value, bound_source, bound_note) -> list[dict]:
+    """A contact check's two rows: the restitution against [grain_contact]'s coefficient, and `quantity`, expected 0
+    with its tolerance an absolute bound on `value`."""
+    name, expected, bound = case.case.name, float(case.grain_contact.restitution), tolerance_of(case, quantity)
+    return [check_row(name, "restitution", restitution, expected, relative(restitution, expected),
+                      tolerance_of(case, "restitution"), source=source, note=note),
+            check_row(name, quantity, value, 0.0, value, bound, passed=value <= (bound or 0.0), source=bound_source,
+                      note=bound_note)]
+
+
+def _contact_result(run, rows, title, time, speed, label, expected_before):
+    """A contact check's rows (all failed unless the run's status is ok) and its plot: the normal speed (m/s) over
+    time (s) against -e times the speed before (expected_before = e x before)."""
     if run["attrs"].get("status") != "ok":
         for row in rows:
             row["passed"] = False
-    lines = [(time, normal, "-", "C0", "V . n"), (time, -expected * before + 0 * time, "--", "k", "-e x before")]
-    plot = {"title": f"{name}: grain on a wall", "xlabel": "t (s)", "ylabel": "m/s", "lines": lines}
-    return rows, plot
+    lines = [(time, speed, "-", "C0", label), (time, -expected_before + 0 * time, "--", "k", "-e x before")]
+    return rows, {"title": title, "xlabel": "t (s)", "ylabel": "m/s", "lines": lines}
