@@ -24,14 +24,14 @@ void close_constitutive_rates(Particles<D>& P, const MaterialTable& materials, s
   const double scale = M.cwiseAbs().maxCoeff();
   const bool regular = std::abs(M.determinant()) > 1e-6 * std::pow(scale, D);
   const Material& mat = materials[P.material[a]];
+  const Mat<D> M_inv = regular ? Mat<D>(M.inverse()) : Mat<D>::Identity();
   if constexpr (Models::any_solid) {  // eq. KC1's M^-T for the next evaluation (I where M is singular or a is failed)
     if (mat.solid.corrected_momentum) {
       const bool failed = P.solid_state.value[a][slot::damage] >= 1.0;
-      if (regular && !failed) P.grad_correction[a] = M.inverse().transpose();
-      else P.grad_correction[a].setIdentity();
+      P.grad_correction[a] = failed ? Mat<D>::Identity() : Mat<D>(M_inv.transpose());
     }
   }
-  if (correct_gradient && regular) L = L * M.inverse();
+  if (correct_gradient && regular) L = L * M_inv;
   Models::visit(mat.model, [&](auto model) {
     using Model = decltype(model);
     if constexpr (stress_modes_v<Model> > 0) {

@@ -115,7 +115,8 @@ struct Particles {
   std::vector<Vec<D>> grain_offset, next_grain_offset;  // m: a body particle's offset in its grain's body frame
   std::vector<Vec<D>> grain_spin, next_grain_spin;  // rad/s: a body particle's grain's angular velocity (3D)
   std::vector<Vec<D>> grain_lever, next_grain_lever;  // m/s: a body particle's sum of eq. G5 (zero between evaluations)
-  std::vector<Mat<D>> grad_correction, next_grad_correction;  // M^-T of the last evaluation (solid; eq. KC1), else I
+  bool corrected_momentum = false;  // a material sums momentum with eq. KC1: grad_correction carried
+  std::vector<Mat<D>> grad_correction, next_grad_correction;  // M^-T of the last evaluation (eq. KC1), else I
   // -- derived each evaluation
   std::vector<double> p, c;          // pressure Pa, sound speed m/s
   std::vector<double> vol, p_rho2;   // m/rho m^D, p/rho^2 (saves divisions in the pair loop)
@@ -163,7 +164,7 @@ struct Particles {
     if (has_wall_points) f(wall_offset, next_wall_offset), f(wall_frame, next_wall_frame);
     if (grains) f(grain, next_grain), f(grain_offset, next_grain_offset), f(grain_spin, next_grain_spin),
                     f(grain_lever, next_grain_lever);
-    if (solid) f(grad_correction, next_grad_correction);
+    if (corrected_momentum) f(grad_correction, next_grad_correction);
   }
 
   // The wall frames of every particle from its wall_offset (call after setting wall offsets; Simulation does).
@@ -192,7 +193,7 @@ struct Particles {
     for_carried([n](auto& a, auto&) { a.resize(n); });
     if (grains)
       for (std::size_t i = had_grains; i < n; ++i) grain_lever[i].setZero(), grain_spin[i].setZero();  // eq. G5's sums
-    if (solid)
+    if (corrected_momentum)
       for (std::size_t i = had_solid; i < n; ++i) grad_correction[i].setIdentity();  // eq. KC1: uncorrected until evaluated
     if (modes)
       for (std::size_t i = had; i < n; ++i) tau_solvent[i].setZero();  // fresh entries hold no stress
@@ -308,7 +309,8 @@ struct Particles {
     SPH_TAKE(next_wall_frame), SPH_TAKE(x_noslip), SPH_TAKE(wall_fit);
     SPH_TAKE(grains), SPH_TAKE(grain), SPH_TAKE(next_grain), SPH_TAKE(grain_offset), SPH_TAKE(next_grain_offset),
         SPH_TAKE(grain_spin), SPH_TAKE(next_grain_spin), SPH_TAKE(grain_lever),
-        SPH_TAKE(next_grain_lever), SPH_TAKE(grad_correction), SPH_TAKE(next_grad_correction);
+        SPH_TAKE(next_grain_lever), SPH_TAKE(corrected_momentum), SPH_TAKE(grad_correction),
+        SPH_TAKE(next_grad_correction);
     SPH_TAKE(mass), SPH_TAKE(kind), SPH_TAKE(id), SPH_TAKE(material);
     SPH_TAKE(next_mass), SPH_TAKE(next_kind), SPH_TAKE(next_id), SPH_TAKE(next_material);
     SPH_TAKE(p), SPH_TAKE(c), SPH_TAKE(vol), SPH_TAKE(p_rho2), SPH_TAKE(v_noslip);

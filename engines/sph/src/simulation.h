@@ -52,7 +52,7 @@ class Simulation {
         pairs_(P_, list_, kernel_, model_, materials_, shepard_),
         external_(deck, std::move(walls)) {
     const int modes = add_materials<Models>(deck, materials_);
-    for (int m = 0; m < materials_.size(); ++m) kc1_ = kc1_ || materials_[m].solid.corrected_momentum;
+    for (int m = 0; m < materials_.size(); ++m) P_.corrected_momentum |= materials_[m].solid.corrected_momentum;
     model_ = fluid_model<D, Terms>(deck, materials_[0].mu, materials_[0].eos.rho0);
     smagorinsky_.length2 = deck.smagorinsky_cs * deck.smagorinsky_cs * deck.dx * deck.dx;
     hold_inlets_ = deck.inlets_extrapolated(), grains_.start(deck.grains, P_, materials_, deck.dx);  // grains: unwrapped
@@ -268,7 +268,7 @@ class Simulation {
   // Whether the list will probably be rebuilt within a step (3/4 of the allowed displacement used up).
   bool rebuild_near() const { return list_stale_ || last_moved_ > 0.75 * last_allowed_; }
   // The initial state's rates (cells binned); evaluated twice when eq. KC1 takes the M^-T of the first.
-  void ensure_rates() { if (!rates_ready_) compute_rates(), kc1_ ? compute_rates() : void(); }
+  void ensure_rates() { if (!rates_ready_) compute_rates(), P_.corrected_momentum ? compute_rates() : void(); }
 
   // One full step (stages.h), one rate evaluation at the half step. While the Verlet list stays valid (verlet_skin.h)
   // the step is one parallel region: predictor fused with the EOS and zeroed sums, the pair loop, then close_rates
@@ -382,7 +382,7 @@ class Simulation {
   bool hold_inlets_ = false;  // every inlet extrapolates: its particles' density rate is 0 (close_rates_at)
   bool walls_together_ = false;  // every fixed boundary particle has the same velocity
   bool non_fluid_ = true;  // tensor path: a particle is not fluid (the no-slip pass runs), at the last list build
-  bool correct_gradient_ = true, kc1_ = false;  // kc1_: a material sums momentum with eq. KC1
+  bool correct_gradient_ = true;
   bool rates_ready_ = false;  // acc, drho hold the rates of the last evaluation
   StepMaxima maxima_;         // of the current state when valid
   std::vector<Vec<D>> x_pred_;   // wrapped predicted positions by index before the reorder (scratch of rebin)

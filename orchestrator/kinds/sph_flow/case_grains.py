@@ -139,8 +139,7 @@ def check_grains(case) -> None:
 
 
 def _check_contact(case) -> None:
-    """The contact walls (a normal, across a bounded axis, clear of every grain at the start) and the contact's
-    duration pi sqrt(m / k) against the run's largest step: at least CONTACT_STEPS steps."""
+    """The contact walls: a normal, across a bounded axis, clear of every grain at the start."""
     contact, periodic = case.grain_contact, set(case.domain.periodic)
     for j, wall in enumerate(contact.walls):
         n = wall.unit_normal()
@@ -156,7 +155,16 @@ def _check_contact(case) -> None:
                 raise ValueError(f"grains[{i}].centre = {list(g.centre)}: grain {g.name!r} (radius {g.radius:g} m) "
                                  f"lies {distance:.4g} m from grain_contact.walls[{j}] (on its side of the normal), "
                                  "overlapping it; move the grain or the wall")
-    masses = [g.density * 4.0 / 3.0 * math.pi * g.radius ** 3 for g in case.grains]
+
+
+def check_contact_duration(case, grain_masses) -> None:
+    """ValueError naming grain_contact.stiffness when a contact, pi sqrt(m / k) with m the reduced mass of a grain
+    pair or a grain's mass on a wall (kg, as the engine counts them: rho_k N_k dx^D), lasts fewer than
+    CONTACT_STEPS of the run's largest steps."""
+    contact = case.grain_contact
+    if contact is None:
+        return
+    masses = list(grain_masses)
     pairs = [a * b / (a + b) for i, a in enumerate(masses) for b in masses[:i]]
     lightest = min(pairs + (masses if contact.walls else []), default=None)
     if lightest is None:
@@ -208,4 +216,6 @@ def grain_decks(case, masses: np.ndarray, kind: np.ndarray, grain: np.ndarray, r
               "angular_velocity": [float(c) for c in gr.angular_velocity], "body_force": [float(c) for c in f]}
              | ({"contact_radius": float(gr.radius)} if case.grain_contact is not None else {})
              for gr, f in zip(case.grains, forces)]
+    dx_d = case.numerics.dx ** case.dimension
+    check_contact_duration(case, [gr.density * np.count_nonzero(grain == k) * dx_d for k, gr in enumerate(case.grains)])
     return (None if fluid_force is None else tuple(float(c) for c in fluid_force)), decks
