@@ -9,18 +9,19 @@
 #include "material.h"
 #include "material_models.h"
 #include "particles.h"
+#include "tensor_pair_math.h"
 #include "vec.h"
 
 namespace sph {
 
-// close_rates of fluid particle a, constitutive part: L = G M^-1 when
+// close_rates of fluid particle a, constitutive part: L = G M^-1 (M from its summed upper triangle) when
 // `correct_gradient` and M is not singular (else L = G), then the rates of
 // its material's stresses (per mode and the solvent stress, or a single tau).
 template <class Models, int D>
 void close_constitutive_rates(Particles<D>& P, const MaterialTable& materials, std::ptrdiff_t a,
                               bool correct_gradient) {
   Mat<D>& L = P.grad_v[a];
-  const Mat<D>& M = P.shape[a];
+  const Mat<D> M = symmetric_shape(P.shape[a]);
   const double scale = M.cwiseAbs().maxCoeff();
   const bool regular = std::abs(M.determinant()) > 1e-6 * std::pow(scale, D);
   const Material& mat = materials[P.material[a]];

@@ -62,9 +62,13 @@ struct LinearSolidEos {
   double bulk_modulus;  // K, Pa
 };
 
+// x^e for x >= 0 without calling pow where the result is exact (x = 0, e > 0: an elastic particle at room
+// temperature, most of a solid, skips its two pow calls).
+inline double power_of_nonnegative(double x, double e) { return x > 0.0 || !(e > 0.0) ? std::pow(x, e) : 0.0; }
+
 // R(epsdot*) of eqs. 10 and 14 for a dimensionless rate >= 0, -.
 inline double jc_rate_factor(double rate_ratio, double exponent, RateForm form) {
-  if (form == RateForm::power) return std::pow(1.0 + rate_ratio, exponent);
+  if (form == RateForm::power) return rate_ratio > 0.0 ? std::pow(1.0 + rate_ratio, exponent) : 1.0;  // 1^C = 1
   return 1.0 + exponent * std::log(std::max(rate_ratio, 1.0));
 }
 
@@ -78,8 +82,9 @@ inline double homologous_temperature(double temperature, double room_temperature
 inline double jc_yield_stress(const JohnsonCookStrength& p, double plastic_strain, double plastic_rate,
                               double temperature) {
   const double t_star = homologous_temperature(temperature, p.room_temperature, p.melting_temperature);
-  const double hardening = p.A + p.B * std::pow(std::max(plastic_strain, 0.0), p.n);
-  return hardening * jc_rate_factor(plastic_rate / p.reference_rate, p.C, p.rate_form) * (1.0 - std::pow(t_star, p.m));
+  const double hardening = p.A + p.B * power_of_nonnegative(std::max(plastic_strain, 0.0), p.n);
+  return hardening * jc_rate_factor(plastic_rate / p.reference_rate, p.C, p.rate_form) *
+         (1.0 - power_of_nonnegative(t_star, p.m));
 }
 
 // eps_f of eq. 14, -: triaxiality (-, tension positive), plastic rate (1/s), T* (-).

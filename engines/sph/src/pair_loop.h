@@ -294,7 +294,7 @@ class PairLoop {
       const int b = static_cast<int>(*e >> List::shift_bits);
       const Vec<D> r = xa - x[b] - shifts[*e & List::shift_mask];  // r_ab to the listed image of b
       const double r2 = r.squaredNorm();
-      const double u = 1.0 - 0.5 * (std::sqrt(r2) * inv_h);
+      const double q = std::sqrt(r2) * inv_h, u = 1.0 - 0.5 * q;
       if (!(u > 0.0)) continue;  // a skin pair (a third of the list) adds exact zeros; its 3 x 3 work outweighs a branch
       const double t = u, F = grad_factor * (t * t * t);  // grad_a W_ab = F r_ab (eq. 8)
       Vec<D> v_ab = va - v[b];
@@ -317,9 +317,10 @@ class PairLoop {
       if constexpr (AMoves || BMoves) {
         // Eq. T1 and eqs. 11-12 (along r_ab): symmetric in a and b; grad_b W_ba = -F r_ab.
         const double radial = viscous_radial<AMoves, BMoves>(model, r2, v_ab.dot(r), rho_a, rho_b, c_a, c[b], F);
-        const Vec<D> f = pair_force(S_a, a, b, t, r2, F * r) + radial * r;
-        if constexpr (AMoves) acc_a.noalias() += m_b * f;
-        if constexpr (BMoves) acc[b].noalias() -= m_a * f;
+        Vec<D> f = pair_force(S_a, a, b, t, q, F * r);
+        add_scaled(f, radial, r);
+        if constexpr (AMoves) add_scaled(acc_a, m_b, f);
+        if constexpr (BMoves) add_scaled(acc[b], -m_a, f);
         // A solid's internal energy takes what the pair's force takes from the kinetic energy, m_a m_b v_ab . f
         // (stress, artificial stress and viscosity), half to each: de_a/dt = -1/2 sum_b m_b v_ab . f_ab.
         if constexpr (Models::any_solid) {
@@ -350,16 +351,15 @@ class PairLoop {
     }
   }
   // Eq. T1's stress of the pair a, b, sigma_a/rho_a^2 (S_a) + sigma_b/rho_b^2; solids add Monaghan's artificial
-  // stress f_ab^n (R_a + R_b), f_ab = W(r_ab) / W(dx) from t = max(1 - q/2, 0) and r_ab^2 (johnson_cook_material.h).
-  // times g = grad_a W_ab.
-  inline __attribute__((always_inline)) Vec<D> pair_force(const Mat<D>& S_a, int a, int b, double t, double r2,
+  // stress f_ab^n (R_a + R_b), f_ab = W(r_ab) / W(dx) from t = max(1 - q/2, 0) and q = r_ab / h
+  // (johnson_cook_material.h); times g = grad_a W_ab.
+  inline __attribute__((always_inline)) Vec<D> pair_force(const Mat<D>& S_a, int a, int b, double t, double q,
                                                           const Vec<D>& g) const {
     if constexpr (Models::any_solid) {
       if (!artificial_stress_.on) return sum_times(S_a, P_.sigma_rho2[b], g);  // the same sum without adding zeros
-      return (S_a + P_.sigma_rho2[b] +
-              artificial_stress_(t, std::sqrt(r2) * kernel_.inv_h) * (P_.art_stress[a] + P_.art_stress[b])) * g;
+      return sum_times(S_a, P_.sigma_rho2[b], artificial_stress_(t, q), P_.art_stress[a], P_.art_stress[b], g);
     } else
-      return (void)a, (void)t, (void)r2, sum_times(S_a, P_.sigma_rho2[b], g);
+      return (void)a, (void)t, (void)q, sum_times(S_a, P_.sigma_rho2[b], g);
   }
   // Eq. 10 on the tensor path for owner a and neighbour b: 2 mu_ab (r_ab . grad W)/(r_ab^2 + 0.01 h^2)
   // m/(rho_a rho_b) times the velocity difference, each side against the other's no-slip velocity (va, vns_a:

@@ -124,7 +124,7 @@ struct Particles {
   std::vector<Vec<D>> x_noslip;      // Shepard sum of the fluid positions around a boundary particle (has_wall_points)
   std::vector<WallFit<D>> wall_fit;  // weighted quadratic-fit sums of the same fluid (has_wall_points; vec.h)
   std::vector<Mat<D>> grad_v;        // velocity gradient (tensor() or eddy): row i, column j is d v_i / d x_j
-  std::vector<Mat<D>> shape;         // kernel-correction sum, then its inverse (tensor())
+  std::vector<Mat<D>> shape;         // kernel-correction sum M of eq. T2, its upper triangle (tensor())
   std::vector<Mat<D>> sigma_rho2;    // (-p I + tau) / rho^2 (tensor())
   std::vector<Mat<D>> art_stress;    // Monaghan's artificial stress R / rho^2 (solid)
   bool diffuses = false;             // stress diffusion (eq. SD1 of materials/ptt.h): mode_laplacian summed
