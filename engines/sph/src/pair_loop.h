@@ -209,8 +209,7 @@ class PairLoop {
       }
       n += r2 < support2;
     }
-    (void)jumps;
-    return n;
+    return (void)jumps, n;
   }
   // C. the chunk's n pairs: sums into a (acc_a, drho_a), scatter to b, in list order.
   template <bool AMoves, bool BMoves>
@@ -279,7 +278,7 @@ class PairLoop {
     Mat<D>* const shape = P_.shape.data();
     const Vec<D>* const shifts = list_.shifts();
     const Vec<D>* const jumps = list_.jumps();
-    const double inv_h = kernel_.inv_h, grad_factor = kernel_.grad_factor;
+    const double inv_h = kernel_.inv_h, grad_factor = kernel_.grad_factor, beyond2 = 4.0 * kernel_.h * kernel_.h * (1.0 + 1e-9);
     const Model model = model_;
     const Vec<D> xa = x[a], va = v[a];
     const double m_a = mass[a], rho_a = rho[a], vol_a = vol[a];
@@ -294,8 +293,9 @@ class PairLoop {
       const int b = static_cast<int>(*e >> List::shift_bits);
       const Vec<D> r = xa - x[b] - shifts[*e & List::shift_mask];  // r_ab to the listed image of b
       const double r2 = r.squaredNorm();
-      const double q = std::sqrt(r2) * inv_h, u = 1.0 - 0.5 * q;
-      if (!(u > 0.0)) continue;  // a skin pair (a third of the list) adds exact zeros; its 3 x 3 work outweighs a branch
+      if (!(r2 < beyond2)) continue;  // a skin pair (a quarter of the list, q > 2 whatever the rounding): exact zeros
+      const double q = std::sqrt(r2) * inv_h, u = 1.0 - 0.5 * q;  // u > 0: the exact test at the support's edge
+      if (!(u > 0.0)) continue;
       const double t = u, F = grad_factor * (t * t * t);  // grad_a W_ab = F r_ab (eq. 8)
       Vec<D> v_ab = va - v[b];
       Vec<D> jump = Vec<D>::Zero();
