@@ -18,7 +18,6 @@ import numpy as np
 from pydantic import Field
 
 from orchestrator.case.common import Frozen, Name, Positive
-from orchestrator.kinds.sph_flow.case_limits import sph_timestep
 
 Vector3 = tuple[float, float, float]
 
@@ -157,20 +156,20 @@ def _check_contact(case) -> None:
                                  "overlapping it; move the grain or the wall")
 
 
-def check_contact_duration(case, grain_masses) -> None:
+def check_contact_duration(case, grain: np.ndarray, dt: float) -> None:
     """ValueError naming grain_contact.stiffness when a contact, pi sqrt(m / k) with m the reduced mass of a grain
-    pair or a grain's mass on a wall (kg, as the engine counts them: rho_k N_k dx^D), lasts fewer than
-    CONTACT_STEPS of the run's largest steps."""
+    pair or a grain's mass on a wall (kg, as the engine counts them: rho_k N_k dx^D from the carved lattice, grain
+    (n,) the particles' grain index), lasts fewer than CONTACT_STEPS of the run's largest step dt (s)."""
     contact = case.grain_contact
     if contact is None:
         return
-    masses = list(grain_masses)
+    masses = [g.density * np.count_nonzero(grain == k) * case.numerics.dx ** case.dimension
+              for k, g in enumerate(case.grains)]
     pairs = [a * b / (a + b) for i, a in enumerate(masses) for b in masses[:i]]
     lightest = min(pairs + (masses if contact.walls else []), default=None)
     if lightest is None:
         return
     duration = math.pi * math.sqrt(lightest / contact.stiffness)
-    dt = sph_timestep(case)
     if duration < CONTACT_STEPS * dt:
         raise ValueError(f"grain_contact.stiffness = {contact.stiffness:g} N/m makes a contact of pi sqrt(m / k) = "
                          f"{duration:.3g} s (m = {lightest:.3g} kg), {duration / dt:.3g} steps of the run's largest "
@@ -216,6 +215,4 @@ def grain_decks(case, masses: np.ndarray, kind: np.ndarray, grain: np.ndarray, r
               "angular_velocity": [float(c) for c in gr.angular_velocity], "body_force": [float(c) for c in f]}
              | ({"contact_radius": float(gr.radius)} if case.grain_contact is not None else {})
              for gr, f in zip(case.grains, forces)]
-    dx_d = case.numerics.dx ** case.dimension
-    check_contact_duration(case, [gr.density * np.count_nonzero(grain == k) * dx_d for k, gr in enumerate(case.grains)])
     return (None if fluid_force is None else tuple(float(c) for c in fluid_force)), decks

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from orchestrator.kinds.sph_flow.case import SphFlowCase, Wall
-from orchestrator.kinds.sph_flow.case_grains import carve_grains, grain_decks
+from orchestrator.kinds.sph_flow.case_grains import carve_grains, check_contact_duration, grain_decks
 from orchestrator.kinds.sph_flow.case_impactors import check_clear
 from orchestrator.kinds.sph_flow.case_limits import sph_timestep
 from orchestrator.kinds.sph_flow.case_materials import (RunMaterial, block_materials, largest_c0_and_viscosity,
@@ -192,6 +192,8 @@ def build_sph_flow(case: SphFlowCase) -> SphScene:
     check_clear(case.impactors, positions, kind == FLUID, case.numerics.dx)
     h = case.numerics.h
     dt = sph_timestep(case, *largest_c0_and_viscosity(materials))  # fixed, or the adaptive step at rest
+    if case.grains:
+        check_contact_duration(case, grain, dt)
     return SphScene(case=case, positions=positions, velocities=velocities, masses=masses, densities=densities,
                     kind=kind, block=block, meshes=meshes, h=h, c0=c0, timestep=dt,
                     physics=tuple(case.physics.terms), material=material, materials=materials,
