@@ -58,7 +58,7 @@ class YadeDragFinishing(Adapter):
         if point["scene"] not in ("output/checkpoint_0.yade.gz", "output/checkpoint_1.yade.gz") or not saved.is_file():
             raise OrchestratorError(f"{path} names no saved scene of this run; run the case again instead")
         for name in ("series.csv", "impacts.csv"):
-            _drop_rows_after(workdir / "output" / name, step)
+            drop_rows_after(workdir / "output" / name, step)
         command, env = self.command(profile, scene, workdir)
         return command + ["--resume"], env
 
@@ -156,11 +156,15 @@ def _load_npz_written(path: Path) -> dict[str, np.ndarray] | None:
         raise
 
 
-def _drop_rows_after(path: Path, step: int) -> None:
-    """Keep the header and the rows of series.csv recorded at or before step (its last column)."""
+def drop_rows_after(path: Path, step: int) -> None:
+    """Keep the header and the whole rows of a series.csv or impacts.csv recorded at or before step (its last
+    column). A stopped script leaves a row cut where its file buffer ended; the cut can fall after an integer field
+    (a contact count, a prefix of the step), so a row counts only with its newline and the header's field count:
+    kept, the resumed run's first row would be glued onto it."""
     lines = path.read_text().splitlines(keepends=True) if path.is_file() else []
-    kept = lines[:1] + [line for line in lines[1:] if line.strip().split(",")[-1].isdigit()
-                        and int(line.strip().split(",")[-1]) <= step]
+    fields = lines[0].count(",") if lines else 0
+    kept = lines[:1] + [line for line in lines[1:] if line.endswith("\n") and line.count(",") == fields
+                        and line.strip().split(",")[-1].isdigit() and int(line.strip().split(",")[-1]) <= step]
     path.write_text("".join(kept))
 
 

@@ -131,3 +131,18 @@ def test_resume_refuses_what_it_cannot_continue(tmp_path, capsys):
     assert "CASE cannot go with it" in capsys.readouterr().err
     assert main(["run"]) == 2
     assert "needs a CASE file" in capsys.readouterr().err
+
+
+def test_rows_cut_off_by_the_stop_are_dropped_before_a_resume(tmp_path):
+    """A stopped Yade script leaves its last row cut where the file buffer ended; cut after an integer field it
+    ends in digits like a step, and kept it would take the resumed run's first row onto its line."""
+    from orchestrator.kinds.drag_finishing.yade import drop_rows_after
+
+    path = tmp_path / "series.csv"
+    header = "time,n_contacts,step\n"
+    path.write_text(header + "0.1,40,100\n0.2,41,200\n0.3,42,300\n0.4,43")  # cut after the contact count
+    drop_rows_after(path, 200)
+    assert path.read_text() == header + "0.1,40,100\n0.2,41,200\n"
+    path.write_text(header + "0.1,40,100\n0.2,41,2")  # cut inside the step: a prefix below the checkpoint's
+    drop_rows_after(path, 200)
+    assert path.read_text() == header + "0.1,40,100\n"
