@@ -5,6 +5,9 @@ Yade's resumed run is the uninterrupted one, row for row and bit for bit: at eac
 goes on from the file it saved (O.load), as a resumed run does. (Going on from memory instead, the collider's
 bounds and the order of later contacts differed, forces were summed in another order, and the granular bed
 amplified that round-off: 1.6e-12 m after the first checkpoint of the tiny bowl, 4.4e-7 m once in CI.)
+The loop halts for a checkpoint once its step is complete (O.stopAtIter): halted by O.pause() from an engine,
+the script saved the scene while Yade's thread still ran the step's last engines, mid-step or after it as the
+threads were scheduled (about one run in four on a loaded machine).
 LIGGGHTS restores balls, meshes, the rod's motion and every contact history, but its granular pair style evaluates
 the first step after a restart with full-step velocities (read_restart's documentation: granular pair styles do
 not restart exactly), so its resumed trajectory leaves the uninterrupted one at the checkpoint: the end state
