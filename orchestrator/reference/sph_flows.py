@@ -113,6 +113,17 @@ def hydrostatic_pressure(y, depth, density, gravity: float = 9.81):
     return density * gravity * np.clip(depth - y, 0.0, None)
 
 
+
+def layer_under_water_stress(y, layer_top, water_depth, layer_density, water_density, gravity: float = 9.81):
+    """Vertical stress sigma_yy (Pa, compression negative) at height y (m) in a layer resting on a floor at y = 0, of
+    top layer_top (m) under water water_depth (m) deep, at rest: minus the weight above per unit area,
+    -(rho_w g H_w + rho_s g (H_s - y)).
+
+    layer_density: rho_s, water_density: rho_w, kg/m^3; gravity: g, m/s^2 (positive).
+    """
+    y = np.asarray(y, dtype=float)
+    return -(water_density * gravity * water_depth + layer_density * gravity * np.clip(layer_top - y, 0.0, None))
+
 def tait_density(pressure, rest_density, sound_speed, gamma: float = 7.0, background_pressure: float = 0.0):
     """Density from the Tait equation of state (Canini et al. eq. 6) inverted, kg/m^3.
 

@@ -21,7 +21,8 @@ namespace sph {
 
 template <class Models, unsigned Terms>
 struct Configuration {
-  static_assert(!Models::any_solid || Models::all_solid, "a configuration of solids holds solids only");
+  static_assert(!Models::any_solid || Models::all_solid || !Models::any_modes,
+                "solids stand alone or beside a Newtonian fluid (the tensor path, eq. T1, with sigma = -p I there)");
   using models = Models;
   static constexpr unsigned terms = Terms;
 };
@@ -30,6 +31,7 @@ namespace config {
 using N = ModelList<Newtonian>;
 using P = ModelList<Ptt>;
 using J = ModelList<JohnsonCook>;
+using NJ = ModelList<Newtonian, JohnsonCook>;  // a Newtonian fluid beside Johnson-Cook solids
 constexpr unsigned morris = term::morris_viscosity, av = term::artificial_viscosity, several = term::several_materials;
 constexpr unsigned sheared = term::sheared;  // Lees-Edwards boundaries (the deck's `lees_edwards`)
 constexpr unsigned corrected = term::viscosity_correction;  // the deck's `viscosity_correction`
@@ -64,6 +66,8 @@ using Configurations = std::tuple<                           //
     Configuration<config::P, config::morris>,   // PTT whose solvent viscosity is the Morris term (walled channels)
     Configuration<config::J, 0>,                // Johnson-Cook solid (artificial stress: a material key)
     Configuration<config::J, config::av>,       //   with artificial viscosity (shocks, impacts)
-    Configuration<config::J, config::sheared>>;  //   in a Lees-Edwards cell (homogeneous simple shear)
+    Configuration<config::J, config::sheared>,   //   in a Lees-Edwards cell (homogeneous simple shear)
+    Configuration<config::NJ, config::morris | config::several>,               // a viscous fluid on a solid
+    Configuration<config::NJ, config::morris | config::av | config::several>>;  //   (the abrasive-flow workpiece)
 
 }  // namespace sph

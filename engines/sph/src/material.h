@@ -9,13 +9,17 @@
 // materials 2 mu_ab with the harmonic mean mu_ab = 2 mu_a mu_b / (mu_a + mu_b),
 // which keeps the shear stress continuous across the interface (the
 // harmonic mean is the series resistance of the two layers of fluid between
-// the particles). Two particles of one material use their mu exactly, so a
-// one-material run is bitwise what it was before materials existed.
+// the particles). A fluid beside a solid takes its own mu: the solid is a wall
+// to it, moving with the solid's particles, which take the reaction (no slip
+// at the interface); solids carry no Morris term. Two particles of one
+// material use their mu exactly, so a one-material run is bitwise what it was
+// before materials existed.
 #pragma once
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 #include "eos.h"
@@ -23,6 +27,14 @@
 #include "vec.h"
 
 namespace sph {
+
+// Whether a model is a solid (its static `solid`): its own EOS, rates and return over the particle's solid_state.
+template <class M, class = void>
+struct solid_of : std::false_type {};
+template <class M>
+struct solid_of<M, std::void_t<decltype(M::solid)>> : std::bool_constant<M::solid> {};
+template <class M>
+constexpr bool solid_v = solid_of<M>::value;
 
 // A Cross-law viscosity eta(gamma_dot) = eta_inf + (eta_0 - eta_inf) / (1 + (K gamma_dot)^m), Pa s.
 struct CrossViscosity {
@@ -55,6 +67,7 @@ struct Material {
   int model = 0;    // index of its model in the configuration's model list
   ModeParameters modes;  // viscoelastic models only
   SolidParameters solid;  // solids only (materials/johnson_cook_material.h)
+  bool is_solid = false;  // its model is a solid (material_models.h)
 };
 
 class MaterialTable {
@@ -63,7 +76,8 @@ class MaterialTable {
   int size() const { return static_cast<int>(list_.size()); }
   const Material& operator[](std::size_t k) const { return list_[k]; }
   const TaitEos& eos(std::size_t k) const { return list_[k].eos; }
-  // mu_ab of eq. 10 for materials ka, kb (mu_a when equal, else the harmonic mean).
+  // mu_ab of eq. 10 for materials ka, kb (mu_a when equal, else the harmonic mean; a fluid beside a solid: the
+  // fluid's mu, as against a wall that moves with the solid's particles; two solids: 0).
   double pair_mu(std::uint8_t ka, std::uint8_t kb) const { return pair_mu_[ka * list_.size() + kb]; }
   const double* pair_mu_table() const { return pair_mu_.data(); }
   double c0_max() const { return c0_max_; }
@@ -78,7 +92,9 @@ class MaterialTable {
       c0_max_ = std::max(c0_max_, list_[a].eos.c0), nu_max_ = std::max(nu_max_, list_[a].nu);
       for (std::size_t b = 0; b < n; ++b) {
         const double ma = list_[a].mu, mb = list_[b].mu;
-        pair_mu_[a * n + b] = a == b ? ma : (ma + mb > 0.0 ? 2.0 * ma * mb / (ma + mb) : 0.0);
+        const bool sa = list_[a].is_solid, sb = list_[b].is_solid;
+        if (sa || sb) pair_mu_[a * n + b] = sa && sb ? 0.0 : (sa ? mb : ma);
+        else pair_mu_[a * n + b] = a == b ? ma : (ma + mb > 0.0 ? 2.0 * ma * mb / (ma + mb) : 0.0);
       }
     }
   }

@@ -20,13 +20,6 @@ template <class M>
 struct stress_modes_of<M, std::void_t<decltype(M::stress_modes)>> : std::integral_constant<int, M::stress_modes> {};
 template <class M>
 constexpr int stress_modes_v = stress_modes_of<M>::value;
-// Whether a model is a solid (its static `solid`): its own EOS, rates and return over the particle's solid_state.
-template <class M, class = void>
-struct solid_of : std::false_type {};
-template <class M>
-struct solid_of<M, std::void_t<decltype(M::solid)>> : std::bool_constant<M::solid> {};
-template <class M>
-constexpr bool solid_v = solid_of<M>::value;
 
 template <class... M>
 struct ModelList {
@@ -34,8 +27,9 @@ struct ModelList {
   static constexpr bool any_stress = (M::has_stress || ...);  // then the momentum pass takes the tensor form
   static constexpr bool any_modes = ((stress_modes_v<M> > 0) || ...);  // per-mode stresses (PTT)
   static constexpr bool any_single_stress = ((M::has_stress && stress_modes_v<M> == 0) || ...);  // one tau
-  static constexpr bool any_solid = (solid_v<M> || ...);  // solids (a configuration holds solids only)
+  static constexpr bool any_solid = (solid_v<M> || ...);  // solids (alone, or beside a Newtonian fluid)
   static constexpr bool all_solid = (solid_v<M> && ...);
+  static constexpr bool any_fluid = (!solid_v<M> || ...);  // fluids
   // Whether model `name` is in the list, and its index (-1 if not).
   static int index(const std::string& name) {
     int k = 0, found = -1;
@@ -68,7 +62,7 @@ int add_materials(const RunParameters& deck, MaterialTable& table) {
     Material mat{material_eos(m), m.viscosity, m.rho0 * m.viscosity, std::max(0, Models::index(m.model)), {}, {}};
     Models::visit(mat.model, [&](auto model) {
       if constexpr (stress_modes_v<decltype(model)> > 0) decltype(model)::configure(m, mat);
-      if constexpr (solid_v<decltype(model)>) decltype(model)::configure(m, mat, deck.dx);
+      if constexpr (solid_v<decltype(model)>) decltype(model)::configure(m, mat, deck.dx), mat.is_solid = true;
     });
     modes = std::max(modes, mat.modes.columns());
     table.add(mat);

@@ -106,7 +106,6 @@ class Simulation {
     times_.neighbours += omp_get_wtime() - t0;
     return true;
   }
-
   // Pressure (and sound speed) of every particle from its density, eq. 6.
   void equation_of_state() {
     parallel_for(P_.size(), parallel_min_light, [this](std::ptrdiff_t i) { equation_of_state_at(i); });
@@ -116,7 +115,8 @@ class Simulation {
   // A cavitating particle (below the floor's density) takes p / rho^2 at the floor's density, its liquid's (as
   // the volume balances count it): at its own density the floor's tension grew as 1 / rho^2 (8 x at 35 % of rho0).
   void equation_of_state_at(std::ptrdiff_t i) {
-    if constexpr (Models::any_solid) return solid_equation_of_state<Models>(P_, materials_, i);
+    if constexpr (Models::any_solid)  // a fluid beside solids carries no artificial stress (zero from the start)
+      if (Models::all_solid || materials_[P_.material[i]].is_solid) return solid_equation_of_state<Models>(P_, materials_, i);
     const TaitEos& eos = materials_.eos(P_.material[i]);
     const double rho = P_.kind[i] == Kind::boundary ? std::max(P_.rho[i], eos.rho0) : P_.rho[i];
     P_.p[i] = eos.pressure(rho);

@@ -31,8 +31,10 @@ executable's engines/sph/src/materials/johnson_cook_material.h, docs/solids.md),
     epsilon = 0.3
     exponent = 4
 
-The engine compiles solids alone (no fluid beside them) with artificial viscosity or none, or in a Lees-Edwards
-cell; the Morris viscosity is not a solid's term.
+The engine compiles solids alone with artificial viscosity or none, or in a Lees-Edwards cell, and solids beside
+a Newtonian fluid with the Morris viscosity (and artificial viscosity or none): every pair then takes the tensor
+path (eq. T1), the fluid's stress is -p I, and a fluid particle beside a solid one takes its own viscosity against
+the solid particle's velocity (no slip; the solid takes the reaction). The Morris viscosity is not a solid's term.
 """
 
 from __future__ import annotations
@@ -199,11 +201,27 @@ def check_solid(case, i: int, m) -> None:
             raise ValueError(f"{where}.solid.yield_stress = {s.yield_stress:g} Pa is above what the equation of "
                              f"state's range carries: yielding in uniaxial strain needs a density change A / (2 G) = "
                              f"{limit:.3g}, beyond numerics.max_density_deviation = {deviation:g}")
-    others = [o.name for o in case.materials if o.model != "johnson_cook"]
+    others = [o for o in case.materials if o.model != "johnson_cook"]
+    unlike = [o.name for o in others if o.model != "newtonian"]
+    if unlike:
+        raise ValueError(f"{where} ({m.name}) is a johnson_cook material beside the {unlike[0]!r} material of "
+                         "another model; the sph executable runs solids alone or beside a newtonian fluid")
+    terms = set(case.physics.terms)
     if others:
-        raise ValueError(f"{where} ({m.name}) is a johnson_cook material beside the {others[0]!r} material of "
-                         "another model; the sph executable runs solids only with solids")
-    if "morris_viscosity" in case.physics.terms:
+        fluid = others[0].name
+        if "morris_viscosity" not in terms:
+            raise ValueError(f"physics.terms = {sorted(terms)} has no 'morris_viscosity', which the fluid {fluid!r} "
+                             f"beside the johnson_cook material {where} ({m.name}) needs (its no-slip against the "
+                             "solid): add it")
+        apart = [key for key, on in (("grains", case.grains), ("lees_edwards", case.lees_edwards),
+                                     ("inlets", case.inlets), ("outlets", case.outlets),
+                                     ("physics.viscosity_correction", case.physics.viscosity_correction),
+                                     ("physics.eddy_viscosity", case.physics.eddy_viscosity)) if on]
+        if apart:
+            raise ValueError(f"{apart[0]} is set with the fluid {fluid!r} beside the johnson_cook material {where} "
+                             f"({m.name}); a fluid beside solids runs with walls, a body force and the Morris and "
+                             "artificial viscosities only: remove it")
+    elif "morris_viscosity" in terms:
         raise ValueError(f"physics.terms has 'morris_viscosity' with the johnson_cook material {where} ({m.name}); "
                          "a solid takes artificial_viscosity only: remove it")
 

@@ -131,3 +131,27 @@ def test_the_executable_names_a_bad_solid_key(change, words, tmp_path):
     assert done.returncode == 2
     lines = done.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("error: ") and words in lines[0], done.stderr
+
+
+UNDER_WATER = REPO / "cases/verification/sph_solid_under_water.toml"
+
+
+def test_a_newtonian_fluid_beside_a_solid_reaches_the_deck_with_its_pair_terms():
+    context = deck_context(build_scene(load_case(UNDER_WATER).model))
+    models = [json.loads(m)["model"] for m in context["materials"]]
+    assert models == ["newtonian", "johnson_cook"]
+
+
+@pytest.mark.parametrize("overrides,words", [
+    (["physics.viscosity_correction=true"], "physics.viscosity_correction is set with the fluid 'water' beside"),
+])
+def test_a_fluid_beside_a_solid_outside_the_compiled_configurations_is_named(overrides, words):
+    assert words in _refusal(UNDER_WATER, overrides)
+
+
+def test_an_inviscid_fluid_beside_a_solid_is_named(tmp_path):
+    text = UNDER_WATER.read_text().replace('"morris_viscosity", ', "")
+    text = "\n".join(line for line in text.splitlines() if not line.startswith("viscosity = "))
+    (tmp_path / "case.toml").write_text(text)
+    assert "has no 'morris_viscosity', which the fluid 'water' beside the johnson_cook material materials[1]" in \
+        _refusal(tmp_path / "case.toml")

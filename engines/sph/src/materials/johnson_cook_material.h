@@ -158,20 +158,22 @@ struct JohnsonCook {
   }
 };
 
-// Gather, per particle of a configuration of solids: its model's pressure, V = m / rho, sigma / rho^2 (eq. T1)
+// Gather, per solid particle: its model's pressure, V = m / rho, sigma / rho^2 (eq. T1)
 // and the artificial stress R / rho^2.
 template <class Models, int D>
 void solid_equation_of_state(Particles<D>& P, const MaterialTable& materials, std::ptrdiff_t i) {
   const Material& mat = materials[P.material[i]];
   Models::visit(mat.model, [&](auto model) {
     using Model = decltype(model);
-    Model::equation_of_state(mat, P, i);
-    const double rho2 = P.rho[i] * P.rho[i];
-    P.vol[i] = P.mass[i] / P.rho[i];
-    P.p_rho2[i] = P.p[i] / rho2;
-    P.sigma_rho2[i] = (P.tau[i] - P.p[i] * Mat<D>::Identity()) / rho2;
-    P.art_stress[i] = Model::artificial_stress(mat, P.sigma_rho2[i]);
-    if (mat.solid.corrected_momentum) P.sigma_rho2[i] = P.sigma_rho2[i] * P.grad_correction[i];  // eq. KC1
+    if constexpr (solid_v<Model>) {  // (the fluid beside solids takes the Tait branch: Simulation::equation_of_state_at)
+      Model::equation_of_state(mat, P, i);
+      const double rho2 = P.rho[i] * P.rho[i];
+      P.vol[i] = P.mass[i] / P.rho[i];
+      P.p_rho2[i] = P.p[i] / rho2;
+      P.sigma_rho2[i] = (P.tau[i] - P.p[i] * Mat<D>::Identity()) / rho2;
+      P.art_stress[i] = Model::artificial_stress(mat, P.sigma_rho2[i]);
+      if (mat.solid.corrected_momentum) P.sigma_rho2[i] = P.sigma_rho2[i] * P.grad_correction[i];  // eq. KC1
+    }
   });
 }
 
@@ -181,7 +183,9 @@ void start_solids(Particles<D>& P, const MaterialTable& materials) {
   if constexpr (Models::any_solid) {
     for (std::size_t i = 0; i < P.size(); ++i) {
       const Material& mat = materials[P.material[i]];
-      Models::visit(mat.model, [&](auto model) { decltype(model)::start(mat, P, static_cast<std::ptrdiff_t>(i)); });
+      Models::visit(mat.model, [&](auto model) {
+        if constexpr (solid_v<decltype(model)>) decltype(model)::start(mat, P, static_cast<std::ptrdiff_t>(i));
+      });
     }
   }
 }
