@@ -68,6 +68,8 @@ using Configurations = std::tuple<                           //
     Configuration<config::J, config::av>,       //   with artificial viscosity (shocks, impacts)
     Configuration<config::J, config::sheared>,   //   in a Lees-Edwards cell (homogeneous simple shear)
     Configuration<config::NJ, config::morris | config::several>,               // a viscous fluid on a solid
-    Configuration<config::NJ, config::morris | config::av | config::several>>;  //   (the abrasive-flow workpiece)
+    Configuration<config::NJ, config::morris | config::av | config::several>,   //   (the abrasive-flow workpiece)
+    Configuration<config::NJ, config::morris | config::several | config::grains>,  //   with grains (Fig. 5's channel)
+    Configuration<config::NJ, config::morris | config::av | config::several | config::grains>>;  //
 
 }  // namespace sph

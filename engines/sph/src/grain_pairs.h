@@ -1,4 +1,5 @@
-// The fluid's pair forces on the particles of rigid grains (grains.h), in the scalar path's pass C (pair_loop.h).
+// The fluid's pair forces on the particles of rigid grains (grains.h), in the scalar path's pass C and in the tensor
+// path's pair terms (pair_loop.h).
 // A grain's particle g is a moving boundary particle: the fluid particle f takes eqs. 9-12 against it, and eq. 10
 // against its no-slip velocity v~_g (boundary_particles.h, with the grain's rigid velocity as the wall's), as from
 // a fixed wall. The grain's particle takes the reaction of the same pair, term by term:
@@ -56,6 +57,32 @@ inline __attribute__((always_inline)) void grain_reaction(Particles<D>& P, const
     (void)va;
   }
   (void)jumps;
+}
+
+// The tensor path's eq. G1 (pair_loop.h's pair_terms) between owner a and neighbour b, exactly one of them moving
+// (AMoves: a): the other takes the pair's reaction when it is a grain's particle. f: the pair force of eq. T1 with
+// eqs. 11-12 (the factor of m_b in dv_a/dt); eq. 10's factor s from F, r^2 and mu_ab (mu_row: a's row, Several) or
+// the one mu; va, vns_a: a's velocity and no-slip velocity; r = x_a - x_b.
+template <bool AMoves, bool Morris, bool Several, int D, class Morris_>
+inline __attribute__((always_inline)) void tensor_grain_reaction(Particles<D>& P, const Morris_& morris,
+                                                                 const double* mu_row, int a, int b, double F,
+                                                                 double r2, const Vec<D>& f, const Vec<D>& va,
+                                                                 const Vec<D>& vns_a, const Vec<D>& r, Vec<D>& acc_a) {
+  const int g = AMoves ? b : a, m = AMoves ? a : b;  // the grain's particle and the moving one
+  if (P.kind[g] != Kind::body) return;
+  Vec<D>& acc_g = AMoves ? P.acc[b] : acc_a;
+  const double m_m = P.mass[m];
+  for (int d = 0; d < D; ++d) acc_g[d] += (AMoves ? -m_m : m_m) * f[d];
+  if constexpr (Morris) {
+    double s;
+    if constexpr (Several) s = morris.factor(mu_row[P.material[b]], F, r2);
+    else s = morris.factor(F, r2);
+    const double factor = s * P.vol[m] / P.rho[g];  // eq. 10 on the grain's side: s V_m / rho_g
+    const Vec<D> dv = AMoves ? Vec<D>(va - P.v_noslip[b]) : Vec<D>(P.v[b] - vns_a);  // the moving one's against v~_g
+    for (int d = 0; d < D; ++d) acc_g[d] -= factor * dv[d];
+    for (int d = 0; d < D; ++d) P.grain_lever[g][d] += (AMoves ? -factor : factor) * r[d];  // eq. G5: s (x_g - x_m)
+  }
+  (void)mu_row, (void)F, (void)r2, (void)va, (void)vns_a, (void)r;
 }
 
 }  // namespace sph

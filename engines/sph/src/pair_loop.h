@@ -1,6 +1,5 @@
 // The gather stage's pair loop over the Verlet half list (neighbour_list.h):
 // each pair is evaluated once and acts on both particles (Newton's third law).
-//
 // Scalar path (every material without deviatoric stress, e.g. Newtonian):
 //   eq. 7   drho_a/dt += rho_a (m_b/rho_b) v_ab . grad_a W_ab
 //   eq. 9   dv_a/dt   -= m_b (p_a/rho_a^2 + p_b/rho_b^2) grad_a W_ab
@@ -49,8 +48,7 @@ class PairLoop {
   // The mu_ab of eq. 10 per pair: several materials' table or the eddy viscosity's (pass A gathers it).
   static constexpr bool pair_mu = has(term::several_materials) || eddy;
   static constexpr bool grains = has(term::grains);  // eq. G1 (grain_pairs.h)
-  static_assert(!grains || (!tensor && !eddy), "eq. G1: the scalar path, plain or renormalised Morris sum");
-
+  static_assert(!grains || (!eddy && !(tensor && has(term::sheared))), "eq. G1: no eddy viscosity; tensor: no shear");
   PairLoop(Particles<D>& P, const NeighbourList<D>& list, const WendlandC2<D>& kernel, const Model& model,
            const MaterialTable& materials, std::vector<double>& shepard)
       : P_(P), list_(list), kernel_(kernel), model_(model), materials_(materials), shepard_(shepard) {}
@@ -330,6 +328,9 @@ class PairLoop {
         }
         if constexpr (has(term::morris_viscosity))
           morris_pair<AMoves, BMoves>(model, b, F, r2, jump, va, vns_a, vol_a, inv_rho_a, mu_row, acc_a);
+        if constexpr (grains && AMoves != BMoves)  // eq. G1: a grain's particle takes the pair's reaction
+          tensor_grain_reaction<AMoves, has(term::morris_viscosity), has(term::several_materials)>(
+              P_, model.morris, mu_row, a, b, F, r2, f, va, vns_a, r, acc_a);
       }
     }
     acc[a] += acc_a;
@@ -386,7 +387,6 @@ class PairLoop {
     }
     (void)jump, (void)mu_row;
   }
-
   Particles<D>& P_;
   const NeighbourList<D>& list_;
   const WendlandC2<D>& kernel_;

@@ -41,6 +41,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from pydantic import Field
 
 from orchestrator.case.common import Frozen, Name, NonNegative, Positive
@@ -213,17 +215,33 @@ def check_solid(case, i: int, m) -> None:
             raise ValueError(f"physics.terms = {sorted(terms)} has no 'morris_viscosity', which the fluid {fluid!r} "
                              f"beside the johnson_cook material {where} ({m.name}) needs (its no-slip against the "
                              "solid): add it")
-        apart = [key for key, on in (("grains", case.grains), ("lees_edwards", case.lees_edwards),
+        apart = [key for key, on in (("lees_edwards", case.lees_edwards),
                                      ("inlets", case.inlets), ("outlets", case.outlets),
                                      ("physics.viscosity_correction", case.physics.viscosity_correction),
                                      ("physics.eddy_viscosity", case.physics.eddy_viscosity)) if on]
         if apart:
             raise ValueError(f"{apart[0]} is set with the fluid {fluid!r} beside the johnson_cook material {where} "
-                             f"({m.name}); a fluid beside solids runs with walls, a body force and the Morris and "
-                             "artificial viscosities only: remove it")
+                             f"({m.name}); a fluid beside solids runs with walls, grains, a body force and the Morris "
+                             "and artificial viscosities only: remove it")
+        _check_grains_clear_of(case, i, m)
     elif "morris_viscosity" in terms:
         raise ValueError(f"physics.terms has 'morris_viscosity' with the johnson_cook material {where} ({m.name}); "
                          "a solid takes artificial_viscosity only: remove it")
+
+
+def _check_grains_clear_of(case, i: int, m) -> None:
+    """ValueError naming grains[k].centre when a grain reaches into a block of the solid material m (materials[i])."""
+    for j, block in enumerate(case.blocks):
+        if block.material != m.name:
+            continue
+        lo, hi = np.asarray(block.lo, dtype=float), np.asarray(block.hi, dtype=float)
+        for k, g in enumerate(case.grains):
+            centre = np.asarray(g.centre, dtype=float)
+            gap = float(np.linalg.norm(centre - np.clip(centre, lo, hi))) - g.radius
+            if gap < 0.0:
+                raise ValueError(f"grains[{k}].centre = {list(g.centre)}: grain {g.name!r} (radius {g.radius:g} m) "
+                                 f"reaches {-gap:.4g} m into blocks[{j}] ({block.name!r}) of the johnson_cook material "
+                                 f"materials[{i}] ({m.name}); a grain starts in the fluid")
 
 
 def check_solid_table(where: str, s: SolidMaterial) -> None:

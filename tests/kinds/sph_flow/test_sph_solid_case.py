@@ -155,3 +155,34 @@ def test_an_inviscid_fluid_beside_a_solid_is_named(tmp_path):
     (tmp_path / "case.toml").write_text(text)
     assert "has no 'morris_viscosity', which the fluid 'water' beside the johnson_cook material materials[1]" in \
         _refusal(tmp_path / "case.toml")
+
+
+def test_a_grain_reaching_into_a_solid_block_is_named(tmp_path):
+    text = (REPO / "tests/kinds/sph_flow/data/sph_grain_in_oil.toml").read_text()
+    solid = """[[materials]]
+name = "layer"
+model = "johnson_cook"
+density = 2000.0
+
+[materials.solid]
+shear_modulus = 1.0e5
+eos = "linear"
+bulk_modulus = 2.0e5
+
+[physics]"""
+    layer = """[[blocks]]
+name = "layer"
+kind = "fluid"
+material = "layer"
+lo = [0.0, 0.0, 0.003]
+hi = [0.012, 0.012, 0.007]
+
+[[blocks]]
+name = "oil"
+"""
+    text = text.replace("[physics]", solid, 1).replace('[[blocks]]\nname = "oil"\n', layer, 1)
+    text = text.replace("lo = [0.0, 0.0, 0.003]\nhi = [0.012, 0.012, 0.014]", "lo = [0.0, 0.0, 0.007]\nhi = [0.012, 0.012, 0.014]")
+    (tmp_path / "case.toml").write_text(text)
+    assert ("grains[0].centre = [0.006, 0.006, 0.009]: grain 'grain' (radius 0.0025 m) reaches 0.0005 m into blocks[0] "
+            "('layer') of the johnson_cook material materials[1] (layer); a grain starts in the fluid") in \
+        _refusal(tmp_path / "case.toml")
