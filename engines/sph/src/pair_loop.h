@@ -263,13 +263,9 @@ class PairLoop {
     if (e == end) return;
     Vec<D>* const acc = P_.acc.data();
     double* const drho = P_.drho.data();
-    const Vec<D>* const x = P_.x.data();
-    const Vec<D>* const v = P_.v.data();
-    const Vec<D>* const v_noslip = P_.v_noslip.data();
-    const double* const mass = P_.mass.data();
-    const double* const rho = P_.rho.data();
-    const double* const c = P_.c.data();
-    const double* const vol = P_.vol.data();
+    const Vec<D> *const x = P_.x.data(), *const v = P_.v.data(), *const v_noslip = P_.v_noslip.data();
+    const double *const mass = P_.mass.data(), *const rho = P_.rho.data();
+    const double *const c = P_.c.data(), *const vol = P_.vol.data();
     const std::uint8_t* const mat = P_.material.data();
     const Mat<D>* const sigma_rho2 = P_.sigma_rho2.data();
     Mat<D>* const grad_v = P_.grad_v.data();
