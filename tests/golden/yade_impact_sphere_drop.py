@@ -269,7 +269,8 @@ def stop(status, message):
     print("STATUS %s %s" % (status, message), flush=True)
     write_events()
     write_status()
-    O.pause()
+    O.stopAtIter = O.iter + 1  # the loop stops once this step is complete (O.pause() would let O.run's wait return
+    # while the step's later engines still run)
 
 
 record()  # the state at t = 0

@@ -332,7 +332,15 @@ def stop(status, message):
     print("STATUS %s %s" % (status, message), flush=True)
     write_frame("final.npz")
     write_status()
-    O.pause()
+    halt_after_this_step()
+
+
+def halt_after_this_step():
+    """Stop the loop once the running step is complete. O.pause() from an engine would stop it too, but O.wait()
+    then returns at once, while the step's later engines and its iter/time update still run in Yade's worker
+    thread: a checkpoint saved then caught the scene mid-step or after it, as the threads happened to be
+    scheduled, and a resumed run left the uninterrupted one at the next checkpoint."""
+    O.stopAtIter = O.iter + 1
 
 
 def next_phase(new_phase):
@@ -414,7 +422,7 @@ def control():
             stop("ok", "")
         elif CHECKPOINT_EVERY and t_p >= (state["checkpoints"] + 1) * CHECKPOINT_EVERY - 0.5 * O.dt:
             state["checkpoint_due"] = True
-            O.pause()  # after this step: the scene is saved between two steps (write_checkpoint)
+            halt_after_this_step()  # the scene is saved between two steps (write_checkpoint)
 
 
 def write_checkpoint():

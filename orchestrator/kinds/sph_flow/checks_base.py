@@ -32,7 +32,8 @@ UNITS = {"u_profile": "m/s", "pressure_profile": "Pa", "particle_pressure": "Pa"
          "plane_force": "N", "min_distance_to_wall": "m", "slide_distance": "m", "distance_to_plane": "m",
          "pressure_gradient": "Pa/m", "mass_balance": "-", "density_drift": "-",
          "centreline_velocity": "m/s", "terminal_speed": "m/s", "rotation_rate": "rad/s", "centre_velocity": "m/s",
-         "restitution": "-", "momentum_change": "-", "tangential_change": "-"}
+         "restitution": "-", "momentum_change": "-", "tangential_change": "-", "layer_stress": "Pa",
+         "layer_rows": "Pa", "water_pressure": "Pa"}
 
 
 def tolerance_of(case, quantity: str) -> float | None:

@@ -61,7 +61,8 @@ def test_every_sph_scene_has_checks_and_units():
                                        "sph_steady_ptt_wi20",
                                        "sph_newtonian_cell", "sph_oldroyd_b_poiseuille",
                                        "sph_settling_sphere_box4a", "sph_settling_sphere_box6a", "sph_grain_in_shear",
-                                       "sph_afm_channel_empty", "sph_grain_collision", "sph_grain_wall_bounce"}
+                                       "sph_afm_channel_empty", "sph_grain_collision", "sph_grain_wall_bounce",
+                                       "sph_solid_under_water"}
     for path in files:
         case = load_case(path).model
         checks = CHECKS if case.case.kind == "sph_flow" else RHEOMETER_CHECKS
@@ -182,7 +183,7 @@ def test_every_scene_at_its_quick_preset_passes(tmp_path):
     assert by[("sph_grain_wall_bounce", "restitution")]["rel_error"] < 0.01
     assert by[("sph_grain_wall_bounce", "tangential_change")]["value"] < 1e-3
     assert by[("sph_afm_channel_empty", "u_profile")]["rel_error"] < 0.005
-    assert len(rows) == 30 + 22 + 3 + 3 + 2 + 7
+    assert len(rows) == 30 + 22 + 3 + 3 + 2 + 7 + 4  # ... and the elastic layer under water (4)
 
 
 @needs_sph
