@@ -16,17 +16,7 @@ from orchestrator.runh5 import read_run
 pytestmark = pytest.mark.sph
 
 OIL = REPO / "tests/kinds/sph_flow/data/sph_grain_in_oil.toml"
-UNUSED_SOLID = """[[materials]]                # declared, used by no block: the run takes the tensor path
-name = "layer"
-model = "johnson_cook"
-density = 2000.0
-
-[materials.solid]
-shear_modulus = 1.0e5
-eos = "linear"
-bulk_modulus = 2.0e5
-
-[physics]"""
+UNUSED_SOLID = (REPO / "tests/kinds/sph_flow/data/solid_layer_material.toml").read_text() + "[physics]"
 
 
 def _grain_series(case, out):

@@ -159,17 +159,7 @@ def test_an_inviscid_fluid_beside_a_solid_is_named(tmp_path):
 
 def test_a_grain_reaching_into_a_solid_block_is_named(tmp_path):
     text = (REPO / "tests/kinds/sph_flow/data/sph_grain_in_oil.toml").read_text()
-    solid = """[[materials]]
-name = "layer"
-model = "johnson_cook"
-density = 2000.0
-
-[materials.solid]
-shear_modulus = 1.0e5
-eos = "linear"
-bulk_modulus = 2.0e5
-
-[physics]"""
+    solid = (REPO / "tests/kinds/sph_flow/data/solid_layer_material.toml").read_text() + "[physics]"
     layer = """[[blocks]]
 name = "layer"
 kind = "fluid"
