@@ -22,6 +22,7 @@
 #include "kernel.h"
 #include "material.h"
 #include "materials/johnson_cook_material.h"
+#include "materials/solid_smoothing.h"
 #include "neighbour_list.h"
 #include "pair_chunk.h"
 #include "particles.h"
@@ -83,7 +84,8 @@ class PairLoop {
   void list_built() {
     const auto& m = P_.mass;
     uniform_mass_ = !m.empty() && std::all_of(m.begin(), m.end(), [&](double mi) { return mi == m[0]; });
-    if constexpr (Models::any_solid) artificial_stress_ = ArtificialStressFactor::of(materials_, kernel_.h);
+    if constexpr (Models::any_solid)
+      artificial_stress_ = ArtificialStressFactor::of(materials_, kernel_.h), smoothing_ = SolidSmoothing::of(materials_, kernel_.h);
     if constexpr (corrected) correction_.resize(P_.size());
   }
 
@@ -318,6 +320,7 @@ class PairLoop {
         // A solid's internal energy takes what the pair's force takes from the kinetic energy, m_a m_b v_ab . f
         // (stress, artificial stress and viscosity), half to each: de_a/dt = -1/2 sum_b m_b v_ab . f_ab.
         if constexpr (Models::any_solid) {
+          if constexpr (AMoves && BMoves) smoothing_.pair(P_, a, b, F, r2);  // eq. SS1
           const double half_power = 0.5 * v_ab.dot(f);
           if constexpr (AMoves) work_a -= m_b * half_power;
           if constexpr (BMoves) P_.solid_state.rate[b][slot::energy] -= m_a * half_power;
@@ -391,6 +394,7 @@ class PairLoop {
   std::vector<double>& shepard_;
   bool uniform_mass_ = false;
   ArtificialStressFactor artificial_stress_;  // solids (set at each list build)
+  SolidSmoothing smoothing_;                  // eq. SS1 (solids with `smoothing`)
   ViscosityCorrection<D> correction_;  // eq. VC1 (corrected configurations only)
 };
 }  // namespace sph

@@ -220,7 +220,7 @@ class Simulation {
     }
     if constexpr (tensor) P_.grad_v[i].setZero(), P_.shape[i].setZero(), clear_laplacian<has(term::stress_diffusion)>(P_, i);
     if constexpr (eddy) P_.grad_v[i].setZero();
-    if constexpr (Models::any_solid) P_.solid_state.rate[i].setZero();  // the pair loop sums de/dt into it
+    if constexpr (Models::any_solid) P_.solid_state.rate[i].setZero(), P_.dtau[i].setZero();  // de/dt, eq. SS1 sums
   }
   // close_rates of particle a: body force and walls of a fluid particle; L = G M^-1 (eq. T2) and d tau/dt of its
   // material (constitutive_rates.h; eq. SD1); an outlet keeps the density it left with, an extrapolating inlet its last.

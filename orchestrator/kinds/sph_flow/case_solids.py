@@ -113,6 +113,10 @@ class SolidMaterial(Frozen):
     momentum: str = Field("plain", description="the momentum sum: plain (eq. T1) or corrected (eq. KC1: each "
                                                "particle's stress times its M^-T, the kernel correction of the "
                                                "velocity gradient, from the last evaluation; Bonet & Lok 1999)")
+    smoothing: NonNegative | None = Field(None, le=1.0, description="delta of eq. SS1: the density and deviatoric "
+                                          "stress diffuse between the material's particles at kappa = delta h c0 "
+                                          "(m^2/s), which damps a stress that alternates row by row (the pair sum "
+                                          "exerts no force on it); e.g. 0.1, -; none: off")
 
     def bulk(self, density: float) -> float:
         """The bulk modulus of the reference state, Pa (rho0 C0^2 for mie_gruneisen)."""

@@ -74,6 +74,7 @@ inline void parse_johnson_cook(const MaterialKeys& k, MaterialSpec& m) {
   parse_failure(k, s);
   parse_artificial_stress(k, s);
   s.corrected_momentum = k.text_or("momentum", "plain", {"plain", "corrected"}) == "corrected";  // eq. KC1
+  s.smoothing = k.non_negative_or("smoothing", 0.0);  // eq. SS1's delta (solid_smoothing.h)
   m.c0 = s.wave_speed();
 }
 

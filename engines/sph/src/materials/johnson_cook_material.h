@@ -44,7 +44,7 @@ struct JohnsonCook {
     return {"shear_modulus", "eos", "bulk_modulus", "bulk_sound_speed", "hugoniot_slope", "gruneisen",
             "yield_stress", "hardening_modulus", "hardening_exponent", "rate_sensitivity", "thermal_exponent",
             "reference_rate", "rate_form", "room_temperature", "melting_temperature", "heat_capacity",
-            "heat_fraction", "failure", "artificial_stress", "momentum"};
+            "heat_fraction", "failure", "artificial_stress", "momentum", "smoothing"};
   }
   static void parse(const MaterialKeys& k, MaterialSpec& m) { parse_johnson_cook(k, m); }  // johnson_cook_keys.h
   // The parsed parameters into the run's material, with the deck's particle spacing dx (m) of W(dx).
@@ -91,8 +91,8 @@ struct JohnsonCook {
     if (P.solid_state.value[a][slot::damage] >= 1.0) {
       P.dtau[a].setZero();
     } else {
-      P.dtau[a] = 2.0 * G * (stretching - third * Mat<D>::Identity()) + spin * s - s * spin;
-      if constexpr (D == 2) rate[slot::szz] = -2.0 * G * third;
+      P.dtau[a] += 2.0 * G * (stretching - third * Mat<D>::Identity()) + spin * s - s * spin;  // (+ eq. SS1's sum)
+      if constexpr (D == 2) rate[slot::szz] += -2.0 * G * third;
     }
   }
 

@@ -23,6 +23,7 @@ struct SolidParameters {
   double artificial_stress = 0.0;         // epsilon of Monaghan's artificial stress (0: off)
   int artificial_stress_exponent = 4;     // n of f_ab^n
   bool corrected_momentum = false;         // eq. T1 with the kernel-corrected gradient M^-T grad W (eq. KC1)
+  double smoothing = 0.0;                  // delta of eq. SS1, the diffusion of rho and s (solid_smoothing.h; 0: off)
   double spacing = 0.0;                   // the particle spacing dx of f_ab = W(r) / W(dx), m
 
   double rho0() const { return eos == SolidEos::linear ? linear.rho0 : shock.rho0; }
