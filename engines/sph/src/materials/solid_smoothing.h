@@ -8,7 +8,7 @@
 // set (at a boundary, under a sudden load), stays. The Laplacian is largest on exactly that mode (it decays at a rate
 // of about 8 kappa / dx^2) and of second order on a smooth field (kappa h^2 grad^2 A / dx^2).
 #pragma once
-#include <vector>
+#include <array>
 
 #include "material.h"
 #include "materials/solid_state.h"
@@ -17,7 +17,7 @@
 namespace sph {
 
 struct SolidSmoothing {
-  std::vector<double> kappa;  // per material: delta h c0, m^2/s (0: off)
+  std::array<double, 256> kappa{};  // per material (uint8 index): delta h c0, m^2/s (0: off); no heap in a step
   double eta2 = 0.0;          // 0.01 h^2, m^2
   bool on = false;
   // From the run's materials (h m): each solid's delta times h and its wave speed c0.
@@ -27,7 +27,7 @@ struct SolidSmoothing {
     s.eta2 = 0.01 * h * h;
     for (int k = 0; k < materials.size(); ++k) {
       const double delta = materials[k].is_solid ? materials[k].solid.smoothing : 0.0;
-      s.kappa.push_back(delta * h * materials[k].eos.c0);
+      s.kappa[k] = delta * h * materials[k].eos.c0;
       s.on = s.on || delta > 0.0;
     }
     return s;
