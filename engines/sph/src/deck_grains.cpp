@@ -37,8 +37,15 @@ void parse_grains(const json& j, RunParameters& d) {
 }
 
 void parse_grain_contact(const json& j, RunParameters& d) {
-  check_keys(j, "grain_contact", {"stiffness", "restitution", "walls"});
+  check_keys(j, "grain_contact", {"stiffness", "restitution", "walls", "solid_stiffness"});
   if (d.grains.empty()) fail("'grain_contact' needs 'grains'");
+  if (j.contains("solid_stiffness")) d.grain_contact.solid_stiffness = positive(j, "grain_contact", "solid_stiffness");
+  if (!j.contains("stiffness")) {  // the grains touch the solids only (eq. G8)
+    if (!j.contains("solid_stiffness")) fail("'grain_contact' needs 'stiffness' or 'solid_stiffness'");
+    if (j.contains("restitution") || j.contains("walls"))
+      fail("'grain_contact.restitution' and 'grain_contact.walls' need 'grain_contact.stiffness'");
+    return;
+  }
   d.grain_contact.stiffness = positive(j, "grain_contact", "stiffness");
   if (j.contains("restitution")) {
     const double e = positive(j, "grain_contact", "restitution");

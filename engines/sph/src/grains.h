@@ -140,6 +140,7 @@ class Grains {
         b.wrench.torque += arm.cross(f) - arm.cross(rigid);
       }
       contacts();
+      solid_contacts(P);
       if (!(dt > 0.0)) return;
       for (auto& b : grains_) {
         rigid::kick(b.body, b.state, b.wrench.force + b.contact + b.body.mass * b.body_force, b.wrench.torque, dt);
@@ -158,6 +159,8 @@ class Grains {
   // particle crosses the sheared faces (its no-slip velocity, boundary_particles.h, takes no image velocity jump).
   void configure(const RunParameters& deck, const PeriodicBox<D>& box, int axis, double margin, const Particles<D>& P) {
     box_ = box, stiffness_ = deck.grain_contact.stiffness, walls_ = deck.grain_contact.walls;
+    solid_stiffness_ = deck.grain_contact.solid_stiffness, particle_radius_ = 0.5 * deck.dx;
+    check_solid_contact(P);
     const bool sheared = deck.lees_edwards.on;
     const double log_e = std::log(deck.grain_contact.restitution);
     zeta_ = -log_e / std::sqrt(M_PI * M_PI + log_e * log_e);
@@ -191,12 +194,7 @@ class Grains {
       for (std::size_t h = g + 1; h < grains_.size(); ++h) {
         Grain &A = grains_[g], &B = grains_[h];
         if (!(A.contact_radius > 0.0 && B.contact_radius > 0.0)) continue;
-        Vec<3> d = B.state.position - A.state.position;
-        for (int a = 0; a < D; ++a)
-          if (box_.periodic[a]) {
-            const double L = box_.hi[a] - box_.lo[a];
-            d[a] -= L * std::round(d[a] / L);
-          }
+        const Vec<3> d = nearest(B.state.position - A.state.position);
         const double distance = d.norm(), overlap = A.contact_radius + B.contact_radius - distance;
         if (!(overlap > 0.0) || !(distance > 0.0)) continue;
         const Vec<3> n = d / distance;
@@ -217,6 +215,35 @@ class Grains {
     }
   }
 
+  // Eq. G8: a grain's contact sphere (centre X_g, radius R_g) on each moving particle s of a solid material (its
+  // extent r_p = dx/2 as the impactors' particles), the impactors' eq. I1 with the grain's sphere:
+  //   delta = R_g + r_p - |x_s - X_g|,   f_s = k_s delta (x_s - X_g) / |x_s - X_g|   for delta > 0, else 0   (G8)
+  // (the nearest periodic image; at the mid-step poses), repulsive only and frictionless. The grain takes -f_s,
+  // along its line of centres (no torque), so momentum balances to rounding. The pair terms between a grain's
+  // particles and a solid's are left out (pair_loop.h, wall_sums.h): the solid feels the grain through G8 alone,
+  // and a grain's particles, moving boundary particles of the fluid, take neither density nor no-slip velocity
+  // from the solid's (whose heavier particles would raise their summation density as the grain nears). Serial, in
+  // index order; after contacts(), which zeroes the grains' contact forces.
+  void solid_contacts(Particles<D>& P) {
+    if constexpr (D == 3) {
+      if (!(solid_stiffness_ > 0.0)) return;
+      for (std::size_t i = 0; i < P.size(); ++i) {
+        if (!P.moves(i) || !P.solid_material[P.material[i]]) continue;
+        for (auto& b : grains_) {
+          const Vec<3> r = nearest(P.x[i] - b.state.position);
+          const double reach = b.contact_radius + particle_radius_, d2 = r.squaredNorm();
+          if (!(d2 < reach * reach) || !(d2 > 0.0)) continue;
+          const double d = std::sqrt(d2);
+          const Vec<3> f = (solid_stiffness_ * (reach - d) / d) * r;
+          P.acc[i] += f / P.mass[i];
+          b.contact -= f;
+        }
+      }
+    } else {
+      (void)P;
+    }
+  }
+
   // Momentum (kg m/s) and angular momentum about the origin (kg m^2/s) of the grains.
   Vec<3> momentum() const {
     Vec<3> p = Vec<3>::Zero();
@@ -230,9 +257,35 @@ class Grains {
   }
 
  private:
+  // The nearest periodic image of a separation d (m).
+  Vec<3> nearest(Vec<3> d) const {
+    for (int a = 0; a < D; ++a)
+      if (box_.periodic[a]) {
+        const double L = box_.hi[a] - box_.lo[a];
+        d[a] -= L * std::round(d[a] / L);
+      }
+    return d;
+  }
+  // InputError when a solid's moving particle lies beside grains without eq. G8 (no solid_stiffness, or a grain
+  // without contact radius), or inside a grain's contact sphere at the start.
+  void check_solid_contact(const Particles<D>& P) const {
+    for (std::size_t i = 0; i < P.size(); ++i) {
+      if (grains_.empty() || !P.moves(i) || !P.solid_material[P.material[i]]) continue;
+      if (!(solid_stiffness_ > 0.0)) throw InputError("grains beside a solid need 'grain_contact.solid_stiffness'");
+      for (const auto& b : grains_) {
+        if (!(b.contact_radius > 0.0))
+          throw InputError("grain '" + b.name + "' beside a solid needs a 'contact_radius' (eq. G8)");
+        if constexpr (D == 3)
+          if (nearest(P.x[i] - b.state.position).norm() < b.contact_radius + particle_radius_)
+            throw InputError("grain '" + b.name + "' starts touching solid particle " + std::to_string(P.id[i]) +
+                             ": it must start clear of the solid (the particles' extent dx/2 included)");
+      }
+    }
+  }
   std::vector<Grain> grains_;
   PeriodicBox<D> box_{};
   double stiffness_ = 0.0, zeta_ = 0.0;  // eq. G6: k N/m, the damping ratio
+  double solid_stiffness_ = 0.0, particle_radius_ = 0.0;  // eq. G8: k_s N/m, r_p m
   std::vector<std::array<double, 6>> walls_;  // eq. G7: point (m) and unit normal of each plane
 };
 

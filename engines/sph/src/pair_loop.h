@@ -7,7 +7,8 @@
 //   eq. T1  dv_a/dt   += m_b (sigma_a/rho_a^2 + sigma_b/rho_b^2) . grad_a W_ab
 //   eq. T2  G_a       += V_b (v_b - v_a) (x) grad_a W_ab,  M_a += V_b (x_b - x_a) (x) grad_a W_ab
 //           (velocity gradient L_a = G_a, or G_a M_a^-1 kernel-corrected: exact for linear v; close_rates)
-// Both:  eqs. 11-12 artificial viscosity and eq. 10 Morris viscosity (mu_ab of material.h); grains: eq. G1.
+// Both:  eqs. 11-12 artificial viscosity and eq. 10 Morris viscosity (mu_ab of material.h); grains: eq. G1 (G8).
+// A fluid's particle beside a solid's: eq. FS1 in place of eq. T1 (fluid_solid.h).
 // Lees-Edwards (term::sheared): b's image moves at v_b + jump(code) (box_policy.h, eq. LE2): v_ab = v_a - v_b - jump.
 // Stress diffusion (term::stress_diffusion): eq. SD1's Laplacian sums of the mode stresses (stress_diffusion.h).
 // grad_a W_ab = F r_ab with F of eq. 8; grad_b W_ba = -F r_ab. Pairs of the skin, beyond 2h, add exact zeros.
@@ -18,6 +19,7 @@
 #include <vector>
 
 #include "boundary_particles.h"
+#include "fluid_solid.h"
 #include "grain_pairs.h"
 #include "kernel.h"
 #include "material.h"
@@ -29,6 +31,7 @@
 #include "physics_terms.h"
 #include "stress_diffusion.h"
 #include "tensor_pair_math.h"
+#include "tensor_viscous.h"
 #include "viscosity_correction.h"
 #include "wall_sums.h"
 
@@ -44,8 +47,7 @@ class PairLoop {
   static_assert(!corrected || (has(term::morris_viscosity) && !tensor), "eq. VC1: scalar path with Morris viscosity");
   static constexpr bool eddy = has(term::eddy_viscosity);  // eqs. SM1-SM2 (eddy_viscosity.h)
   static_assert(!eddy || (has(term::morris_viscosity) && !tensor && !corrected && !has(term::sheared) &&
-                          !has(term::several_materials)),
-                "eqs. SM1-SM2: the scalar path of one material with Morris viscosity");
+                          !has(term::several_materials)), "eqs. SM1-SM2: one material's scalar path with Morris");
   // The mu_ab of eq. 10 per pair: several materials' table or the eddy viscosity's (pass A gathers it).
   static constexpr bool pair_mu = has(term::several_materials) || eddy;
   static constexpr bool grains = has(term::grains);  // eq. G1 (grain_pairs.h)
@@ -292,9 +294,10 @@ class PairLoop {
       if (!(r2 < beyond2)) continue;  // a skin pair (a quarter of the list, q > 2 whatever the rounding): exact zeros
       const double q = std::sqrt(r2) * inv_h, u = 1.0 - 0.5 * q;  // u > 0: the exact test at the support's edge
       if (!(u > 0.0)) continue;
+      if constexpr (grains && Models::any_solid && AMoves != BMoves)  // eq. G8 acts between a grain and a solid
+        if (AMoves ? P_.grain_beside_solid(b, a) : P_.grain_beside_solid(a, b)) continue;
       const double t = u, F = grad_factor * (t * t * t);  // grad_a W_ab = F r_ab (eq. 8)
-      Vec<D> v_ab = va - v[b];
-      Vec<D> jump = Vec<D>::Zero();
+      Vec<D> v_ab = va - v[b], jump = Vec<D>::Zero();
       if constexpr (has(term::sheared)) jump = jumps[*e & List::shift_mask], v_ab -= jump;
       const double Fvr = F * v_ab.dot(r);  // v_ab . grad_a W_ab (= v_ba . grad_b W_ba)
       const double m_b = mass[b], rho_b = rho[b];
@@ -313,7 +316,7 @@ class PairLoop {
       if constexpr (AMoves || BMoves) {
         // Eq. T1 and eqs. 11-12 (along r_ab): symmetric in a and b; grad_b W_ba = -F r_ab.
         const double radial = viscous_radial<AMoves, BMoves>(model, r2, v_ab.dot(r), rho_a, rho_b, c_a, c[b], F);
-        Vec<D> f = pair_force(S_a, a, b, t, q, F * r);
+        Vec<D> f = pair_force(S_a, a, b, t, q, F, r);
         add_scaled(f, radial, r);
         if constexpr (AMoves) add_scaled(acc_a, m_b, f);
         if constexpr (BMoves) add_scaled(acc[b], -m_a, f);
@@ -326,15 +329,14 @@ class PairLoop {
           if constexpr (BMoves) P_.solid_state.rate[b][slot::energy] -= m_a * half_power;
         }
         if constexpr (has(term::morris_viscosity))
-          morris_pair<AMoves, BMoves>(model, b, F, r2, jump, va, vns_a, vol_a, inv_rho_a, mu_row, acc_a);
+          tensor_morris_pair<AMoves, BMoves, has(term::sheared), has(term::several_materials)>(
+              P_, model.morris, b, F, r2, jump, va, vns_a, vol_a, inv_rho_a, mu_row, acc_a);
         if constexpr (grains && AMoves != BMoves)  // eq. G1: a grain's particle takes the pair's reaction
           tensor_grain_reaction<AMoves, has(term::morris_viscosity), has(term::several_materials)>(
               P_, model.morris, mu_row, a, b, F, r2, f, va, vns_a, r, acc_a);
       }
     }
-    acc[a] += acc_a;
-    drho[a] += drho_a;
-    grad_v[a] += G_a, shape[a] += M_a;
+    acc[a] += acc_a, drho[a] += drho_a, grad_v[a] += G_a, shape[a] += M_a;
     if constexpr (Models::any_solid) P_.solid_state.rate[a][slot::energy] += work_a;
     (void)mu_row, (void)jumps, (void)work_a;
   }
@@ -352,40 +354,20 @@ class PairLoop {
   }
   // Eq. T1's stress of the pair a, b, sigma_a/rho_a^2 (S_a) + sigma_b/rho_b^2; solids add Monaghan's artificial
   // stress f_ab^n (R_a + R_b), f_ab = W(r_ab) / W(dx) from t = max(1 - q/2, 0) and q = r_ab / h
-  // (johnson_cook_material.h); times g = grad_a W_ab.
+  // (johnson_cook_material.h); times g = grad_a W_ab. Eq. FS1 between a fluid's and a solid's (fluid_solid.h).
   inline __attribute__((always_inline)) Vec<D> pair_force(const Mat<D>& S_a, int a, int b, double t, double q,
-                                                          const Vec<D>& g) const {
+                                                          double F, const Vec<D>& r) const {
+    const Vec<D> g = F * r;
     if constexpr (Models::any_solid) {
+      if constexpr (!Models::all_solid)  // eq. FS1 between a fluid's particle and a solid's
+        if (P_.solid_material[P_.material[a]] != P_.solid_material[P_.material[b]])
+          return interface_force(P_, model_.gravity, a, b, F, r);
       if (!artificial_stress_.on) return sum_times(S_a, P_.sigma_rho2[b], g);  // the same sum without adding zeros
       return sum_times(S_a, P_.sigma_rho2[b], artificial_stress_(t, q), P_.art_stress[a], P_.art_stress[b], g);
     } else
       return (void)a, (void)t, (void)q, sum_times(S_a, P_.sigma_rho2[b], g);
   }
-  // Eq. 10 on the tensor path for owner a and neighbour b: 2 mu_ab (r_ab . grad W)/(r_ab^2 + 0.01 h^2)
-  // m/(rho_a rho_b) times the velocity difference, each side against the other's no-slip velocity (va, vns_a:
-  // a's velocity and no-slip velocity; jump: b's image's Lees-Edwards jump; mu_row: a's row of mu_ab).
-  template <bool AMoves, bool BMoves>
-  inline __attribute__((always_inline)) void morris_pair(const Model& model, int b, double F, double r2,
-                                                         const Vec<D>& jump, const Vec<D>& va, const Vec<D>& vns_a,
-                                                         double vol_a, double inv_rho_a, const double* mu_row,
-                                                         Vec<D>& acc_a) const {
-    const Vec<D>* const v = P_.v.data();
-    const Vec<D>* const v_noslip = P_.v_noslip.data();
-    const double* const vol = P_.vol.data();
-    const double rho_b = P_.rho[b];
-    Vec<D>* const acc = P_.acc.data();
-    double s;
-    if constexpr (has(term::several_materials)) s = model.morris.factor(mu_row[P_.material[b]], F, r2);
-    else s = model.morris.factor(F, r2);
-    if constexpr (has(term::sheared)) {
-      if constexpr (AMoves) acc_a.noalias() += (s * vol[b] * inv_rho_a) * (va - v_noslip[b] - jump);
-      if constexpr (BMoves) acc[b].noalias() += (s * vol_a / rho_b) * (v[b] + jump - vns_a);
-    } else {
-      if constexpr (AMoves) acc_a.noalias() += (s * vol[b] * inv_rho_a) * (va - v_noslip[b]);
-      if constexpr (BMoves) acc[b].noalias() += (s * vol_a / rho_b) * (v[b] - vns_a);
-    }
-    (void)jump, (void)mu_row;
-  }
+
   Particles<D>& P_;
   const NeighbourList<D>& list_;
   const WendlandC2<D>& kernel_;

@@ -137,6 +137,7 @@ struct GrainSpec {
 // Grain-grain contact (grains.h, eq. G6): a linear spring-dashpot along the line of centres, compression only.
 struct GrainContactSpec {
   double stiffness = 0.0;    // k, N/m (0: no contact)
+  double solid_stiffness = 0.0;  // k_s, N/m: a grain's sphere on each solid particle (eq. G8; 0: none)
   double restitution = 1.0;  // e, normal coefficient of restitution, 0 < e <= 1
   std::vector<std::array<double, 6>> walls;  // planes the grains touch (eq. G7): a point (m), a unit normal into the fluid
 };

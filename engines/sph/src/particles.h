@@ -115,6 +115,7 @@ struct Particles {
   std::vector<Vec<D>> grain_offset, next_grain_offset;  // m: a body particle's offset in its grain's body frame
   std::vector<Vec<D>> grain_spin, next_grain_spin;  // rad/s: a body particle's grain's angular velocity (3D)
   std::vector<Vec<D>> grain_lever, next_grain_lever;  // m/s: a body particle's sum of eq. G5 (zero between evaluations)
+  std::array<bool, 256> solid_material{};  // per material index: a solid (start_solids; eqs. FS1, G8)
   bool corrected_momentum = false;  // a material sums momentum with eq. KC1: grad_correction carried
   std::vector<Mat<D>> grad_correction, next_grad_correction;  // M^-T of the last evaluation (eq. KC1), else I
   // -- derived each evaluation
@@ -179,6 +180,10 @@ struct Particles {
   bool moves(std::size_t a) const { return kind[a] == Kind::fluid; }       // integrates the forces
   bool advects(std::size_t a) const { return kind[a] != Kind::boundary; }  // changes position
   bool wall(std::size_t a) const { return kind[a] == Kind::boundary || kind[a] == Kind::body; }  // no-slip, never pulls
+  // A grain's particle g beside a solid's particle s: no pair terms between them (eq. G8 of grains.h acts instead).
+  bool grain_beside_solid(std::size_t g, std::size_t s) const {
+    return kind[g] == Kind::body && solid_material[material[s]];
+  }
   bool integrates(Integrates who, std::size_t a) const { return who == Integrates::all || advects(a); }
 
   void resize(std::size_t n) {
@@ -308,7 +313,7 @@ struct Particles {
     SPH_TAKE(has_wall_points), SPH_TAKE(wall_offset), SPH_TAKE(next_wall_offset), SPH_TAKE(wall_frame),
     SPH_TAKE(next_wall_frame), SPH_TAKE(x_noslip), SPH_TAKE(wall_fit);
     SPH_TAKE(grains), SPH_TAKE(grain), SPH_TAKE(next_grain), SPH_TAKE(grain_offset), SPH_TAKE(next_grain_offset),
-        SPH_TAKE(grain_spin), SPH_TAKE(next_grain_spin), SPH_TAKE(grain_lever),
+        SPH_TAKE(grain_spin), SPH_TAKE(next_grain_spin), SPH_TAKE(grain_lever), SPH_TAKE(solid_material),
         SPH_TAKE(next_grain_lever), SPH_TAKE(corrected_momentum), SPH_TAKE(grad_correction),
         SPH_TAKE(next_grad_correction);
     SPH_TAKE(mass), SPH_TAKE(kind), SPH_TAKE(id), SPH_TAKE(material);

@@ -186,6 +186,7 @@ struct FluidModel {
   PressureGradient pressure;
   MorrisViscosity morris;
   ArtificialViscosity artificial;
+  Vec<D> gravity = Vec<D>::Zero();  // the body force, m/s^2 (eq. FS1 of pair_loop.h)
 
   // Pair terms acting on a moving (fluid) particle a.
   void pair(const Pair<D>& p, PairRates<D>& out) const {
@@ -211,6 +212,8 @@ FluidModel<D, Terms> fluid_model(const RunParameters& deck, double mu, double rh
   model.morris.rho0 = rho0;
   model.morris.eddy_wall = deck.eddy_walls ? 1.0 : 0.0;
   model.artificial = {deck.alpha, deck.beta, deck.h, eta2, deck.av_walls ? 1.0 : 0.0};
+  if ((deck.terms & term::body_force) && !deck.body_force.empty())
+    for (int d = 0; d < D; ++d) model.gravity[d] = deck.body_force[d];
   return model;
 }
 

@@ -24,12 +24,13 @@ inline constexpr std::tuple<const char*, int, const char*> impactor_series[] = {
     {"position", 3, "m"}, {"velocity", 3, "m/s"}, {"angular_velocity", 3, "rad/s"}, {"orientation", 4, "1"},
     {"force", 3, "N"}, {"kinetic_energy", 0, "J"}, {"contact_energy", 0, "J"}};
 inline constexpr int impactor_columns = 18;
-// Each grain's series (grains.h): its centre of mass, velocity, angular velocity, orientation, and the fluid's force
-// and torque about its centre on it (eq. G2, of the last evaluation: mid-step during a run; its body force apart).
+// Each grain's series (grains.h): its centre of mass, velocity, angular velocity, orientation, the fluid's force
+// and torque about its centre on it (eq. G2), and its contacts' force (eqs. G6-G8), of the last evaluation (mid-step
+// during a run; its body force apart).
 inline constexpr std::tuple<const char*, int, const char*> grain_series[] = {
     {"position", 3, "m"}, {"velocity", 3, "m/s"}, {"angular_velocity", 3, "rad/s"}, {"orientation", 4, "1"},
-    {"force", 3, "N"}, {"torque", 3, "N m"}};
-inline constexpr int grain_columns = 19;
+    {"force", 3, "N"}, {"torque", 3, "N m"}, {"contact", 3, "N"}};
+inline constexpr int grain_columns = 22;
 
 template <int D, class Sim>
 class Recorder {
@@ -157,7 +158,7 @@ class Recorder {
           s.position.x(), s.position.y(), s.position.z(), s.velocity.x(), s.velocity.y(), s.velocity.z(),
           s.angular_velocity.x(), s.angular_velocity.y(), s.angular_velocity.z(), q.w(), q.x(), q.y(), q.z(),
           g.wrench.force.x(), g.wrench.force.y(), g.wrench.force.z(), g.wrench.torque.x(), g.wrench.torque.y(),
-          g.wrench.torque.z()};
+          g.wrench.torque.z(), g.contact.x(), g.contact.y(), g.contact.z()};
       std::copy(row, row + grain_columns, values_.begin() + k), k += grain_columns;
     }
     out_.record(t, rows_);

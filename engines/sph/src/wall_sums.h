@@ -45,6 +45,7 @@ inline __attribute__((always_inline)) void wall_sums_of_block(Particles<D>& P, c
       for (int j = row.mid; j < row.end; ++j) {
         const int b = static_cast<int>(e[j] >> List::shift_bits);
         if (!P.wall(b)) continue;  // boundary or a grain's particle
+        if constexpr (Models::any_solid) if (P.grains && P.grain_beside_solid(b, a)) continue;  // eq. G8 instead
         const double w = weight(a, e[j], r);
         if (w == 0.0) continue;
         if constexpr (tensor) add_wall_stress<Models>(P, b, a, w);  // eq. W1 (boundary_particles.h)
@@ -57,6 +58,7 @@ inline __attribute__((always_inline)) void wall_sums_of_block(Particles<D>& P, c
       WallFit<D> fit = positions ? P.wall_fit[a] : no_fit;
       for (int j = row.begin; j < row.mid; ++j) {
         const int b = static_cast<int>(e[j] >> List::shift_bits);
+        if constexpr (Models::any_solid) if (P.grains && P.grain_beside_solid(a, b)) continue;  // eq. G8 instead
         const double w = weight(a, e[j], r);
         if (w == 0.0) continue;
         if constexpr (tensor) add_wall_stress<Models>(P, a, b, w);

@@ -66,19 +66,27 @@ class ContactWall(Frozen):
 
 
 class GrainContact(Frozen):
-    """Grain contact (engine eqs. G6, G7): a linear spring-dashpot between the grains' spheres along the line of
+    """Grain contact (engine eqs. G6-G8): a linear spring-dashpot between the grains' spheres along the line of
     centres, and between a grain's sphere and each wall plane along its normal, in compression only and without
-    friction; each sphere grain touches with its own radius."""
+    friction; each sphere grain touches with its own radius. A grain touches a solid's particles through eq. G8
+    (a spring on each particle's overlap with the grain's sphere), whether or not this table is given."""
 
-    stiffness: Positive = Field(description="normal stiffness k of the contact, N/m")
+    stiffness: Positive | None = Field(None, description="normal stiffness k of the grain-grain and grain-wall "
+                                       "contact, N/m (none: the grains touch the solids only)")
+    solid_stiffness_factor: float = Field(1.0, gt=0.0, le=20.0, description="the spring of a grain on each solid "
+                                          "particle (eq. G8) over rho0 c_L^2 dx of the stiffest material, -")
     restitution: float = Field(1.0, gt=0.0, le=1.0, description="normal coefficient of restitution e of a head-on "
                                "collision, - (the damping c = 2 zeta sqrt(k m), zeta = -ln e / sqrt(pi^2 + ln^2 e))")
     walls: tuple[ContactWall, ...] = Field((), description="planes the grains touch (eq. G7; e.g. a channel's wall "
                                            "faces): [[grain_contact.walls]] tables of point and normal")
 
-    def deck(self) -> dict:
-        """The deck's grain_contact object (engines/sph/README.md), the normals of unit length."""
-        out = {"stiffness": float(self.stiffness), "restitution": float(self.restitution)}
+    def deck(self, solid_stiffness: float | None = None) -> dict:
+        """The deck's grain_contact object (engines/sph/README.md), the normals of unit length; solid_stiffness:
+        eq. G8's spring k_s (N/m) when the run has a solid."""
+        out = {} if solid_stiffness is None else {"solid_stiffness": float(solid_stiffness)}
+        if self.stiffness is None:
+            return out
+        out |= {"stiffness": float(self.stiffness), "restitution": float(self.restitution)}
         if self.walls:
             out["walls"] = [{"point": [float(c) for c in w.point], "normal": [float(c) for c in w.unit_normal()]}
                             for w in self.walls]
@@ -104,6 +112,10 @@ def check_grains(case) -> None:
         raise ValueError("grain_contact needs [[grains]]" if not grains else
                          "grain_contact cannot act in a Lees-Edwards cell ([lees_edwards]); remove one of them")
     if case.grain_contact is not None:
+        contact = case.grain_contact
+        if contact.stiffness is None and (contact.walls or "restitution" in contact.model_fields_set):
+            raise ValueError("grain_contact.restitution and grain_contact.walls need grain_contact.stiffness (the "
+                             "grain-grain and grain-wall spring, N/m)")
         _check_contact(case)
     names: set[str] = set()
     lo, hi = np.asarray(case.domain.lo), np.asarray(case.domain.hi)
@@ -161,7 +173,7 @@ def check_contact_duration(case, grain: np.ndarray, dt: float) -> None:
     pair or a grain's mass on a wall (kg, as the engine counts them: rho_k N_k dx^D from the carved lattice, grain
     (n,) the particles' grain index), lasts fewer than CONTACT_STEPS of the run's largest step dt (s)."""
     contact = case.grain_contact
-    if contact is None:
+    if contact is None or contact.stiffness is None:
         return
     masses = [g.density * np.count_nonzero(grain == k) * case.numerics.dx ** case.dimension
               for k, g in enumerate(case.grains)]
@@ -175,6 +187,20 @@ def check_contact_duration(case, grain: np.ndarray, dt: float) -> None:
                          f"{duration:.3g} s (m = {lightest:.3g} kg), {duration / dt:.3g} steps of the run's largest "
                          f"step {dt:.3g} s; the contact needs at least {CONTACT_STEPS}: at most "
                          f"{math.pi ** 2 * lightest / (CONTACT_STEPS * dt) ** 2:.3g} N/m")
+
+
+def has_solid(case) -> bool:
+    """Whether a material of the case is a solid (johnson_cook), which the grains touch through eq. G8."""
+    return any(m.model == "johnson_cook" for m in case.materials)
+
+
+def grain_contact_deck(case, scale: float) -> dict | None:
+    """The deck's grain_contact object (None: no contact): the case's [grain_contact] and, with grains beside a
+    solid, eq. G8's spring solid_stiffness_factor x scale (scale: rho0 c_L^2 dx of the stiffest material, N/m)."""
+    contact = case.grain_contact or GrainContact()
+    solid = contact.solid_stiffness_factor * scale if case.grains and has_solid(case) else None
+    deck = contact.deck(solid)
+    return deck or None
 
 
 def carve_grains(grains, positions: np.ndarray, kind: np.ndarray, velocities: np.ndarray, dx: float):
@@ -213,6 +239,6 @@ def grain_decks(case, masses: np.ndarray, kind: np.ndarray, grain: np.ndarray, r
         forces = [g * (1.0 - rho_m / gr.density) for gr in case.grains]
     decks = [{"name": gr.name, "density": float(gr.density), "velocity": [float(c) for c in gr.velocity],
               "angular_velocity": [float(c) for c in gr.angular_velocity], "body_force": [float(c) for c in f]}
-             | ({"contact_radius": float(gr.radius)} if case.grain_contact is not None else {})
+             | ({"contact_radius": float(gr.radius)} if case.grain_contact is not None or has_solid(case) else {})
              for gr, f in zip(case.grains, forces)]
     return (None if fluid_force is None else tuple(float(c) for c in fluid_force)), decks

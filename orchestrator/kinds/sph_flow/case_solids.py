@@ -58,6 +58,10 @@ RATE_FORMS = ("power", "log")
 #: eq. KC1 (corrected; Bonet & Lok 1999).
 MOMENTUM_SUMS = ("plain", "corrected")
 
+#: The least smoothing delta (eq. SS1) of a solid beside a fluid: an elastic layer under water (dx 5 mm) held still
+#: at 0.01 and 0.02 and went unstable at 0.005 (docs/solids.md).
+SMOOTHING_BESIDE_FLUID = 0.01
+
 #: Keys of [materials.solid] that only a plastic solid (one with a yield_stress) takes.
 STRENGTH_KEYS = ("hardening_modulus", "hardening_exponent", "rate_sensitivity", "thermal_exponent",
                  "reference_rate", "rate_form", "room_temperature", "melting_temperature", "failure")
@@ -227,6 +231,11 @@ def check_solid(case, i: int, m) -> None:
             raise ValueError(f"{apart[0]} is set with the fluid {fluid!r} beside the johnson_cook material {where} "
                              f"({m.name}); a fluid beside solids runs with walls, grains, a body force and the Morris "
                              "and artificial viscosities only: remove it")
+        if s.smoothing is None or s.smoothing < SMOOTHING_BESIDE_FLUID:
+            raise ValueError(f"{where}.solid.smoothing = {s.smoothing}: the johnson_cook material {m.name!r} beside "
+                             f"the fluid {fluid!r} needs eq. SS1's smoothing of at least {SMOOTHING_BESIDE_FLUID} "
+                             "(0.02 in cases/verification/sph_solid_under_water.toml): without it the solid's row "
+                             "mode grows under the fluid's pressure (docs/solids.md)")
         _check_grains_clear_of(case, i, m)
     elif "morris_viscosity" in terms:
         raise ValueError(f"physics.terms has 'morris_viscosity' with the johnson_cook material {where} ({m.name}); "

@@ -10,6 +10,7 @@ import numpy as np
 
 from orchestrator.engines.base import Result, Series
 from orchestrator.kinds.base import Adapter
+from orchestrator.kinds.sph_flow.case_grains import grain_contact_deck
 from orchestrator.kinds.sph_flow.case_impactors import stiffness_scale
 from orchestrator.kinds.sph_flow.case_open import rest_pressure
 from orchestrator.kinds.sph_flow.resume import FRAME_ARRAYS, merge_parts, part_files, write_resume_input
@@ -66,6 +67,8 @@ def deck_context(scene, threads: int = 1) -> dict:
     if case.materials:  # the deck's `materials` list replaces its top-level fluid keys
         materials = [json.dumps(m.deck()) for m in scene.materials]
     le = case.lees_edwards
+    scale = stiffness_scale(scene.materials, numerics.dx)  # N/m: the contact springs' (impactors, eq. G8)
+    contact = grain_contact_deck(case, scale)
     return {
         "materials": materials,
         "dimension": case.dimension,
@@ -103,9 +106,9 @@ def deck_context(scene, threads: int = 1) -> dict:
         "progress_interval": num(PROGRESS_INTERVAL_S),
         "probes": [json.dumps({"name": p.name, "point": [float(c) for c in p.point]}) for p in output.probes],
         "flow_planes": [_patch_json(p) for p in output.flow_planes],
-        "impactors": [json.dumps(imp.deck(stiffness_scale(scene.materials, numerics.dx))) for imp in case.impactors],
+        "impactors": [json.dumps(imp.deck(scale)) for imp in case.impactors],
         "grains": [json.dumps(g) for g in scene.grains],
-        "grain_contact": None if case.grain_contact is None else json.dumps(case.grain_contact.deck()),
+        "grain_contact": None if contact is None else json.dumps(contact),
     }
 
 
@@ -172,8 +175,8 @@ SERIES_DESCRIPTIONS = {
     "shear_rate": "Lees-Edwards shear rate gamma_dot(t) of the cell",
     "impactor_": "a rigid impactor's centre, velocity, angular velocity, orientation (quaternion w, x, y, z), the "
                  "particles' contact force on it, its kinetic and contact energy (engines/sph/README.md)",
-    "grain_": "a rigid grain's centre of mass, velocity, angular velocity, orientation (quaternion w, x, y, z), and the "
-              "fluid's force and torque on it (eq. G2, engines/sph/README.md)",
+    "grain_": "a rigid grain's centre of mass, velocity, angular velocity, orientation (quaternion w, x, y, z), the "
+              "fluid's force and torque on it (eq. G2) and its contacts' force (eqs. G6-G8, engines/sph/README.md)",
 }
 #: Root attributes of out.h5 copied into run.h5 (engine name -> run.h5 name).
 ENGINE_ATTRS = {"n_steps": "n_steps", "dt_mean": "dt", "t_final": "simulated_time", "wall_time_s": "engine_wall_time_s",

@@ -114,7 +114,7 @@ def test_the_executable_settles_the_grain_and_run_h5_holds_its_series(tmp_path):
     result = adapter.read_output(scene, tmp_path)
     assert result.status == "ok"
     for what, columns in (("position", 3), ("velocity", 3), ("angular_velocity", 3), ("orientation", 4),
-                          ("force", 3), ("torque", 3)):
+                          ("force", 3), ("torque", 3), ("contact", 3)):
         assert result.series[f"grain_ball_{what}"].values.shape == (len(result.time), columns), what
     velocity = result.series["grain_ball_velocity"].values
     assert velocity[-1, 2] < 0.0 and abs(velocity[-1, 0]) < 1e-3 * abs(velocity[-1, 2])  # it sinks straight down

@@ -181,6 +181,7 @@ void solid_equation_of_state(Particles<D>& P, const MaterialTable& materials, st
 template <class Models, int D>
 void start_solids(Particles<D>& P, const MaterialTable& materials) {
   if constexpr (Models::any_solid) {
+    for (int k = 0; k < materials.size(); ++k) P.solid_material[k] = materials[k].is_solid;  // eqs. FS1, G8
     for (std::size_t i = 0; i < P.size(); ++i) {
       const Material& mat = materials[P.material[i]];
       Models::visit(mat.model, [&](auto model) {
