@@ -67,7 +67,8 @@ def deck_context(scene, threads: int = 1) -> dict:
     if case.materials:  # the deck's `materials` list replaces its top-level fluid keys
         materials = [json.dumps(m.deck()) for m in scene.materials]
     le = case.lees_edwards
-    scale = stiffness_scale(scene.materials, numerics.dx)  # N/m: the contact springs' (impactors, eq. G8)
+    # N/m: the contact springs' (impactors, eq. G8), from the stiffest material (a scene of the top-level fluid has none)
+    scale = stiffness_scale(scene.materials, numerics.dx) if scene.materials else 0.0
     contact = grain_contact_deck(case, scale)
     return {
         "materials": materials,

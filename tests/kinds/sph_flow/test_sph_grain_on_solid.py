@@ -91,3 +91,10 @@ def test_a_heavy_grain_comes_to_rest_on_a_soft_layer_in_oil(tmp_path):
     # the top row's 5.5 mm: the solid creeps under the squeezed oil, docs/solids.md) and none leaves
     layer = (np.asarray(last["material"]) == 1) & (np.asarray(last["kind"]) == 0)
     assert np.asarray(last["positions"])[layer, 2].max() < 0.0055 + 0.0007
+    # The four top-row particles under the grain sink 0.066 mm (3 to 12 times Hertz's elastic indentation: the
+    # smoothing's creep and a contact below the lattice's resolution, docs/solids.md); it must not grow
+    x0, z = np.asarray(first["positions"]), dict(zip(np.asarray(last["ids"]), np.asarray(last["positions"])[:, 2]))
+    under = (np.asarray(first["material"]) == 1) & (x0[:, 2] > 0.0054) & (np.hypot(x0[:, 0] - 0.006, x0[:, 1] - 0.006)
+                                                                          < 0.0008)
+    sunk = np.array([0.0055 - z[i] for i in np.asarray(first["ids"])[under]])
+    assert len(sunk) == 4 and np.all(sunk > 0.02e-3) and np.all(sunk < 0.08e-3), sunk
