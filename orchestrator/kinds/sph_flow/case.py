@@ -62,9 +62,9 @@ class SphFlowCase(Frozen):
                                             "push on the particles (case_impactors.py)")
     grains: tuple[Grain, ...] = Field((), max_length=1000, description="rigid grains (3D) made of the lattice's "
                                       "particles that the fluid drags (case_grains.py)")
-    grain_contact: GrainContact | None = Field(None, description="contact between the grains and with wall planes "
-                                               "(engine eqs. G6, G7): stiffness N/m, restitution, walls "
-                                               "(case_grains.py)")
+    grain_contact: GrainContact | None = Field(None, description="contact between the grains, with wall planes and "
+                                               "with solids (engine eqs. G6-G8): stiffness N/m, restitution, walls, "
+                                               "solid_stiffness_factor (case_grains.py)")
     lees_edwards: LeesEdwards | None = Field(None, description="a sheared periodic cell (case_shear.py): steady "
                                              "shear_rate 1/s, or oscillatory amplitude and omega rad/s")
     numerics: SphNumerics
