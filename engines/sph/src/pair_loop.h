@@ -144,7 +144,9 @@ class PairLoop {
                                                       const std::uint32_t* end) const {
     if constexpr (tensor) {
       (void)c;
-      pair_terms<AMoves, BMoves>(a, e, end);
+      if constexpr (Models::any_solid && AMoves && BMoves)  // eq. SS1 chosen per row: no test per pair when it is off
+        if (smoothing_.on) return pair_terms<AMoves, BMoves, true>(a, e, end);
+      pair_terms<AMoves, BMoves, false>(a, e, end);
     } else {
       Vec<D> acc_a = Vec<D>::Zero();
       double drho_a = 0.0;
@@ -260,7 +262,7 @@ class PairLoop {
     (void)grad_v, (void)G_a, (void)vol_a, (void)jumps, (void)va, (void)vns_a;
   }
 
-  template <bool AMoves, bool BMoves>
+  template <bool AMoves, bool BMoves, bool Smooth>
   inline __attribute__((always_inline)) void pair_terms(int a, const std::uint32_t* e, const std::uint32_t* end) const {
     static_assert(tensor, "the tensor path's pair loop (pair_row)");
     using List = NeighbourList<D>;
@@ -323,7 +325,7 @@ class PairLoop {
         // A solid's internal energy takes what the pair's force takes from the kinetic energy, m_a m_b v_ab . f
         // (stress, artificial stress and viscosity), half to each: de_a/dt = -1/2 sum_b m_b v_ab . f_ab.
         if constexpr (Models::any_solid) {
-          if constexpr (AMoves && BMoves) smoothing_.pair(P_, a, b, F, r2);  // eq. SS1
+          if constexpr (Smooth) smoothing_.pair(P_, a, b, F, r2);  // eq. SS1 (pair_row: both move)
           const double half_power = 0.5 * v_ab.dot(f);
           if constexpr (AMoves) work_a -= m_b * half_power;
           if constexpr (BMoves) P_.solid_state.rate[b][slot::energy] -= m_a * half_power;
