@@ -207,9 +207,9 @@ def test_an_early_ctrl_c_is_never_swallowed(tmp_path):
         written = (out / "run.h5").is_file()
         assert ("records what was measured" in err) == written, err
         assert ("no run.h5 was written" in err) == (not written), err
-        if written:
+        if written:  # cut short; or, on a loaded machine, the Ctrl-C came after the run had completed its run.h5
             with h5py.File(out / "run.h5") as h5:
-                assert h5.attrs["status"] == "terminated"
+                assert h5.attrs["status"] in ("terminated", "ok")
         outcomes.append(written)
     assert outcomes, "every run finished before its Ctrl-C"
 
