@@ -116,6 +116,9 @@ def check_grains(case) -> None:
         if contact.stiffness is None and (contact.walls or "restitution" in contact.model_fields_set):
             raise ValueError("grain_contact.restitution and grain_contact.walls need grain_contact.stiffness (the "
                              "grain-grain and grain-wall spring, N/m)")
+        if contact.stiffness is None and not has_solid(case):
+            raise ValueError("grain_contact.stiffness is missing: without it the grains touch only a solid (eq. G8), "
+                             "and the case has no johnson_cook material; give the grain-grain spring in N/m")
         _check_contact(case)
     names: set[str] = set()
     lo, hi = np.asarray(case.domain.lo), np.asarray(case.domain.hi)

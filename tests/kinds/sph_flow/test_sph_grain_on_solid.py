@@ -66,6 +66,13 @@ def test_grain_contact_walls_without_the_grains_spring_are_named(tmp_path):
         _refusal(_case(tmp_path, text))
 
 
+def test_grain_contact_without_a_spring_or_a_solid_is_named(tmp_path):
+    text = (DATA / "sph_grain_in_oil.toml").read_text() + "\n[grain_contact]\nsolid_stiffness_factor = 2.0\n"
+    (tmp_path / "case.toml").write_text(text)
+    assert "grain_contact.stiffness is missing: without it the grains touch only a solid" in \
+        _refusal(tmp_path / "case.toml")
+
+
 @pytest.mark.sph
 def test_a_heavy_grain_comes_to_rest_on_a_soft_layer_in_oil(tmp_path):
     out = tmp_path / "run"
