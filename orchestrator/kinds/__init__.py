@@ -22,6 +22,7 @@ def register(name: str, module: str) -> None:
     _LOADED.pop(name, None)
 
 
+register("afm_channel", "orchestrator.kinds.afm_channel")
 register("cantilever_plate", "orchestrator.kinds.cantilever_plate")
 register("crater", "orchestrator.kinds.crater")
 register("drag_finishing", "orchestrator.kinds.drag_finishing")

@@ -210,6 +210,11 @@ void parse_viscosities(const json& j, RunParameters& d) {
 void parse_forces_and_walls(const json& j, const std::string& deck_dir, RunParameters& d) {
   require_with_term(j, d, term::body_force, "body_force", "body_force");
   if (j.contains("body_force")) d.body_force = vector_of(j["body_force"], "body_force", d.dimension);
+  if (j.contains("body_force_solids")) {
+    if (!j["body_force_solids"].is_boolean() || !j.contains("body_force"))
+      fail("'body_force_solids' must be true or false, beside 'body_force', got " + j["body_force_solids"].dump());
+    d.body_force_solids = j["body_force_solids"].get<bool>();
+  }
 
   require_with_term(j, d, term::wall_penalty, "meshes", "wall_penalty");
   require_with_term(j, d, term::wall_penalty, "wall", "wall_penalty");
@@ -299,7 +304,7 @@ void parse_run_options(const json& j, RunParameters& d) {
 
 RunParameters parse_deck(const json& j, const std::string& deck_dir) {
   check_keys(j, "", {"dimension", "particles_file", "physics", "rho0", "c0", "gamma", "background_pressure", "v_max",
-                     "viscosity", "alpha", "beta", "artificial_viscosity", "h", "dx", "body_force", "meshes", "wall", "periodic", "inlets",
+                     "viscosity", "alpha", "beta", "artificial_viscosity", "h", "dx", "body_force", "body_force_solids", "meshes", "wall", "periodic", "inlets",
                      "outlets", "dt", "time_step", "t_end", "t_start", "step_start", "max_steps", "stability", "output", "threads",
                      "materials", "lees_edwards", "neighbour_skin", "viscosity_correction", "eddy_viscosity", "open_boundary_list",
                      "min_pressure", "impactors", "grains", "grain_contact"});

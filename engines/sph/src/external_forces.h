@@ -16,7 +16,8 @@ class ExternalForces {
  public:
   ExternalForces(const RunParameters& deck, WallPenalty<D> walls)
       : walls_(std::move(walls)), impactors_(deck.impactors, deck.dx),
-        body_on_(deck.terms & term::body_force), walls_on_(deck.terms & term::wall_penalty) {
+        body_on_(deck.terms & term::body_force), body_solids_(deck.body_force_solids),
+        walls_on_(deck.terms & term::wall_penalty) {
     if (!deck.body_force.empty())
       for (int d = 0; d < D; ++d) body_.g[d] = deck.body_force[d];
   }
@@ -26,10 +27,11 @@ class ExternalForces {
   const Impactors<D>& impactors() const { return impactors_; }
 
   // The acceleration (m/s^2) of a moving particle of mass m (kg) at x (m; wrapped into the box by `images` for
-  // the walls: between list builds positions may lie up to skin/2 outside it) added to acc.
+  // the walls: between list builds positions may lie up to skin/2 outside it) added to acc; a solid's particle
+  // (solid true) takes the body force unless the deck's body_force_solids is false.
   template <class Images>
-  void add(const Images& images, const Vec<D>& x, double m, Vec<D>& acc) const {
-    if (body_on_) body_.add(acc);
+  void add(const Images& images, const Vec<D>& x, double m, bool solid, Vec<D>& acc) const {
+    if (body_on_ && (body_solids_ || !solid)) body_.add(acc);
     if (walls_on_) {
       Vec<D> xw = x;
       images.wrap(xw);
@@ -42,7 +44,7 @@ class ExternalForces {
   BodyForce<D> body_;
   WallPenalty<D> walls_;
   Impactors<D> impactors_;
-  bool body_on_ = false, walls_on_ = false;
+  bool body_on_ = false, body_solids_ = true, walls_on_ = false;
 };
 
 }  // namespace sph

@@ -1,4 +1,5 @@
-// The pair force between a fluid's particle and a solid's (a Newtonian fluid beside Johnson-Cook solids, pair_loop.h).
+// The pair terms between a fluid's particle and a solid's (a Newtonian fluid beside Johnson-Cook solids, pair_loop.h):
+// eq. FS1, the force, and eq. FS2, what each side's density rate and velocity gradient take.
 // Between a fluid's particle f and a solid's particle s (or a boundary particle of a solid's material) the tensor
 // path's eq. T1 is replaced by the fluid's pressure alone, carried to the pair's midpoint:
 //   dv_a/dt += -m_b 2 p~ / (rho_a rho_b) grad_a W_ab,   p~ = p_f + rho_f g . (x_s - x_f) / 2            (FS1)
@@ -12,6 +13,8 @@
 // reached 3e-2 m/s in 3 s). Eq. FS1 with the solid's smoothing (eq. SS1, which the solid then needs: without it
 // the layer's own row mode grows) keeps both at rest.
 #pragma once
+#include <utility>
+
 #include "particles.h"
 #include "vec.h"
 
@@ -26,6 +29,28 @@ inline __attribute__((always_inline)) Vec<D> interface_force(const Particles<D>&
   const int f = a_fluid ? a : b;
   const double p = P.p[f] + 0.5 * P.rho[f] * gravity.dot(a_fluid ? Vec<D>(-r) : r);  // x_s - x_f = -r or r
   return (-2.0 * p * F / (P.rho[a] * P.rho[b])) * r;
+}
+
+// Eq. FS2: across a fluid-solid interface (one particle of a solid's material, the other not) the solid's density
+// rate and velocity gradient L (eq. T2) take its own particles only, and a fixed particle sums its own kind of
+// material only. Which of a, b is the solid's (both false: no interface, always in a configuration of one kind).
+template <class Models, int D>
+inline __attribute__((always_inline)) std::pair<bool, bool> interface_sides(const Particles<D>& P, int a, int b) {
+  if constexpr (Models::any_solid && !Models::all_solid)
+    if (P.across_interface(a, b)) return {P.solid_material[P.material[a]], !P.solid_material[P.material[a]]};
+  return (void)P, (void)a, (void)b, std::pair<bool, bool>{false, false};
+}
+
+// Eq. 7 of the pair with Fvr = v_ab . grad_a W_ab: a moving particle's rho_a V_b Fvr (rV_a; a solid's across the
+// interface none), a fixed one's summation rate m_b Fvr (none across the interface: it sums its own kind).
+template <bool AMoves, bool BMoves>
+inline __attribute__((always_inline)) void continuity_pair(double& drho_a, double& drho_b, double Fvr, double rV_a,
+                                                           double rV_b, double m_b, double m_a, bool solid_a,
+                                                           bool solid_b) {
+  if constexpr (AMoves) drho_a += solid_a ? 0.0 : rV_a * Fvr;
+  else drho_a += solid_a || solid_b ? 0.0 : m_b * Fvr;
+  if constexpr (BMoves) drho_b += solid_b ? 0.0 : rV_b * Fvr;
+  else drho_b += solid_a || solid_b ? 0.0 : m_a * Fvr;
 }
 
 }  // namespace sph

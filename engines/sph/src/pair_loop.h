@@ -303,17 +303,15 @@ class PairLoop {
       if constexpr (has(term::sheared)) jump = jumps[*e & List::shift_mask], v_ab -= jump;
       const double Fvr = F * v_ab.dot(r);  // v_ab . grad_a W_ab (= v_ba . grad_b W_ba)
       const double m_b = mass[b], rho_b = rho[b];
-      // Eq. 7 for fluid (drho_a = rho_a sum m_b/rho_b v_ab . grad W), the summation rate otherwise.
-      if constexpr (AMoves) drho_a += rho_a * vol[b] * Fvr;
-      else drho_a += m_b * Fvr;
-      if constexpr (BMoves) drho[b] += rho_b * vol_a * Fvr;
-      else drho[b] += m_a * Fvr;
+      const auto [solid_a, solid_b] = interface_sides<Models>(P_, a, b);  // eq. FS2 (fluid_solid.h)
+      continuity_pair<AMoves, BMoves>(drho_a, drho[b], Fvr, rho_a * vol[b], rho_b * vol_a, m_b, m_a, solid_a, solid_b);
       // Eq. T2 for both particles: -F V v_ab (x) r_ab and -F V r_ab (x) r_ab; a fixed
       // boundary particle enters with its no-slip velocity (boundary_particles.h).
       Vec<D> v_ab_grad = v_ab;
       if constexpr (AMoves && !BMoves) v_ab_grad = va - v_noslip[b] - jump;
       if constexpr (!AMoves && BMoves) v_ab_grad = vns_a - v[b] - jump;
-      subtract_outer_products(v_ab_grad, r, F * vol[b], F * vol_a, G_a, M_a, grad_v[b], shape[b]);
+      subtract_outer_products(v_ab_grad, r, solid_a ? 0.0 : F * vol[b], solid_b ? 0.0 : F * vol_a, G_a, M_a, grad_v[b],
+                              shape[b]);
       if constexpr (has(term::stress_diffusion) && AMoves && BMoves) stress_diffusion_pair(P_, a, b, F, r2, kernel_.h);
       if constexpr (AMoves || BMoves) {
         // Eq. T1 and eqs. 11-12 (along r_ab): symmetric in a and b; grad_b W_ba = -F r_ab.

@@ -163,6 +163,7 @@ struct RunParameters {
   bool eddy_walls = true;     // nu_t also on pairs with a fixed particle (false: fluid-fluid pairs only, eq. SM2)
   double h = 0, dx = 0;                                         // m
   std::vector<double> body_force;                               // m/s^2
+  bool body_force_solids = true;  // false: the body force acts on the fluids' particles only (not on solids)
   // walls
   std::vector<MeshSpec> meshes;
   double wall_range = 0, wall_s = 0, wall_psi = 0;  // R m, s m, psi N

@@ -184,6 +184,8 @@ struct Particles {
   bool grain_beside_solid(std::size_t g, std::size_t s) const {
     return kind[g] == Kind::body && solid_material[material[s]];
   }
+  // Whether a and b are across a fluid-solid interface: one of a solid's material, the other not (eq. FS2).
+  bool across_interface(int a, int b) const { return solid_material[material[a]] != solid_material[material[b]]; }
   bool integrates(Integrates who, std::size_t a) const { return who == Integrates::all || advects(a); }
 
   void resize(std::size_t n) {

@@ -227,7 +227,7 @@ class Simulation {
   void close_rates_at(std::ptrdiff_t a) {
     if constexpr (eddy) P_.nu_t[a] = P_.moves(a) ? smagorinsky_.nu_t<D>(P_.grad_v[a]) : 0.0;  // eq. SM1, next step's
     if (P_.moves(a)) {
-      external_.add(images_, P_.x[a], P_.mass[a], P_.acc[a]);  // body force, walls, impactors
+      external_.add(images_, P_.x[a], P_.mass[a], P_.solid_material[P_.material[a]], P_.acc[a]);  // body force, walls
       if constexpr (tensor) close_constitutive_rates<Models>(P_, materials_, a, correct_gradient_);
       if constexpr (has(term::stress_diffusion)) add_stress_diffusion(P_, materials_, a);  // eq. SD1
     } else if (P_.kind[a] == Kind::outlet || (hold_inlets_ && P_.kind[a] == Kind::inlet) || holds_density(P_, a)) {

@@ -20,7 +20,8 @@ namespace sph {
 // included), and the fit of eq. WP2 (boundary_particles.h). Pairs of the
 // skin (weight 0) add exact zeros and are skipped; a boundary particle's
 // own row is summed into locals (the same additions in the same order).
-// (Tensor: the run's models carry an extra stress.)
+// (Tensor: the run's models carry an extra stress.) Beside a solid (eq. FS2) a boundary particle sums the
+// particles of its own kind of material only: a solid's held particles the solid, the fluid's walls the fluid.
 template <bool tensor, class Models, int D>
 inline __attribute__((always_inline)) void wall_sums_of_block(Particles<D>& P, const NeighbourList<D>& list, const WendlandC2<D>& kernel,
                         std::vector<double>& shepard, int k) {
@@ -46,6 +47,7 @@ inline __attribute__((always_inline)) void wall_sums_of_block(Particles<D>& P, c
         const int b = static_cast<int>(e[j] >> List::shift_bits);
         if (!P.wall(b)) continue;  // boundary or a grain's particle
         if constexpr (Models::any_solid) if (P.grains && P.grain_beside_solid(b, a)) continue;  // eq. G8 instead
+        if constexpr (Models::any_solid && !Models::all_solid) if (P.across_interface(a, b)) continue;  // eq. FS2
         const double w = weight(a, e[j], r);
         if (w == 0.0) continue;
         if constexpr (tensor) add_wall_stress<Models>(P, b, a, w);  // eq. W1 (boundary_particles.h)
@@ -59,6 +61,7 @@ inline __attribute__((always_inline)) void wall_sums_of_block(Particles<D>& P, c
       for (int j = row.begin; j < row.mid; ++j) {
         const int b = static_cast<int>(e[j] >> List::shift_bits);
         if constexpr (Models::any_solid) if (P.grains && P.grain_beside_solid(a, b)) continue;  // eq. G8 instead
+        if constexpr (Models::any_solid && !Models::all_solid) if (P.across_interface(a, b)) continue;  // eq. FS2
         const double w = weight(a, e[j], r);
         if (w == 0.0) continue;
         if constexpr (tensor) add_wall_stress<Models>(P, a, b, w);

@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from orchestrator.kinds.scratch.pictures import plot_scratch
-from orchestrator.kinds.scratch.removal import REACH, chips, removed
+from orchestrator.kinds.sph_flow.removal import REACH, chips, removed
 from orchestrator.kinds.scratch.scene import grain_spheres
 from orchestrator.kinds.sph_flow.case_impactors import mass_properties
 

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-from orchestrator.kinds.scratch.removal import removed
+from orchestrator.kinds.sph_flow.removal import removed
 from orchestrator.outputs import save_figure
 
 

@@ -105,6 +105,9 @@ def check_grains(case) -> None:
                              "(the weight it balances)")
         if len(case.materials) > 1:
             raise ValueError("physics.balance_mean_weight needs one fluid material (one fluid density)")
+        if case.physics.body_force_on != "all":
+            raise ValueError("physics.balance_mean_weight balances a weight on fluid and grains alike; it cannot go "
+                             "with physics.body_force_on = 'fluids'")
     # In a Lees-Edwards cell no pair of a grain's particle may cross the sheared faces (y = lo, hi): the support 2h
     # and the engine's Verlet skin (0.1 of it) inside them.
     sheared_margin = 2.0 * case.numerics.h_over_dx * case.numerics.dx * (1.0 + VERLET_SKIN)
@@ -229,7 +232,7 @@ def grain_decks(case, masses: np.ndarray, kind: np.ndarray, grain: np.ndarray, r
     on = case.physics.body_force is not None and "body_force" in case.physics.terms
     g = np.asarray(case.physics.body_force, dtype=float) if on else None
     fluid_force = None if g is None else g
-    forces = [np.zeros(3) if g is None else g for _ in case.grains]
+    forces = [np.zeros(3) if g is None or case.physics.body_force_on == "fluids" else g for _ in case.grains]
     if case.physics.balance_mean_weight:
         fluid_mass = float(masses[kind == 0].sum())
         volume = fluid_mass / rho_fluid

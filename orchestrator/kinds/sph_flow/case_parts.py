@@ -156,6 +156,10 @@ class Physics(Frozen):
                     "(continuity, Tait EOS and pressure gradient are always on)"
     )
     body_force: Vector | None = Field(None, description="body force per unit mass (e.g. gravity), m/s^2")
+    body_force_on: Literal["all", "fluids"] = Field("all", description=(
+        "what the body force acts on: all (every moving particle and grain: gravity), fluids (the fluids' particles "
+        "only, the grains and solids none: a flow driven by a pressure gradient past a held workpiece, as Nutto et "
+        "al.'s channel)"))
     artificial_viscosity: ArtificialViscosity | None = None
     wall_penalty: WallPenalty | None = None
     viscosity_correction: bool = Field(False, description=(
@@ -195,6 +199,8 @@ class Physics(Frozen):
                 raise ValueError(f"physics.terms has {term!r} but physics.{key} is missing")
             if given and term not in self.terms:
                 raise ValueError(f"physics.{key} is given but {term!r} is not in physics.terms; add it or remove the key")
+        if self.body_force_on != "all" and self.body_force is None:
+            raise ValueError(f"physics.body_force_on = {self.body_force_on!r} needs physics.body_force")
         if self.viscosity_correction and "morris_viscosity" not in self.terms:
             raise ValueError("physics.viscosity_correction = true needs 'morris_viscosity' in physics.terms")
         if self.eddy_viscosity is not None and ("morris_viscosity" not in self.terms or self.viscosity_correction):

@@ -170,13 +170,13 @@ class SolidBody(Frozen):
                 solid["heat_capacity"] /= f
         return {"name": self.name, "model": "johnson_cook", "density": self.inertial_density(), "solid": solid}
 
-    def check_impact_speed(self, speed: float, key: str) -> None:
-        """ValueError naming mass_scaling (or the speed's key) when the run's wave speed sqrt((K + 4G/3) / (f
-        rho0)) is below 10 x the impact speed (m/s): weakly compressible SPH needs a Mach number below 0.1."""
+    def check_impact_speed(self, speed: float, key: str, table: str = "material") -> None:
+        """ValueError naming <table>.mass_scaling (and the speed's key) when the run's wave speed sqrt((K + 4G/3) /
+        (f rho0)) is below 10 x the impact speed (m/s): weakly compressible SPH needs a Mach number below 0.1."""
         wave = self.solid.wave_speed(self.density) / math.sqrt(self.mass_scaling)
         if wave < 10.0 * speed:
             most = (self.solid.wave_speed(self.density) / (10.0 * speed)) ** 2
-            raise ValueError(f"material.mass_scaling = {self.mass_scaling:g} leaves a wave speed of {wave:.4g} m/s, "
+            raise ValueError(f"{table}.mass_scaling = {self.mass_scaling:g} leaves a wave speed of {wave:.4g} m/s, "
                              f"below 10 x {key} = {speed:g} m/s (the Mach number must stay below 0.1): "
                              f"use a mass_scaling of at most {max(most, 1.0):.3g}")
 

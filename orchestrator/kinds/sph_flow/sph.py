@@ -90,6 +90,7 @@ def deck_context(scene, threads: int = 1) -> dict:
         "eddy_viscosity_cs": None if physics.eddy_viscosity is None else num(physics.eddy_viscosity),
         "eddy_viscosity_walls": "true" if physics.eddy_viscosity_walls else "false",
         "body_force": None if physics.body_force is None else vec(scene.body_force or physics.body_force),
+        "body_force_solids": physics.body_force_on == "all",
         "meshes": [{"name": json.dumps(name), "group": json.dumps("/" + name)} for name in scene.meshes],
         "wall": None if wall is None else {"range": num(wall.range), "s": num(wall.s), "psi": num(wall.psi)},
         "periodic": periodic,

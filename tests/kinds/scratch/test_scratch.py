@@ -16,7 +16,7 @@ from orchestrator.cli import main
 from orchestrator.errors import CaseError
 from orchestrator.kinds import build_scene
 from orchestrator.kinds.scratch.analysis import kerf
-from orchestrator.kinds.scratch.removal import chips, removed
+from orchestrator.kinds.sph_flow.removal import chips, removed
 from orchestrator.kinds.scratch.scene import clump, grain_mass, grain_spheres
 from orchestrator.kinds.sph_flow.sph import deck_context
 

@@ -84,24 +84,27 @@ def test_a_heavy_grain_comes_to_rest_on_a_soft_layer_in_oil(tmp_path):
     (_, first), (_, last) = frames_of(run)[0], frames_of(run)[-1]
     mass = 3000.0 * np.count_nonzero(np.asarray(first["kind"]) == 4) * 1e-9  # rho_g N dx^3, kg
     weight = mass * 9.81
-    # measured (30 s): the grain touches (contact 2.3e-4 N at 0.3 s, rising as the squeezed oil drains) and the
-    # fluid's force and the contact carry its weight (their sum 1.000 of it over the last 0.1 s, its acceleration
-    # 1e-4 g); the contact pushes along z only (1e-16 N across)
+    # measured (30 s): the grain comes down onto the layer and stops 6 um (0.006 dx) short of eq. G8's reach, the
+    # oil squeezed between them carrying its weight (their sum 1.000 of it over the last 0.1 s); the contact, had
+    # it acted, pushes along z only
     late = np.asarray(run["series"]["time"]) >= 0.2
     contact = series["contact"]
-    assert contact[-1, 2] > 0.05 * weight
+    layer_now = (np.asarray(last["material"]) == 1) & (np.asarray(last["kind"]) == 0)
+    gap = np.linalg.norm(np.asarray(last["positions"])[layer_now] - series["position"][-1], axis=1).min() - 0.003
+    assert gap < 0.02e-3
+    assert np.all(contact[:, 2] >= 0.0)
     carried = (series["force"][late, 2] + contact[late, 2]) / weight
     assert np.abs(carried - 1.0).max() < 0.01
     assert np.abs(contact[:, :2]).max() < 1e-9 * weight
     # The layer stays a layer: before eqs. G8 and FS1 the grain's summation density took the solid's heavier
-    # particles and pushed 50 of them out into the oil; now the rim rises 0.5 dx in 0.3 s (measured 6.02 mm against
-    # the top row's 5.5 mm: the solid creeps under the squeezed oil, docs/solids.md) and none leaves
+    # particles and pushed 50 of them out into the oil; none leaves and the rim stays within 0.7 dx of the top row
     layer = (np.asarray(last["material"]) == 1) & (np.asarray(last["kind"]) == 0)
     assert np.asarray(last["positions"])[layer, 2].max() < 0.0055 + 0.0007
-    # The four top-row particles under the grain sink 0.066 mm (3 to 12 times Hertz's elastic indentation: the
-    # smoothing's creep and a contact below the lattice's resolution, docs/solids.md); it must not grow
+    # The four top-row particles under the grain sink 0.0175 mm under the squeezed oil, within Hertz's elastic
+    # indentation under the grain's submerged weight (0.006-0.022 mm, docs/solids.md); before eq. FS2 the oil's
+    # velocity entered the solid's density and velocity gradient and they crept down 0.066 mm in 0.3 s
     x0, z = np.asarray(first["positions"]), dict(zip(np.asarray(last["ids"]), np.asarray(last["positions"])[:, 2]))
     under = (np.asarray(first["material"]) == 1) & (x0[:, 2] > 0.0054) & (np.hypot(x0[:, 0] - 0.006, x0[:, 1] - 0.006)
                                                                           < 0.0008)
     sunk = np.array([0.0055 - z[i] for i in np.asarray(first["ids"])[under]])
-    assert len(sunk) == 4 and np.all(sunk > 0.02e-3) and np.all(sunk < 0.08e-3), sunk
+    assert len(sunk) == 4 and np.all(sunk > 0.005e-3) and np.all(sunk < 0.03e-3), sunk
