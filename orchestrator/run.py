@@ -20,6 +20,7 @@ from orchestrator.case.loader import format_validation_error
 from orchestrator.errors import CaseError, EngineFailed, EngineTimeout, EngineUnstable, OrchestratorError, ReadError
 from orchestrator.humanize import describe_returncode, os_problem, stamped_dir
 from orchestrator.kinds import BoundAdapter, get_kind
+from orchestrator.measure import measure_or_warn
 from orchestrator.rundir import RunDirectory
 from orchestrator.outputs import CASE_FILE, WriteError, write_text
 from orchestrator.processes import probe_bound
@@ -157,7 +158,7 @@ def run_case(loaded, engine: str | None = None, out_dir=None, timeout_s: float |
         with signals.shielded():  # a signal now is remembered: run.h5 is written first
             result = _read_result(bound_adapter, scene, run_dir, execution, interrupted, timeout_s)
             clock.lap("parse")
-            result.measured = kind.measure(case, result)
+            result.measured = measure_or_warn(case, result, run_dir)
             clock.lap("analysis")
             root = {"engine": engine, "engine_version": version, **_run_attrs(loaded, scene, execution, clock),
                     "started": started, "command": " ".join(command),

@@ -56,6 +56,10 @@ TEST(good_deck_is_accepted) {
   CHECK(d.series_interval == d.frame_interval);
   CHECK(mentions(d.output_file, "out.h5"));
   CHECK(d.terms_string() == "continuity,tait_eos,pressure_gradient,morris_viscosity,body_force");
+  CHECK(d.body_force_solids);  // by default a solid takes the body force too (gravity)
+  json j = good_deck();
+  j["body_force_solids"] = false;
+  CHECK(!parse_deck(j, deck_dir().string()).body_force_solids);
 }
 
 TEST(unknown_keys_are_named_with_the_allowed_ones) {
@@ -91,6 +95,9 @@ TEST(bad_values_are_rejected) {
   j = good_deck();
   j["body_force"] = {0, 0, -9.81};
   CHECK(mentions(rejection(j), "'body_force' must be a list of 2 numbers"));
+  j = good_deck();
+  j["body_force_solids"] = "no";
+  CHECK(mentions(rejection(j), "'body_force_solids' must be true or false, beside 'body_force'"));
   j = good_deck();
   j["h"] = "small";
   CHECK(mentions(rejection(j), "'h' must be a number"));

@@ -13,6 +13,8 @@ from orchestrator.outputs import save_figure
 
 #: The section's half thickness about the grain's centre, in dx.
 SLAB = 1.0
+#: Records of the flow rate's running mean (the plane counts whole particles crossing: a noisy series).
+RUNNING = 20
 #: The particle kind of a grain's particles in the frames.
 GRAIN_KIND = 4
 
@@ -117,11 +119,15 @@ def plot_series(run: dict, case, path: Path) -> Path:
     speed_ax.set(xlabel="t, us", ylabel="speed, m/s", title="the grain's speed")
     force_ax.plot(t, np.linalg.norm(force, axis=1) * 1e3, color="C3")
     force_ax.set(xlabel="t, us", ylabel="|F|, mN", title="contact force on the grain")
-    flow_ax.plot(t[1:], rate[1:] * 1e9, color="C1", label="measured")
-    empty = measured.get("flow_rate_empty")
-    if empty:
-        flow_ax.axhline(empty * 1e9, color="k", ls="--", lw=1.0, label="empty channel (Poiseuille)")
+    flow_ax.plot(t[1:], rate[1:] * 1e9, color="C1", lw=0.6, alpha=0.5, label="measured")
+    if len(rate) > RUNNING:
+        mean = np.convolve(rate[1:], np.ones(RUNNING) / RUNNING, mode="valid")
+        flow_ax.plot(t[RUNNING // 2 + 1:][:len(mean)], mean * 1e9, color="C1", label=f"its mean over {RUNNING} records")
+    for key, style, label in (("flow_rate_empty", "--", "empty channel (Poiseuille)"),
+                              ("flow_rate_lubrication", ":", "lubrication theory")):
+        if measured.get(key):
+            flow_ax.axhline(measured[key] * 1e9, color="k", ls=style, lw=1.0, label=label)
     flow_ax.set(xlabel="t, us", ylabel="Q, mm^3/s", title="the medium's flow rate")
-    flow_ax.legend(fontsize=7, loc="lower right")
+    flow_ax.legend(fontsize=7, loc="upper right")
     fig.suptitle(f"{case.case.name}", fontsize=10)
     return save_figure(fig, path, layout=False)
