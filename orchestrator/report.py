@@ -10,6 +10,7 @@ from pathlib import Path
 
 from orchestrator.errors import OrchestratorError, ReadError
 from orchestrator.kinds import get_kind
+from orchestrator.measure import remeasure
 from orchestrator.humanize import os_problem
 from orchestrator.outputs import RUN_FILE, check_target, write_text
 from orchestrator.runh5 import read_run, stored_case
@@ -29,6 +30,8 @@ def analyze_run(run_dir, render: bool = True) -> dict:
     if missing:
         raise ReadError(f"{run_dir}: run.h5 lacks the attribute {missing[0]!r}; it was not written by "
                         "'orchestrator run' (or is damaged)")
+    if not run.get("measured", {}).get("attrs"):  # its measuring failed, or the kind measured nothing then
+        run["measured"] = {"attrs": remeasure(run)}
     return get_kind(case.case.kind).analyze(run_dir, run, case, render)
 
 

@@ -102,6 +102,30 @@ def test_force_removes_the_old_run_before_the_engine_starts(tmp_path, capsys, mo
     assert (out / MARKER).is_file() and (out / LOCK).is_file()
 
 
+def test_a_measurement_that_fails_keeps_the_run(tmp_path, capsys, monkeypatch):
+    """A bug in a kind's analysis measures nothing: run.h5 is written with the engine's output and one warning
+    names the traceback's file; `analyze` measures the run again with the mended code."""
+    import orchestrator.measure
+
+    def broken(case, result):
+        raise ImportError("cannot import name 'moved'")
+
+    monkeypatch.setattr(orchestrator.measure, "measure", broken)
+    out = tmp_path / "run"
+    assert _run_reference(out) == 0
+    err = capsys.readouterr().err
+    assert err.count("warning: measuring the run failed (ImportError: cannot import name 'moved'") == 1
+    log = Path(err.split("traceback in ")[1].split(")")[0])
+    assert "ImportError" in log.read_text()
+    log.unlink()
+    with h5py.File(out / "run.h5") as h5:
+        assert h5.attrs["status"] == "ok" and "normal_force" in h5["series"]
+        assert "measured" not in h5 or not h5["measured"].attrs.keys()
+    monkeypatch.undo()
+    assert main(["analyze", str(out), "--no-render"]) == 0
+    assert "max_normal_force             11370" in capsys.readouterr().out  # measured again by the mended analysis
+
+
 def test_a_swallowed_signal_is_raised_again_at_the_next_check():
     with signals.installed():
         try:
