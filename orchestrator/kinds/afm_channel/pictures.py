@@ -62,7 +62,7 @@ def plot_panels(run: dict, case, path: Path) -> Path:
     picks = chosen_frames(run)
     mine = workpiece_mask(case, picks[0][2]) if picks else None
     last_eps = np.asarray(picks[-1][2].get("plastic_strain", [0.0]), dtype=float) if picks else np.zeros(1)
-    vmax = max(float(np.percentile(last_eps[mine], 99.9)) if mine is not None and mine.any() else 0.0, 1e-3)
+    vmax = max(float(last_eps[mine].max()) if mine is not None and mine.any() else 0.0, 1e-3)
     points = None
     for ax, (title, time, frame) in zip(axes, picks):
         x = np.asarray(frame["positions"], dtype=float)

@@ -1,5 +1,6 @@
 """A channel study's own report section (Kind.study_pictures): the wear against the flow's speed, one point per
-finished run: the contact force, the plastically deformed and the removed volume against the grain's mean speed."""
+finished run: the contact force, the largest plastic strain and the removed volume against the grain's mean
+speed."""
 
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ from orchestrator.plots import figure_png, number_or_nan
 #: (column, scale to the plotted unit, axis label) of the panels.
 PANELS = (
     ("contact_force_max", 1e3, "largest contact force, mN"),
-    ("plastic_volume", 1e18, "plastic volume (eps_p > 0.002), um^3"),
+    ("max_plastic_strain", 1.0, "largest plastic strain, -"),
     ("removed_volume", 1e18, "removed volume, um^3"),
 )
 #: Resolution of the study picture, dots per inch.

@@ -47,7 +47,7 @@ def test_the_cell_of_nutto_et_al_fig_5():
     assert json.loads(context["grains"][0])["body_force"] == [0.0, 0.0, 0.0]
     materials = [json.loads(m) for m in context["materials"]]
     # c0^2 >= f L / 0.01: the whole cell's drive rho f L on the workpiece compresses the medium by 1 %
-    assert materials[0]["c0"] == pytest.approx(math.sqrt(2.0e7 * 300e-6 / 0.01))
+    assert materials[0]["c0"] == pytest.approx(math.sqrt(8.0e7 * 300e-6 / 0.01))
     assert materials[0]["viscosity"] == pytest.approx(5.0 / 1000.0)
     # the workpiece's inertia x 16: C0 / 4 and the density x 16
     assert materials[1]["rho0"] == pytest.approx(16 * 2703.0) and materials[1]["bulk_sound_speed"] == 1310.0
@@ -56,11 +56,11 @@ def test_the_cell_of_nutto_et_al_fig_5():
 
 def test_the_empty_channel_and_lubrication_rates():
     case = load_case(CHANNEL).model
-    # plane Poiseuille: centreline f H^2 rho / (8 eta) = 9.8 m/s; lubrication: 140 um over 200 um of the cell in
+    # plane Poiseuille: centreline f H^2 rho / (8 eta) = 39.2 m/s; lubrication: 140 um over 205 um of the cell in
     # series with 90 um over the workpiece and its support (95 um)
-    assert case.medium.centreline_speed(140e-6) == pytest.approx(9.8)
+    assert case.medium.centreline_speed(140e-6) == pytest.approx(39.2)
     resistance = 205e-6 / 140e-6**3 + 95e-6 / 90e-6**3
-    assert lubrication_rate(case) == pytest.approx(1000 * 2e7 * 300e-6 * 130e-6 / (12 * 5.0 * resistance))
+    assert lubrication_rate(case) == pytest.approx(1000 * 8e7 * 300e-6 * 130e-6 / (12 * 5.0 * resistance))
 
 
 @pytest.mark.parametrize("override, words", [
@@ -113,25 +113,30 @@ def test_the_edge_drop_and_the_removed_particles_on_synthetic_frames():
 
 @pytest.mark.sph
 def test_the_quick_channel(tmp_path, capsys):
-    """10 um spacing, 2 threads, about a minute: the grain is carried over the edge and touches it; the workpiece
-    in the flowing medium stays elastic and still; the flow rate lies below lubrication theory's."""
+    """10 um spacing, 2 threads, about a minute: the grain is carried over the edge and presses it; the workpiece
+    in the flowing medium stays elastic and still away from the edge; the flow rate lies below lubrication
+    theory's."""
     from orchestrator.runh5 import read_run
 
     out = tmp_path / "run"
     assert main(["run", str(CHANNEL), "--preset", "quick", "--out", str(out)]) == 0
     run = read_run(out)
     m = run["measured"]["attrs"]
-    # measured: the grain travels 178 um at 3.6 m/s on average and turns 1.4 rad; it touches the edge for 3 us
-    # with up to 6.4 mN; the medium passes at 0.74 of the lubrication estimate
-    assert m["grain_travel"] > 150e-6 and m["grain_speed_max"] < 1.2 * 9.8
-    assert m["edge_penetration"] > 0.0 and m["contact_force_max"] > 1e-3 and m["contact_time"] > 0.0
+    # measured: the grain travels 208 um at 13.8 m/s on average (18.6 at most) and turns 1.6 rad; it presses the
+    # edge for 0.85 us with up to 32 mN; the medium passes at 0.72 of the lubrication estimate
+    assert m["grain_travel"] > 150e-6 and m["grain_speed_max"] < 1.2 * 39.2
+    assert m["edge_penetration"] > 0.0 and m["contact_force_max"] > 10e-3 and m["contact_time"] > 0.0
     assert m["grain_turn"] > 0.5  # it rolls over the step, turning clockwise seen along -y (omega_y > 0)
     assert 0.5 < m["flow_rate"] / m["flow_rate_lubrication"] < 1.0
-    # before eq. FS2 the medium's shear entered the solid's velocity gradient: its rows slid and yielded
-    assert m["max_plastic_strain"] < 1e-3 and m["failed_count"] == 0
+    assert m["failed_count"] == 0
     frames = sorted((k for k in run["frames"] if k != "attrs"), key=int)
-    last = run["frames"][frames[-1]]
+    first, last = run["frames"][frames[0]], run["frames"][frames[-1]]
     workpiece = (np.asarray(last["material"]) == 1) & (np.asarray(last["kind"]) == 0)
-    assert np.linalg.norm(np.asarray(last["velocities"])[workpiece], axis=1).max() < 0.01 * 9.8  # measured 0.005 m/s
+    # before eq. FS2 the medium's shear entered the solid's velocity gradient: its rows slid and yielded far from
+    # any contact; now only the edge the grain presses yields (4.4e-4 at most in this run)
+    x0 = np.asarray(first["positions"])
+    far = workpiece & ((x0[:, 0] > 180e-6 + 30e-6) | (x0[:, 2] < 80e-6 - 30e-6))
+    assert np.asarray(last["plastic_strain"])[far].max() < 1e-12
+    assert np.linalg.norm(np.asarray(last["velocities"])[workpiece], axis=1).max() < 0.01 * 39.2
     assert main(["analyze", str(out)]) == 0
     assert "edge_drop" in capsys.readouterr().out and (out / "channel.png").is_file()
