@@ -26,7 +26,7 @@ import numpy as np
 
 from orchestrator.kinds.afm_channel.pictures import plot_panels, plot_series
 from orchestrator.kinds.afm_channel.scene import GRAIN, SECTION, workpiece_mask
-from orchestrator.kinds.sph_flow.removal import REACH, removed
+from orchestrator.kinds.sph_flow.removal import REMOVAL_QUANTITIES, removed
 
 #: The surface's height at a column is the highest remaining particle within this many dx of it horizontally.
 SAMPLE = 0.75
@@ -46,9 +46,7 @@ QUANTITIES: dict[str, tuple[str, str]] = {
     "max_plastic_strain": ("-", "the largest equivalent plastic strain in the workpiece at the end"),
     "plastic_volume": ("m^3", f"the workpiece's volume with plastic strain above {PLASTIC} at the end"),
     "max_temperature": ("K", "the highest temperature in the workpiece over the frames"),
-    "failed_count": ("-", "workpiece particles with damage >= 1 at the end"),
-    "removed_count": ("-", f"failed particles with no attached one within {REACH} dx at the end"),
-    "removed_volume": ("m^3", "removed_count dx^3"),
+    **REMOVAL_QUANTITIES,
     "edge_drop": ("m", "the most a surface column of the two front columns came down"),
     "lowered_volume": ("m^3", "the sum of the surface columns' descents times dx^2"),
     "flow_rate": ("m^3/s", "the medium's flow rate through the plane upstream, mean over the second half"),

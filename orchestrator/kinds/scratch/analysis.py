@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from orchestrator.kinds.scratch.pictures import plot_scratch
-from orchestrator.kinds.sph_flow.removal import REACH, chips, removed
+from orchestrator.kinds.sph_flow.removal import REACH, REMOVAL_QUANTITIES, chips, removed
 from orchestrator.kinds.scratch.scene import grain_spheres
 from orchestrator.kinds.sph_flow.case_impactors import mass_properties
 
@@ -45,9 +45,7 @@ QUANTITIES: dict[str, tuple[str, str]] = {
     "internal_energy": ("J", "the target's internal energy at the end"),
     "plastic_work_fraction": ("-", "plastic_work over the grain's initial kinetic energy"),
     "grain_speed_end": ("m/s", "the grain's speed at the end"),
-    "failed_count": ("-", "target particles with damage >= 1 at the end"),
-    "removed_count": ("-", f"failed particles with no unfailed one within {REACH} dx at the end"),
-    "removed_volume": ("m^3", "removed_count dx^3"),
+    **REMOVAL_QUANTITIES,
     "removed_mass": ("kg", "removed_count rho0 dx^3"),
     "chips": ("-", f"connected clusters of removed particles (linked within {REACH} dx)"),
     "largest_chip": ("-", "particles in the largest chip"),

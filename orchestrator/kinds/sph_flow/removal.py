@@ -8,6 +8,13 @@ import numpy as np
 #: A failed particle with no unfailed one within this many dx has separated; chips link at this distance too.
 REACH = 1.5
 
+#: The measured quantities of the removal (a kind's QUANTITIES takes them): name -> (SI unit, meaning).
+REMOVAL_QUANTITIES: dict[str, tuple[str, str]] = {
+    "failed_count": ("-", "particles of the solid with damage >= 1 at the end"),
+    "removed_count": ("-", f"failed particles with no unfailed or held one within {REACH} dx at the end"),
+    "removed_volume": ("m^3", "removed_count dx^3"),
+}
+
 
 def removed(positions: np.ndarray, damage: np.ndarray, attached: np.ndarray, dx: float) -> np.ndarray:
     """Mask of the removed particles: failed (damage >= 1) and no attached particle (unfailed or held: `attached`
