@@ -114,6 +114,8 @@ def _names(case) -> list[str]:
         return []  # a rheometer case names nothing that reaches the deck (its material and block are "sample")
     if case.case.kind in ("taylor_bar", "cantilever_plate", "crater", "scratch"):
         return [case.material.name]
+    if case.case.kind == "afm_channel":
+        return [case.workpiece.name]  # the medium, grain and blocks are the scene's own names
     if case.case.kind in ("ejector_drill", "ejector_feed"):
         return []  # its deck's names (planes, probes, walls) are the layout's own, none from the case file
     return [n for n in case.materials if n != "rigid"]
