@@ -27,6 +27,7 @@ import numpy as np
 from orchestrator.kinds.afm_channel.pictures import plot_panels, plot_series
 from orchestrator.kinds.afm_channel.scene import GRAIN, SECTION, workpiece_mask
 from orchestrator.kinds.sph_flow.removal import REMOVAL_QUANTITIES, removed
+from orchestrator.kinds.base import print_run_measures
 
 #: The surface's height at a column is the highest remaining particle within this many dx of it horizontally.
 SAMPLE = 0.75
@@ -166,12 +167,7 @@ def measure_channel(case, result) -> dict[str, float]:
 def analyze_channel_run(run_dir: Path, run: dict, case, render: bool = True) -> dict:
     """Print the measured quantities (QUANTITIES) and write channel.png (Fig. 5's three panels) and
     channel_series.png (the grain, the contact and the flow over time). Returns {name: path}."""
-    attrs = run["attrs"]
-    measured = run.get("measured", {}).get("attrs", {})
-    print(f"run {run_dir}: status {attrs['status']}, {attrs['n_particles']} particles, {attrs['n_steps']} steps, "
-          f"{attrs['wall_time_s']:.1f} s")
-    for name, value in measured.items():
-        print(f"{name:<24} {value:.6g} {QUANTITIES.get(name, ('', ''))[0]}")
+    print_run_measures(run_dir, run, QUANTITIES)
     if not render:
         return {}
     paths = {"panels": plot_panels(run, case, Path(run_dir) / "channel.png"),

@@ -29,6 +29,7 @@ from pathlib import Path
 import numpy as np
 
 from orchestrator.kinds.crater.pictures import plot_crater
+from orchestrator.kinds.base import print_run_measures
 
 #: The equivalent plastic strain that marks the plastic zone's rim at the surface, -.
 PLASTIC_RIM = 0.01
@@ -223,12 +224,7 @@ def measure_crater(case, result) -> dict[str, float]:
 def analyze_crater_run(run_dir: Path, run: dict, case, render: bool = True) -> dict:
     """Print the measured quantities (QUANTITIES) and, for the paper's speed, the mean contact pressure its crater
     implies; write crater.png. Returns {name: path}."""
-    attrs = run["attrs"]
-    measured = run.get("measured", {}).get("attrs", {})
-    print(f"run {run_dir}: status {attrs['status']}, {attrs['n_particles']} particles, {attrs['n_steps']} steps, "
-          f"{attrs['wall_time_s']:.1f} s")
-    for name, value in measured.items():
-        print(f"{name:<24} {value:.6g} {QUANTITIES.get(name, ('', ''))[0]}")
+    print_run_measures(run_dir, run, QUANTITIES)
     reference = case.reference
     if reference is not None and reference.diameter_at_100 is not None:
         r = 0.5 * case.sphere.diameter

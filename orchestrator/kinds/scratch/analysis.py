@@ -25,6 +25,7 @@ from orchestrator.kinds.scratch.pictures import plot_scratch
 from orchestrator.kinds.sph_flow.removal import REACH, REMOVAL_QUANTITIES, chips, removed
 from orchestrator.kinds.scratch.scene import grain_spheres
 from orchestrator.kinds.sph_flow.case_impactors import mass_properties
+from orchestrator.kinds.base import print_run_measures
 
 #: A surface column deeper than this many dx below its start belongs to the kerf.
 KERF_DEPTH = 0.25
@@ -177,12 +178,7 @@ def lowest_point(case, position: np.ndarray, orientation: np.ndarray) -> np.ndar
 
 def analyze_scratch_run(run_dir: Path, run: dict, case, render: bool = True) -> dict:
     """Print the measured quantities (QUANTITIES) and write scratch.png. Returns {name: path}."""
-    attrs = run["attrs"]
-    measured = run.get("measured", {}).get("attrs", {})
-    print(f"run {run_dir}: status {attrs['status']}, {attrs['n_particles']} particles, {attrs['n_steps']} steps, "
-          f"{attrs['wall_time_s']:.1f} s")
-    for name, value in measured.items():
-        print(f"{name:<24} {value:.6g} {QUANTITIES.get(name, ('', ''))[0]}")
+    print_run_measures(run_dir, run, QUANTITIES)
     if not render:
         return {}
     path = plot_scratch(run, case, Path(run_dir) / "scratch.png")
