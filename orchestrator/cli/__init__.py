@@ -69,6 +69,10 @@ def main(argv=None) -> int:
             return code
         except KeyboardInterrupt as exc:
             return _interrupted(exc)
+        except Exception:  # a signal inside a C extension's import surfaces as ImportError("initialization failed")
+            if signals.pending() is None:
+                raise
+            return _interrupted(Interrupted(signals.pending()))
 
 
 def _main(argv) -> int:
@@ -90,6 +94,8 @@ def _main(argv) -> int:
             print(json.dumps(jsonable(exc.summary.as_dict())))
         raise
     except Exception as exc:  # a bug of ours: keep the traceback in a file, show one line
+        if signals.pending() is not None:  # unless a signal broke a library (an import fails on Ctrl-C)
+            raise Interrupted(signals.pending()) from exc
 
         with tempfile.NamedTemporaryFile("w", prefix="orchestrator-crash-", suffix=".log", delete=False) as fh:
             traceback.print_exc(file=fh)

@@ -6,6 +6,7 @@ In-process tests use the reference DEM engine (pure Python, always installed); t
 
 from __future__ import annotations
 
+import argparse
 import os
 import signal
 import subprocess
@@ -137,6 +138,34 @@ def test_a_swallowed_signal_is_raised_again_at_the_next_check():
             signals.check()
         assert caught.value.signum == signal.SIGTERM and caught.value.exit_code == 143
     signals.check()  # outside the block the signal is forgotten
+
+
+@pytest.mark.parametrize("where", ["_parser", "_command"])
+def test_a_signal_that_breaks_an_import_ends_with_its_exit_code_not_an_internal_error(monkeypatch, capsys, where):
+    """A C extension that is interrupted while it initialises raises ImportError('initialization failed') from
+    the signal (scipy's does): while the command's parser is built and inside a command, that is the signal's exit
+    code and message, never a traceback or 'internal error'."""
+    import orchestrator.cli as cli
+
+    def broken_import(*args):
+        try:
+            os.kill(os.getpid(), signal.SIGTERM)
+            time.sleep(1)
+        except KeyboardInterrupt as exc:
+            raise ImportError("initialization failed") from exc
+        raise AssertionError("the signal did not arrive")
+
+    if where == "_parser":
+        monkeypatch.setattr(cli, "_parser", broken_import)
+    else:
+        class Parser:
+            def parse_args(self, argv):
+                return argparse.Namespace(command="doctor", func=broken_import)
+
+        monkeypatch.setattr(cli, "_parser", Parser)
+    assert main(["doctor"]) == 143
+    err = capsys.readouterr().err
+    assert "stopped by SIGTERM" in err and "internal error" not in err and "Traceback" not in err
 
 
 def test_a_signal_while_run_h5_is_written_is_raised_after_it():
