@@ -27,6 +27,7 @@
 #include "materials/solid_smoothing.h"
 #include "neighbour_list.h"
 #include "pair_chunk.h"
+#include "pair_lanes.h"
 #include "particles.h"
 #include "physics_terms.h"
 #include "stress_diffusion.h"
@@ -52,6 +53,8 @@ class PairLoop {
   static constexpr bool pair_mu = has(term::several_materials) || eddy;
   static constexpr bool grains = has(term::grains);  // eq. G1 (grain_pairs.h)
   static_assert(!grains || (!eddy && !(tensor && has(term::sheared))), "eq. G1: no eddy viscosity; tensor: no shear");
+  // The fluid-fluid rows 4 pairs at a time (pair_lanes.h) in the plain scalar path.
+  static constexpr bool lanes = !tensor && !corrected && !eddy && !grains && !has(term::sheared) && !pair_mu;
   PairLoop(Particles<D>& P, const NeighbourList<D>& list, const WendlandC2<D>& kernel, const Model& model,
            const MaterialTable& materials, std::vector<double>& shepard)
       : P_(P), list_(list), kernel_(kernel), model_(model), materials_(materials), shepard_(shepard) {}
@@ -64,7 +67,13 @@ class PairLoop {
       list_.for_blocks_coloured(par, [&](int k) { correction_.sums_of_block(list_, P_, kernel_, eta2, k); });
       for_each_index(par, P_.size(), [this](std::ptrdiff_t i) { correction_.finish_at(i); });
     }
+    const bool c = has(term::artificial_viscosity);  // the sound speed is packed for eqs. 11-12
+    if constexpr (lanes) {
+      on_one_thread(par, [this] { lanes_.fit(P_.size()); });
+      for_each_index(par, P_.size(), [this, c](std::ptrdiff_t i) { lanes_.pack(P_, i, c); });
+    }
     list_.for_blocks_coloured(par, [this](int k) { rates_of_block(k); });
+    if constexpr (lanes) for_each_index(par, P_.size(), [this](std::ptrdiff_t i) { lanes_.unpack(P_, i); });
   }
 
   // The pairs owned by the particles of block k: fluid or not, owner and
@@ -74,7 +83,7 @@ class PairLoop {
   // depend on the CPU.
   void rates_of_block(int k) const {
     static const bool avx2 = __builtin_cpu_supports("avx2");
-    if (avx2) rates_of_block_avx2(k);
+    if (avx2 && !sse2_only) rates_of_block_avx2(k);
     else rates_of_block_default(k);
   }
   __attribute__((target("avx2"), noinline)) void rates_of_block_avx2(int k) const { rows_of_block(k); }
@@ -89,6 +98,7 @@ class PairLoop {
     if constexpr (Models::any_solid)
       artificial_stress_ = ArtificialStressFactor::of(materials_, kernel_.h), smoothing_ = SolidSmoothing::of(materials_, kernel_.h);
     if constexpr (corrected) correction_.resize(P_.size());
+    if constexpr (lanes) lanes_.set_shifts(list_.shifts());
   }
 
   inline __attribute__((always_inline)) void rows_of_block(int k) const {
@@ -98,7 +108,11 @@ class PairLoop {
     for (int a = list_.block_begin(k); a < list_.block_end(k); ++a) {
       const auto& row = list_.row(a);
       if (P_.moves(a)) {
-        pair_row<true, true>(c, a, e + row.begin, e + row.mid);
+        if constexpr (lanes)
+          lanes_.template row<has(term::artificial_viscosity), has(term::morris_viscosity)>(
+              a, e + row.begin, e + row.mid, model_, kernel_.inv_h, kernel_.grad_factor);
+        else
+          pair_row<true, true>(c, a, e + row.begin, e + row.mid);
         pair_row<true, false>(c, a, e + row.mid, e + row.end);
       } else {
         pair_row<false, true>(c, a, e + row.begin, e + row.mid);
@@ -378,5 +392,6 @@ class PairLoop {
   ArtificialStressFactor artificial_stress_;  // solids (set at each list build)
   SolidSmoothing smoothing_;                  // eq. SS1 (solids with `smoothing`)
   ViscosityCorrection<D> correction_;  // eq. VC1 (corrected configurations only)
+  mutable PairLanes<D> lanes_;         // the fluid-fluid rows' records and sums (lanes configurations only)
 };
 }  // namespace sph

@@ -50,6 +50,17 @@ void parallel_for(std::ptrdiff_t n, std::ptrdiff_t min_items, Body&& body) {
   }
 }
 
+// Inside a parallel region (par) or not: body() once, on one thread of the region (the others wait at its end).
+template <class Body>
+void on_one_thread(bool par, Body&& body) {
+  if (par) {
+#pragma omp single
+    body();
+  } else {
+    body();
+  }
+}
+
 // Inside a parallel region (par) or not: body(i) for i in [0, n) as a
 // worksharing loop of the enclosing region (static schedule, a barrier at
 // its end) when par, else as a plain loop.

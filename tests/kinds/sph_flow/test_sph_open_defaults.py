@@ -220,5 +220,8 @@ def test_an_open_channel_with_the_default_keys_runs_three_flow_through_times(dim
     assert abs(got["inflow"]) < FLUX, got
     assert got["deviation"] < DEVIATION, got
     assert got["mean_density"] < MEAN_DENSITY, got
-    # the outflow over the last two flow-through times (over one, a few particles are 1 %)
-    assert abs(channel_balance(run, dimension, 2 * FLOW_THROUGH)["outflow"]) < FLUX
+    # The outflow over the last two flow-through times: it lags the inflow by what the channel stores, and the
+    # channel holds one flow-through's volume at a mean density within +-MEAN_DENSITY, so by at most
+    # 2 MEAN_DENSITY / 2 of the inflow (over one flow-through time a few particles are 1 %; the outlet lets them
+    # out a column at a time, and a rounding changes which step it is: -0.3 % to -1.25 % measured in 3D).
+    assert abs(channel_balance(run, dimension, 2 * FLOW_THROUGH)["outflow"]) < MEAN_DENSITY
