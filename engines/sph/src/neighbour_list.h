@@ -61,10 +61,13 @@ class NeighbourList {
     int begin, mid, end;
   };
 
-  // The image policy (held by reference: its shift table changes with time under Lees-Edwards).
-  void configure(const PeriodicImages<D>& images) {
+  // The image policy (held by reference: its shift table changes with time under Lees-Edwards). With
+  // split_at > 0 a row's fluid neighbours closer than split_at at the build come first, those of the skin after
+  // them (pair_lanes.h skips groups of four beyond the support).
+  void configure(const PeriodicImages<D>& images, double split_at = 0.0) {
     images_ = &images;
     box_ = images.box();
+    split2_ = split_at * split_at;
   }
 
   // Room for n particles (rows, block ids) without allocating later.
@@ -203,7 +206,7 @@ class NeighbourList {
     int nb = std::max(1, layers / 2);
     if (periodic_last_ && nb < 3) nb = 1;
     blocks_ = nb;
-    if (static_cast<int>(lists_.size()) < nb) lists_.resize(nb), others_.resize(nb);
+    if (static_cast<int>(lists_.size()) < nb) lists_.resize(nb), others_.resize(nb), skins_.resize(nb);
     if (static_cast<int>(begin_.size()) < nb + 1) begin_.resize(nb + 1);
     for (int k = 0; k < nb; ++k) begin_[k] = cells.cell_begin(static_cast<std::ptrdiff_t>(2 * k) * layer_cells);
     begin_[0] = 0;
@@ -239,6 +242,7 @@ class NeighbourList {
       for (int q = 0; q < nr; ++q) codes[q] = code_of(runs[q].shift);
       std::vector<std::uint32_t>& others = others_[k];
       if (others.capacity() < 4096) others.reserve(4096);  // a row's non-fluid neighbours: no growth later
+      if (skins_[k].capacity() < 4096) skins_[k].reserve(4096);
       for (int a = first; a < last; ++a) list_row(cells, x, kind, range2, skip_walls, k, runs, codes, nr, a);
     }
   }
@@ -250,11 +254,12 @@ class NeighbourList {
                                                       int nr, int a) {
     std::vector<std::uint32_t>& list = lists_[k];
     std::vector<std::uint32_t>& others = others_[k];
+    std::vector<std::uint32_t>& skin = skins_[k];
     const int nb = blocks_;
     Row& row = rows_[a];
     const bool a_wall = kind[a] == Kind::boundary;
     row.begin = static_cast<int>(list.size());
-    others.clear();
+    others.clear(), skin.clear();
     // One sweep over the candidates: fluid neighbours go to the list,
     // the others to a side buffer appended after them (the row's
     // [mid, end)). Two sweeps (fluid, then the others) cost the 2D dam
@@ -273,11 +278,12 @@ class NeighbourList {
       const Vec<D> xs = x[a] - runs[q].shift;
       const std::uint32_t code = static_cast<std::uint32_t>(codes[q]);
       auto candidate = [&](int b) {
-        if ((xs - x[b]).squaredNorm() >= range2) return;
+        const double r2 = (xs - x[b]).squaredNorm();
+        if (r2 >= range2) return;
         if (!owns(a, b, codes[q], k)) return;  // also drops a itself at the centre image
         const std::uint32_t entry = static_cast<std::uint32_t>(b) << shift_bits | code;
         if (kind[b] == Kind::fluid) {
-          list.push_back(entry);
+          (r2 < split2_ || split2_ == 0.0 ? list : skin).push_back(entry);
         } else if (!(skip_walls && a_wall && kind[b] == Kind::boundary)) {
           others.push_back(entry);
         }
@@ -290,6 +296,7 @@ class NeighbourList {
         for (int b = from, end = cells.item_end(runs[q]); b < end; ++b) candidate(b);
       }
     }
+    list.insert(list.end(), skin.begin(), skin.end());
     row.mid = static_cast<int>(list.size());
     list.insert(list.end(), others.begin(), others.end());
     row.end = static_cast<int>(list.size());
@@ -343,6 +350,8 @@ class NeighbourList {
   CellMovers<D> movers_;  // a wall's candidates (skip_walls)
   std::vector<std::vector<std::uint32_t>> lists_;
   std::vector<std::vector<std::uint32_t>> others_;  // per block: a row's non-fluid neighbours while it is built
+  std::vector<std::vector<std::uint32_t>> skins_;   // per block: its fluid neighbours beyond split_at (split2_ > 0)
+  double split2_ = 0.0;                             // m^2
   std::array<std::vector<int>, 3> colours_;
   std::vector<int> queue_, colour_of_;                 // for_blocks_coloured's order; each block's colour
   std::vector<int> build_order_;                       // every block, most pairs first (the next build's order)

@@ -86,6 +86,7 @@ class PairLanes {
     const Lanes xa = A.xr * Lanes{1, 1, 1, 0}, va = A.vp * Lanes{1, 1, 1, 0};
     const double rho_a = A.xr[3], p_rho2_a = A.vp[3], vol_a = A.vm[0], c_a = A.vm[1], m_a = A.vm[2];
     const double inv_rho_a = A.vm[3], half_inv_h = 0.5 * inv_h;
+    const double beyond2 = 4.0 / (inv_h * inv_h) * (1.0 + 1e-9);  // (2h)^2, and q > 2 whatever the rounding
     const std::uint32_t pad = static_cast<std::uint32_t>(records_.size() - 1) << List::shift_bits | List::centre_code;
     Lanes ax{}, ay{}, az{}, ar{};
     for (; e < end; e += 4) {
@@ -94,13 +95,23 @@ class PairLanes {
       Lanes R[4], V[4], M[4];
       for (int l = 0; l < 4; ++l) {
         const std::uint32_t entry = l < left ? e[l] : pad;
-        const Record& B = records_[b[l] = static_cast<int>(entry >> List::shift_bits)];
-        R[l] = (xa - B.xr) - shifts_[entry & List::shift_mask];  // [r_ab, -rho_b]
-        V[l] = va - B.vp, M[l] = B.vm;                           // [v_ab, -p_b/rho_b^2], [V_b c_b m_b 1/rho_b]
+        b[l] = static_cast<int>(entry >> List::shift_bits);
+        R[l] = (xa - records_[b[l]].xr) - shifts_[entry & List::shift_mask];  // [r_ab, -rho_b]
       }
-      transpose4(R[0], R[1], R[2], R[3]), transpose4(V[0], V[1], V[2], V[3]), transpose4(M[0], M[1], M[2], M[3]);
-      const Lanes rx = R[0], ry = R[1], rz = R[2], vx = V[0], vy = V[1], vz = V[2];
-      const Lanes r2 = (rx * rx + ry * ry) + rz * rz, vr = (vx * rx + vy * ry) + vz * rz;
+      transpose4(R[0], R[1], R[2], R[3]);
+      const Lanes rx = R[0], ry = R[1], rz = R[2];
+      const Lanes r2 = (rx * rx + ry * ry) + rz * rz;
+      // Four pairs beyond the support (the skin, listed after the pairs within it at the build: neighbour_list.h)
+      // add exact zeros: skipped.
+      const LaneIndex within = r2 < beyond2;
+      if (((within[0] | within[1]) | (within[2] | within[3])) == 0) continue;
+      for (int l = 0; l < 4; ++l) {
+        const Record& B = records_[b[l]];
+        V[l] = va - B.vp, M[l] = B.vm;  // [v_ab, -p_b/rho_b^2], [V_b c_b m_b 1/rho_b]
+      }
+      transpose4(V[0], V[1], V[2], V[3]), transpose4(M[0], M[1], M[2], M[3]);
+      const Lanes vx = V[0], vy = V[1], vz = V[2];
+      const Lanes vr = (vx * rx + vy * ry) + vz * rz;
       Lanes q;
       for (int l = 0; l < 4; ++l) q[l] = __builtin_sqrt(r2[l]);
       const Lanes u = 1.0 - q * half_inv_h;

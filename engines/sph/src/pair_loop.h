@@ -67,14 +67,13 @@ class PairLoop {
       list_.for_blocks_coloured(par, [&](int k) { correction_.sums_of_block(list_, P_, kernel_, eta2, k); });
       for_each_index(par, P_.size(), [this](std::ptrdiff_t i) { correction_.finish_at(i); });
     }
-    const bool c = has(term::artificial_viscosity);  // the sound speed is packed for eqs. 11-12
-    if constexpr (lanes) {
-      on_one_thread(par, [this] { lanes_.fit(P_.size()); });
-      for_each_index(par, P_.size(), [this, c](std::ptrdiff_t i) { lanes_.pack(P_, i, c); });
-    }
     list_.for_blocks_coloured(par, [this](int k) { rates_of_block(k); });
-    if constexpr (lanes) for_each_index(par, P_.size(), [this](std::ptrdiff_t i) { lanes_.unpack(P_, i); });
   }
+  // The lanes' records and sums (pair_lanes.h): room for the particles before an evaluation (on one thread), then
+  // per particle i before the pair loop (after the equation of state) and after it (their sums to acc and drho).
+  void fit() { if constexpr (lanes) lanes_.fit(P_.size()); }
+  void start_at(std::ptrdiff_t i) { if constexpr (lanes) lanes_.pack(P_, i, has(term::artificial_viscosity)); }
+  void finish_at(std::ptrdiff_t i) { if constexpr (lanes) lanes_.unpack(P_, i); }
 
   // The pairs owned by the particles of block k: fluid or not, owner and
   // neighbour, each combination its own branch-free loop. Compiled twice, for SSE2 and for AVX2 without

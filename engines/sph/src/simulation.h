@@ -69,7 +69,7 @@ class Simulation {
     for (auto* a : {&x_pred_, &x_build_}) a->reserve(capacity);
     shepard_.reserve(capacity);
     list_.reserve(capacity);
-    list_.configure(images_);
+    list_.configure(images_, decltype(pairs_)::lanes ? kernel_.support_radius() : 0.0);  // (pair_lanes.h)
     skin_ = deck.neighbour_skin * kernel_.support_radius();
     grains_.configure(deck, box, Images::gradient_axis, kernel_.support_radius() + skin_, P_);
     cells_.configure(kernel_.support_radius() + skin_, cell_reach, box, std::max<std::size_t>(64 * n, 1u << 22));
@@ -136,7 +136,7 @@ class Simulation {
   // and close_rates stages in one parallel region.
   void compute_rates() {
     rates_ready_ = true, background_stress_ = background_stress<Models>(P_, sheared && deck_.lees_edwards.subtract_mean_stress);
-    maxima_.valid = false;  // acc changes
+    maxima_.valid = false, pairs_.fit();  // acc changes; the pair loop's room for the particles
     if (list_stale_) build_list();
     ++times_.evaluations;
     double t[4];
@@ -210,7 +210,7 @@ class Simulation {
   // Gather, per particle: EOS and its sums set to zero (and, with Morris, its Shepard sums).
   void start_rates_at(std::ptrdiff_t i) {
     equation_of_state_at(i);
-    P_.acc[i].setZero(), P_.drho[i] = 0.0;
+    P_.acc[i].setZero(), P_.drho[i] = 0.0, pairs_.start_at(i);
     if constexpr (no_slip) {
       if (has(term::morris_viscosity) || non_fluid_) {  // the no-slip pass runs (compute_rates)
         P_.v_noslip[i].setZero();  // the Shepard sum of the fluid velocities around a boundary particle
@@ -227,6 +227,7 @@ class Simulation {
   void close_rates_at(std::ptrdiff_t a) {
     if constexpr (eddy) P_.nu_t[a] = P_.moves(a) ? smagorinsky_.nu_t<D>(P_.grad_v[a]) : 0.0;  // eq. SM1, next step's
     if (P_.moves(a)) {
+      pairs_.finish_at(a);  // the sums of its fluid pairs' lanes
       external_.add(images_, P_.x[a], P_.mass[a], P_.solid_material[P_.material[a]], P_.acc[a]);  // body force, walls
       if constexpr (tensor) close_constitutive_rates<Models>(P_, materials_, a, correct_gradient_);
       if constexpr (has(term::stress_diffusion)) add_stress_diffusion(P_, materials_, a);  // eq. SD1
@@ -288,7 +289,7 @@ class Simulation {
       strain = images_.strain_since_build(), y_mid = 0.5 * (images_.box().lo[1] + images_.box().hi[1]);
     }
     const double allowed = allowed_displacement<sheared>(kernel_.support_radius(), skin_, strain);
-    rates_ready_ = true, maxima_.valid = false;
+    rates_ready_ = true, maxima_.valid = false, pairs_.fit();
     external_.impactors().predict(dt);  // their mid-step pose (impactors.h, eq. I3)
     if constexpr (has(term::grains)) grains_.predict(dt);  // the grains' (grains.h, eq. G3)
     ++times_.evaluations;
@@ -332,7 +333,6 @@ class Simulation {
   // NaN anywhere, or a fluid particle whose density deviates from its rho0 by more than the threshold or that is
   // faster than c0. (Boundary and buffer densities are devices of the wall and open-boundary models.)
   StabilityReport check_stability() { return stability_report(maxima(), deck_.max_density_deviation, materials_.c0_max()); }
-
   // max |rho/rho0 - 1| over the fluid particles (rho0 of each particle's material).
   double max_density_deviation() const { return sph::max_density_deviation(P_, materials_); }
 
