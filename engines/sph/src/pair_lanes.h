@@ -81,64 +81,76 @@ class PairLanes {
   template <bool AV, bool Morris, class Model>
   inline __attribute__((always_inline)) void row(int a, const std::uint32_t* e, const std::uint32_t* end,
                                                  const Model& model, double inv_h, double grad_factor) {
-    using List = NeighbourList<D>;
     const Record& A = records_[a];
-    const Lanes xa = A.xr * Lanes{1, 1, 1, 0}, va = A.vp * Lanes{1, 1, 1, 0};
-    const double rho_a = A.xr[3], p_rho2_a = A.vp[3], vol_a = A.vm[0], c_a = A.vm[1], m_a = A.vm[2];
-    const double inv_rho_a = A.vm[3], half_inv_h = 0.5 * inv_h;
-    const double beyond2 = 4.0 / (inv_h * inv_h) * (1.0 + 1e-9);  // (2h)^2, and q > 2 whatever the rounding
-    const std::uint32_t pad = static_cast<std::uint32_t>(records_.size() - 1) << List::shift_bits | List::centre_code;
-    Lanes ax{}, ay{}, az{}, ar{};
-    for (; e < end; e += 4) {
-      const std::ptrdiff_t left = end - e;
-      int b[4];
-      Lanes R[4], V[4], M[4];
-      for (int l = 0; l < 4; ++l) {
-        const std::uint32_t entry = l < left ? e[l] : pad;
-        b[l] = static_cast<int>(entry >> List::shift_bits);
-        R[l] = (xa - records_[b[l]].xr) - shifts_[entry & List::shift_mask];  // [r_ab, -rho_b]
-      }
-      transpose4(R[0], R[1], R[2], R[3]);
-      const Lanes rx = R[0], ry = R[1], rz = R[2];
-      const Lanes r2 = (rx * rx + ry * ry) + rz * rz;
-      // Four pairs beyond the support (the skin, listed after the pairs within it at the build: neighbour_list.h)
-      // add exact zeros: skipped.
-      const LaneIndex within = r2 < beyond2;
-      if (((within[0] | within[1]) | (within[2] | within[3])) == 0) continue;
-      for (int l = 0; l < 4; ++l) {
-        const Record& B = records_[b[l]];
-        V[l] = va - B.vp, M[l] = B.vm;  // [v_ab, -p_b/rho_b^2], [V_b c_b m_b 1/rho_b]
-      }
-      transpose4(V[0], V[1], V[2], V[3]), transpose4(M[0], M[1], M[2], M[3]);
-      const Lanes vx = V[0], vy = V[1], vz = V[2];
-      const Lanes vr = (vx * rx + vy * ry) + vz * rz;
-      Lanes q;
-      for (int l = 0; l < 4; ++l) q[l] = __builtin_sqrt(r2[l]);
-      const Lanes u = 1.0 - q * half_inv_h;
-      const Lanes t = u > 0.0 ? u : Lanes{};
-      const Lanes F = (t * t) * (t * grad_factor), Fvr = F * vr;  // eq. 8; v_ab . grad_a W_ab
-      ar += (rho_a * M[0]) * Fvr;                                  // eq. 7 for a and for b
-      const Lanes drho_b = (R[3] * vol_a) * -Fvr;
-      Lanes P = p_rho2_a - V[3];  // p_a/rho_a^2 + p_b/rho_b^2
-      if constexpr (AV) P += artificial_pi(model.artificial, r2, vr, rho_a - R[3], c_a + M[1]);
-      const Lanes PF = P * F, ga = M[2] * PF, gb = m_a * PF;
-      ax -= ga * rx, ay -= ga * ry, az -= ga * rz;
-      Lanes bx = gb * rx, by = gb * ry, bz = gb * rz;
-      if constexpr (Morris) {  // eq. 10: 2 mu F r^2 / (r^2 + 0.01 h^2) m_b / (rho_a rho_b) v_ab, the opposite for b
-        const Lanes s = (2.0 * model.morris.mu) * (F * r2) / (r2 + model.morris.eta2);
-        const Lanes visc_a = (s * M[0]) * inv_rho_a, visc_b = (s * vol_a) * M[3];
-        ax += visc_a * vx, ay += visc_a * vy, az += visc_a * vz;
-        bx -= visc_b * vx, by -= visc_b * vy, bz -= visc_b * vz;
-      }
-      Lanes dr = drho_b;
-      transpose4(bx, by, bz, dr);
-      const Lanes out[4] = {bx, by, bz, dr};
-      for (int l = 0; l < 4 && l < left; ++l) sums_[b[l]].s += out[l];
-    }
-    sums_[a].s += Lanes{lane_sum(ax), lane_sum(ay), lane_sum(az), lane_sum(ar)};
+    const Owner o{A.xr * Lanes{1, 1, 1, 0}, A.vp * Lanes{1, 1, 1, 0}, A.xr[3], A.vp[3], A.vm[0], A.vm[1], A.vm[2],
+                  A.vm[3], 0.5 * inv_h, 4.0 / (inv_h * inv_h) * (1.0 + 1e-9), grad_factor};
+    Sums acc{};
+    for (; end - e >= 4; e += 4) group<AV, Morris, false>(o, e, 4, model, acc);
+    if (e < end) group<AV, Morris, true>(o, e, end - e, model, acc);
+    sums_[a].s += Lanes{lane_sum(acc.x), lane_sum(acc.y), lane_sum(acc.z), lane_sum(acc.rho)};
   }
 
  private:
+  // Owner a's values (x, v with 0 in the fourth lane) and the kernel's constants; beyond2: (2h)^2 (1 + 1e-9),
+  // beyond which q > 2 whatever the rounding.
+  struct Owner {
+    Lanes x, v;
+    double rho, p_rho2, vol, c, m, inv_rho, half_inv_h, beyond2, grad_factor;
+  };
+  struct Sums {
+    Lanes x, y, z, rho;  // a's sums per lane
+  };
+  // Four entries of a's row, [e, e + 4) (Tail: the row's last `left` < 4, the rest padded with the far record).
+  template <bool AV, bool Morris, bool Tail, class Model>
+  inline __attribute__((always_inline)) void group(const Owner& o, const std::uint32_t* e, std::ptrdiff_t left,
+                                                   const Model& model, Sums& acc) {
+    using List = NeighbourList<D>;
+    const std::uint32_t pad = static_cast<std::uint32_t>(records_.size() - 1) << List::shift_bits | List::centre_code;
+    int b[4];
+    Lanes R[4], V[4], M[4];
+    for (int l = 0; l < 4; ++l) {
+      const std::uint32_t entry = !Tail || l < left ? e[l] : pad;
+      b[l] = static_cast<int>(entry >> List::shift_bits);
+      R[l] = (o.x - records_[b[l]].xr) - shifts_[entry & List::shift_mask];  // [r_ab, -rho_b]
+    }
+    transpose4(R[0], R[1], R[2], R[3]);
+    const Lanes rx = R[0], ry = R[1], rz = R[2];
+    const Lanes r2 = (rx * rx + ry * ry) + rz * rz;
+    // Four pairs beyond the support (the skin, listed after the pairs within it at the build: neighbour_list.h)
+    // add exact zeros: skipped.
+    const LaneIndex within = r2 < o.beyond2;
+    if (((within[0] | within[1]) | (within[2] | within[3])) == 0) return;
+    for (int l = 0; l < 4; ++l) {
+      const Record& B = records_[b[l]];
+      V[l] = o.v - B.vp, M[l] = B.vm;  // [v_ab, -p_b/rho_b^2], [V_b c_b m_b 1/rho_b]
+    }
+    transpose4(V[0], V[1], V[2], V[3]), transpose4(M[0], M[1], M[2], M[3]);
+    const Lanes vx = V[0], vy = V[1], vz = V[2];
+    const Lanes vr = (vx * rx + vy * ry) + vz * rz;
+    Lanes q;
+    for (int l = 0; l < 4; ++l) q[l] = __builtin_sqrt(r2[l]);
+    const Lanes u = 1.0 - q * o.half_inv_h;
+    const Lanes t = u > 0.0 ? u : Lanes{};
+    const Lanes F = (t * t) * (t * o.grad_factor), Fvr = F * vr;  // eq. 8; v_ab . grad_a W_ab
+    acc.rho += (o.rho * M[0]) * Fvr;                               // eq. 7 for a and for b
+    const Lanes drho_b = (R[3] * o.vol) * -Fvr;
+    Lanes P = o.p_rho2 - V[3];  // p_a/rho_a^2 + p_b/rho_b^2
+    if constexpr (AV) P += artificial_pi(model.artificial, r2, vr, o.rho - R[3], o.c + M[1]);
+    const Lanes PF = P * F, ga = M[2] * PF, gb = o.m * PF;
+    acc.x -= ga * rx, acc.y -= ga * ry, acc.z -= ga * rz;
+    Lanes bx = gb * rx, by = gb * ry, bz = gb * rz;
+    if constexpr (Morris) {  // eq. 10: 2 mu F r^2 / (r^2 + 0.01 h^2) m_b / (rho_a rho_b) v_ab, the opposite for b
+      const Lanes s = (2.0 * model.morris.mu) * (F * r2) / (r2 + model.morris.eta2);
+      const Lanes visc_a = (s * M[0]) * o.inv_rho, visc_b = (s * o.vol) * M[3];
+      acc.x += visc_a * vx, acc.y += visc_a * vy, acc.z += visc_a * vz;
+      bx -= visc_b * vx, by -= visc_b * vy, bz -= visc_b * vz;
+    }
+    Lanes dr = drho_b;
+    transpose4(bx, by, bz, dr);
+    const Lanes out[4] = {bx, by, bz, dr};
+    for (int l = 0; l < (Tail ? left : 4); ++l) sums_[b[l]].s += out[l];
+  }
+
   static constexpr double far = 1e20;  // m: the padding record, beyond any support
   static inline __attribute__((always_inline)) Lanes lanes_of(const Vec<D>& x, double w) { return Lanes{x[0], x[1], D == 3 ? x[D - 1] : 0.0, w}; }
   // Eq. 11 on lanes from rho_a + rho_b and c_a + c_b: Pi_ab = (-alpha c_ab mu_ab + beta mu_ab^2) / rho_ab with
