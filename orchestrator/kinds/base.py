@@ -318,13 +318,14 @@ class BoundAdapter:
         return self.adapter.resume_input(self.profile, scene, Path(workdir))
 
 
-def print_run_measures(run_dir, run: dict, quantities: dict) -> dict:
-    """Print a run's header line (status, particles, steps, wall time s) and its measured quantities with their
-    units from quantities ({name: (unit, meaning)}); returns the measured quantities (SI)."""
+def print_run_measures(run_dir, run: dict, quantities: dict, width: int = 24) -> dict:
+    """Print a run's header line (status, particles, steps, wall time s) and its measured quantities, names padded
+    to `width` characters, with their units from quantities ({name: (unit, meaning)}); returns the measured
+    quantities (SI)."""
     attrs = run["attrs"]
     measured = run.get("measured", {}).get("attrs", {})
     print(f"run {run_dir}: status {attrs['status']}, {attrs['n_particles']} particles, {attrs['n_steps']} steps, "
           f"{attrs['wall_time_s']:.1f} s")
     for name, value in measured.items():
-        print(f"{name:<24} {value:.6g} {quantities.get(name, ('', ''))[0]}")
+        print(f"{name:<{width}} {value:.6g} {quantities.get(name, ('', ''))[0]}".rstrip())
     return measured

@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
+from orchestrator.kinds.base import print_run_measures
 from orchestrator.kinds.rheometer.physics import sample_numerics
 from orchestrator.kinds.rheometer.solvent import cox_merz_loss_modulus, first_harmonic_loss_modulus
 from orchestrator.reference.maxwell import Mode, loss_modulus, storage_modulus
@@ -178,12 +179,7 @@ def measure_rheometer(case, result) -> dict[str, float]:
 def analyze_rheometer_run(run_dir: Path, run: dict, case, render: bool = True) -> dict:
     """`orchestrator analyze` of a rheometer run: print the measured quantities against their references and
     write stress.png (the shear stress against time with the fitted eq. 17). Returns {name: path}."""
-    attrs = run["attrs"]
-    measured = run.get("measured", {}).get("attrs", {})
-    print(f"run {run_dir}: status {attrs['status']}, {attrs['n_particles']} particles, {attrs['n_steps']} steps, "
-          f"{attrs['wall_time_s']:.1f} s")
-    for name, value in measured.items():
-        print(f"{name:<48} {value:.6g}")
+    print_run_measures(run_dir, run, {}, width=48)
     path = plot_stress(run, case, Path(run_dir) / "stress.png")
     print(f"{'stress':<10} {path}")
     return {"stress": path}
