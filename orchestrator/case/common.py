@@ -39,6 +39,15 @@ class Frozen(BaseModel):
 
     model_config = ConfigDict(frozen=True, extra="forbid", allow_inf_nan=False)
 
+    def given(self, keys) -> list[str]:
+        """The keys among `keys` that the case sets to something other than their default, in that order.
+
+        A validator that refuses a key in some context asks this, not model_fields_set: run.h5 stores the case
+        resolved (every default written out), and that text must validate again.
+        """
+        return [key for key in keys
+                if key in self.model_fields_set and getattr(self, key) != type(self).model_fields[key].default]
+
     @field_validator("*", mode="before")
     @classmethod
     def _no_bool_for_number(cls, value: Any, info: ValidationInfo) -> Any:

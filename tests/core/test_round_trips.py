@@ -16,10 +16,12 @@ from orchestrator.engines.liggghts_files import write_data_file, write_stl_ascii
 from orchestrator.kinds import build_scene
 from orchestrator.kinds.sph_flow.sph import write_particles
 from orchestrator.runh5 import read_run, write_run
-from paths import VERIFICATION, DATA, TINY_BOWL
+from paths import CASES as SHIPPED_CASES, VERIFICATION, DATA, TINY_BOWL
 
 CASES = [TINY_BOWL, VERIFICATION / "chung_ooi_test2_sphere_plane.toml", VERIFICATION / "sph_poiseuille_morris1997.toml",
          DATA / "sph_channel_3d.toml"]
+#: Every shipped case (studies are not cases): each must read back from the resolved TOML that run.h5 stores.
+SHIPPED = sorted(p for p in SHIPPED_CASES.rglob("*.toml") if "studies" not in p.parts)
 RNG = np.random.default_rng(11)
 
 
@@ -104,7 +106,7 @@ def test_run_h5_round_trip(tmp_path):
         before.measured
 
 
-@pytest.mark.parametrize("path", CASES, ids=lambda p: p.stem)
+@pytest.mark.parametrize("path", CASES + SHIPPED, ids=lambda p: p.stem)
 def test_case_round_trip_through_its_resolved_toml(path, tmp_path):
     """A case, written back as the resolved TOML stored in run.h5, loads to the same parameters (same hash)."""
     loaded = load_case(path)

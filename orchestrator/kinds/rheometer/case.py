@@ -143,7 +143,7 @@ class Shear(Frozen):
                 raise ValueError(f"shear.{key} is missing; a {'steady' if steady else 'oscillatory'} shear needs it")
         if steady and self.shear_rate == 0.0:
             raise ValueError("shear.shear_rate = 0: give a non-zero shear rate, 1/s")
-        given = [key for key in ("cycles", "startup_cycles") if key in self.model_fields_set]
+        given = self.given(("cycles", "startup_cycles"))
         if steady and given:
             raise ValueError(f"shear.{given[0]} counts oscillation cycles; a steady shear runs shear.duration: "
                              "remove it")

@@ -116,7 +116,7 @@ def check_grains(case) -> None:
                          "grain_contact cannot act in a Lees-Edwards cell ([lees_edwards]); remove one of them")
     if case.grain_contact is not None:
         contact = case.grain_contact
-        if contact.stiffness is None and (contact.walls or "restitution" in contact.model_fields_set):
+        if contact.stiffness is None and (contact.walls or contact.given(("restitution",))):
             raise ValueError("grain_contact.restitution and grain_contact.walls need grain_contact.stiffness (the "
                              "grain-grain and grain-wall spring, N/m)")
         if contact.stiffness is None and not has_solid(case):

@@ -270,7 +270,7 @@ def check_materials(case) -> None:
     if fluid.min_pressure is not None:
         raise ValueError("fluid.min_pressure (a cavitation floor) applies to one-fluid cases; this case has "
                          "[[materials]], which do not take one yet: remove the key")
-    given = [key for key in MATERIAL_KEYS if key in fluid.model_fields_set]
+    given = fluid.given(MATERIAL_KEYS)
     if given:
         raise ValueError(f"fluid.{given[0]} is given with [[materials]]; give it in each [[materials]] table "
                          "([fluid] then holds only max_speed)")
@@ -338,7 +338,7 @@ def _check_ptt(case, i: int, m: Material) -> None:
     if others:
         raise ValueError(f"{where} ({m.name}) is a ptt material beside the {others[0]!r} material of another "
                          "model; the sph executable runs PTT materials only with each other")
-    if m.eos == "quadratic" and "gamma" in m.model_fields_set:
+    if m.eos == "quadratic" and m.given(("gamma",)):
         raise ValueError(f"{where}.gamma ({m.name}) is the Tait exponent; the quadratic eos does not use it: "
                          "remove it")
     if case.numerics.dt is None:

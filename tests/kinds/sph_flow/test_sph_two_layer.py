@@ -224,7 +224,7 @@ def test_an_inlet_names_a_known_material():
 
     from orchestrator.kinds.sph_flow.case_materials import check_materials
 
-    fluid = SimpleNamespace(density=1000.0, max_speed=1.0, min_pressure=None, model_fields_set=set())
+    fluid = SimpleNamespace(density=1000.0, max_speed=1.0, min_pressure=None, given=lambda keys: [])
     physics = SimpleNamespace(terms=())
     inlet = SimpleNamespace(material="oil")
     bare = SimpleNamespace(fluid=fluid, physics=physics, materials=(), blocks=(), inlets=(inlet,))
