@@ -39,6 +39,8 @@ QUANTITIES: dict[str, tuple[str, str]] = {
     "velocity_profile": ("-", "relative error of the velocity profile against homogeneous shear"),
     "startup_peak_shear_stress*": ("Pa", "steady shear: the start-up overshoot (measured, or *_expected: the ODE)"),
     "startup_peak_time*": ("s", "steady shear: the time of the overshoot (measured, or *_expected: the ODE)"),
+    "startup_deviation": ("-", "steady shear: the largest |tau_xy(t) - the ODE's| over the records, over the ODE's "
+                               "largest tau_xy"),
 }
 
 
@@ -83,14 +85,17 @@ def fit_moduli(t, tau, omega: float, amplitude: float, t_start: float, t_end: fl
 def startup_peak(t, tau, case) -> dict[str, float]:
     """The start-up overshoot of a steady run: the largest recorded shear stress (Pa) and its time (s), with the
     homogeneous PTT start-up integrated at the same record times (reference.viscoelastic_flows.ptt_startup_shear)
-    as startup_peak_shear_stress_expected; nothing when the run stopped before the expected peak."""
+    as startup_peak_shear_stress_expected (nothing when the run stopped before the expected peak: no overshoot
+    within it), and always the whole start-up's largest deviation from that integration (startup_deviation)."""
     t, tau = np.asarray(t, dtype=float), np.asarray(tau, dtype=float)
     exact = ptt_startup_shear(t, case.shear.shear_rate, case.material.modes, case.material.epsilon,
                               float(case.material.solvent_shear_viscosity(case.shear.shear_rate)))
+    scale = float(np.max(np.abs(exact.shear_stress)))
+    deviation = {"startup_deviation": float(np.max(np.abs(tau - exact.shear_stress))) / scale} if scale else {}
     if exact.peak_time >= t[-1]:
-        return {}
+        return deviation
     peak = int(np.argmax(tau))
-    return {"startup_peak_shear_stress": float(tau[peak]), "startup_peak_time": float(t[peak]),
+    return {**deviation, "startup_peak_shear_stress": float(tau[peak]), "startup_peak_time": float(t[peak]),
             "startup_peak_shear_stress_expected": exact.peak_shear_stress,
             "startup_peak_time_expected": exact.peak_time}
 
