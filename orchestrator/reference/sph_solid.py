@@ -11,7 +11,9 @@ artificial viscosity (eqs. 11-12) with the solid's wave speed, the kernel-correc
 de_a/dt = -1/2 sum_b m_b v_ab . f_ab (the work of the pair forces f_ab of the momentum equation, with the artificial
 stress and viscosity: kinetic plus internal energy is conserved; sigma : D / rho in the continuum), Monaghan's predictor-corrector (eqs. P1-P4), and after the corrector the radial return,
 heating and damage of reference.johnson_cook. Every particle is a solid particle; every axis is periodic (box at
-least 4h long). SI units throughout.
+least 4h long). With bodies (SolidState.body), two particles of two bodies take none of the pair terms above but the
+contact of eq. SC1 (engines/sph/src/solid_contact.h): a spring k (dx - r) along r_ab for r < dx, k = rho0 c_L^2
+dx^(D-2), in compression only. SI units throughout.
 """
 
 from __future__ import annotations
@@ -55,8 +57,8 @@ class SolidScene:
 @dataclass(frozen=True)
 class SolidState:
     """Positions (n, D) m, velocities (n, D) m/s, masses (n) kg, densities (n) kg/m^3, deviatoric stresses
-    (n, D, D) Pa, the solid scalars (n, 6) (the columns above), the last rates, and the last evaluation's kernel
-    correction M^-T (n, D, D) of eq. KC1 (None: the identity)."""
+    (n, D, D) Pa, the solid scalars (n, 6) (the columns above), the last rates, the last evaluation's kernel
+    correction M^-T (n, D, D) of eq. KC1 (None: the identity), and each particle's body (n) ints (None: one body)."""
 
     x: np.ndarray
     v: np.ndarray
@@ -69,6 +71,7 @@ class SolidState:
     ds: np.ndarray | None = None
     dscalars: np.ndarray | None = None
     correction: np.ndarray | None = None
+    body: np.ndarray | None = None
 
 
 def start_scalars(scene: SolidScene, count: int) -> np.ndarray:
@@ -100,6 +103,25 @@ def _pairs(x: np.ndarray, scene: SolidScene):
     return a[keep], b[keep], r[keep]
 
 
+def contact_stiffness(scene: SolidScene, dim: int) -> float:
+    """k of eq. SC1, rho0 c_L^2 dx^(D-2): N/m in 3D, N/m per unit depth in 2D."""
+    return scene.solid.rho0 * scene.wave_speed ** 2 * (scene.dx if dim == 3 else 1.0)
+
+
+def _contacts(state: SolidState, scene: SolidScene, a, b, r):
+    """The pairs of two bodies (a, b, r_ab, their overlaps dx - r > 0, m) and a mask of the pairs within one body."""
+    within = np.ones(len(a), dtype=bool) if state.body is None else state.body[a] == state.body[b]
+    overlap = scene.dx - np.sqrt(np.einsum("ij,ij->i", r[~within], r[~within]))
+    touching = overlap > 0.0
+    return a[~within][touching], b[~within][touching], r[~within][touching], overlap[touching], within
+
+
+def contact_energy(state: SolidState, scene: SolidScene) -> float:
+    """The springs' energy of eq. SC1, sum 1/2 k (dx - r)^2, J (J/m in 2D)."""
+    *_, overlap, _ = _contacts(state, scene, *_pairs(state.x, scene))
+    return 0.5 * contact_stiffness(scene, state.x.shape[1]) * float(np.sum(overlap ** 2))
+
+
 def rates(state: SolidState, scene: SolidScene) -> SolidState:
     """The rates of continuity, momentum, the deviatoric stress and the scalars at this state."""
     n, dim = state.x.shape
@@ -112,6 +134,8 @@ def rates(state: SolidState, scene: SolidScene) -> SolidState:
     if scene.corrected_momentum and state.correction is not None:  # eq. KC1: sigma_a / rho_a^2 M_a^-T grad W
         S = S @ state.correction
     a, b, r = _pairs(state.x, scene)
+    ca, cb, cr, overlap, within = _contacts(state, scene, a, b, r)
+    a, b, r = a[within], b[within], r[within]
     q = np.sqrt(np.einsum("ij,ij->i", r, r)) / h
     t = np.maximum(1.0 - 0.5 * q, 0.0)
     F = -5.0 * alpha_d / (h * h) * t ** 3
@@ -133,6 +157,9 @@ def rates(state: SolidState, scene: SolidScene) -> SolidState:
     acc = np.zeros((n, dim))
     np.add.at(acc, a, state.m[b][:, None] * f)
     np.add.at(acc, b, -state.m[a][:, None] * f)
+    spring = (contact_stiffness(scene, dim) * overlap / (scene.dx - overlap))[:, None] * cr  # eq. SC1, N
+    np.add.at(acc, ca, spring / state.m[ca][:, None])
+    np.add.at(acc, cb, -spring / state.m[cb][:, None])
     G, M = np.zeros((n, dim, dim)), np.zeros((n, dim, dim))
     for owner, other in ((a, b), (b, a)):
         weight = -(F * vol[other])[:, None, None]
@@ -208,7 +235,7 @@ def step(state: SolidState, scene: SolidScene, dt: float) -> SolidState:
         s[i], scalars[i] = _return_mapping(scene, s[i], scalars[i], rho[i], dt)
     return SolidState(x=state.x + dt * (state.v + half * mid.acc), v=state.v + dt * mid.acc, m=state.m, rho=rho,
                       s=s, scalars=scalars, acc=mid.acc, drho=mid.drho, ds=mid.ds, dscalars=mid.dscalars,
-                      correction=mid.correction)
+                      correction=mid.correction, body=state.body)
 
 
 def simulate(state: SolidState, scene: SolidScene, dt: float, n_steps: int) -> SolidState:

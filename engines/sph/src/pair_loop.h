@@ -30,6 +30,7 @@
 #include "pair_lanes.h"
 #include "particles.h"
 #include "physics_terms.h"
+#include "solid_contact.h"
 #include "stress_diffusion.h"
 #include "tensor_pair_math.h"
 #include "tensor_viscous.h"
@@ -59,8 +60,7 @@ class PairLoop {
            const MaterialTable& materials, std::vector<double>& shepard)
       : P_(P), list_(list), kernel_(kernel), model_(model), materials_(materials), shepard_(shepard) {}
 
-  // The gather's pair loop over every block (in the block colours of the
-  // list), after the sums of eq. VC1 and their factors k when corrected.
+  // The gather's pair loop over every block (in the block colours of the list), after eq. VC1's sums when corrected.
   void rates(bool par) {
     if constexpr (corrected) {
       const double eta2 = model_.morris.eta2;
@@ -94,8 +94,8 @@ class PairLoop {
   void list_built() {
     const auto& m = P_.mass;
     uniform_mass_ = !m.empty() && std::all_of(m.begin(), m.end(), [&](double mi) { return mi == m[0]; });
-    if constexpr (Models::any_solid)
-      artificial_stress_ = ArtificialStressFactor::of(materials_, kernel_.h), smoothing_ = SolidSmoothing::of(materials_, kernel_.h);
+    if constexpr (Models::any_solid) artificial_stress_ = ArtificialStressFactor::of(materials_, kernel_.h),
+                                     smoothing_ = SolidSmoothing::of(materials_, kernel_.h), contact_ = SolidContact::of<D>(materials_);
     if constexpr (corrected) correction_.resize(P_.size());
     if constexpr (lanes) lanes_.set_shifts(list_.shifts());
   }
@@ -147,19 +147,20 @@ class PairLoop {
   //   B. the per-pair coefficients of eqs. 7, 9-12 (kernel, sqrt, divisions) over those arrays: no gathers,
   //      no sums, so the compiler vectorises it; B also multiplies the coefficients along r_ab by r_ab (the
   //      products C would form: the same roundings);
-  //   C. the sums into a and the scatter to b, pair after pair in list order.
-  // Every accumulator receives the same contributions in the same order as a single fused loop would give
-  // it (bitwise the same results).
+  //   C. the sums into a and the scatter to b, pair after pair in list order. Every accumulator receives the same
+  // contributions in the same order as a single fused loop would give it (bitwise the same results).
   using Chunk = PairChunk<D>;
   using Owner = PairOwner;
   template <bool AMoves, bool BMoves>
   inline __attribute__((always_inline)) void pair_row(Chunk& c, int a, const std::uint32_t* e,
                                                       const std::uint32_t* end) const {
     if constexpr (tensor) {
-      (void)c;
-      if constexpr (Models::any_solid && AMoves && BMoves)  // eq. SS1 chosen per row: no test per pair when it is off
-        if (smoothing_.on) return pair_terms<AMoves, BMoves, true>(a, e, end);
-      pair_terms<AMoves, BMoves, false>(a, e, end);
+      (void)c;  // eqs. SS1 and SC1 chosen per row: no test per pair when they are off
+      if constexpr (Models::any_solid && AMoves && BMoves)
+        if (smoothing_.on) return contact_.on ? pair_terms<AMoves, BMoves, true, true>(a, e, end)
+                                              : pair_terms<AMoves, BMoves, true, false>(a, e, end);
+      if constexpr (Models::any_solid) if (contact_.on) return pair_terms<AMoves, BMoves, false, true>(a, e, end);
+      pair_terms<AMoves, BMoves, false, false>(a, e, end);
     } else {
       Vec<D> acc_a = Vec<D>::Zero();
       double drho_a = 0.0;
@@ -275,7 +276,7 @@ class PairLoop {
     (void)grad_v, (void)G_a, (void)vol_a, (void)jumps, (void)va, (void)vns_a;
   }
 
-  template <bool AMoves, bool BMoves, bool Smooth>
+  template <bool AMoves, bool BMoves, bool Smooth, bool Bodies>
   inline __attribute__((always_inline)) void pair_terms(int a, const std::uint32_t* e, const std::uint32_t* end) const {
     static_assert(tensor, "the tensor path's pair loop (pair_row)");
     using List = NeighbourList<D>;
@@ -311,6 +312,8 @@ class PairLoop {
       if (!(u > 0.0)) continue;
       if constexpr (grains && Models::any_solid && AMoves != BMoves)  // eq. G8 acts between a grain and a solid
         if (AMoves ? P_.grain_beside_solid(b, a) : P_.grain_beside_solid(a, b)) continue;
+      if constexpr (Bodies)  // eq. SC1 between two bodies (solid_contact.h)
+        if (contact_.pair<AMoves, BMoves>(P_, a, b, r, r2, acc_a, acc)) continue;
       const double t = u, F = grad_factor * (t * t * t);  // grad_a W_ab = F r_ab (eq. 8)
       Vec<D> v_ab = va - v[b], jump = Vec<D>::Zero();
       if constexpr (has(term::sheared)) jump = jumps[*e & List::shift_mask], v_ab -= jump;
@@ -390,6 +393,7 @@ class PairLoop {
   bool uniform_mass_ = false;
   ArtificialStressFactor artificial_stress_;  // solids (set at each list build)
   SolidSmoothing smoothing_;                  // eq. SS1 (solids with `smoothing`)
+  SolidContact contact_;                      // eq. SC1 (two solid materials or more)
   ViscosityCorrection<D> correction_;  // eq. VC1 (corrected configurations only)
   mutable PairLanes<D> lanes_;         // the fluid-fluid rows' records and sums (lanes configurations only)
 };

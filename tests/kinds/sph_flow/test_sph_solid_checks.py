@@ -9,6 +9,9 @@
 - The longitudinal wave speed sqrt((K + 4G/3) / rho) of uniaxial strain: a standing wave v_x = V sin(k x) in a
   periodic slab (40 particles per wavelength, h = 1.5 dx, 2D plane strain) oscillates with period L / c; within
   2 %.
+- Two bodies in contact (eq. SC1): two elastic slabs of two solid materials, one at V onto the other at rest, in
+  uniaxial strain. Equal impedances and lengths: the contact lasts 2 L / c, then the first stands and the second
+  moves at V, and they part (the contact takes no tension). The same slabs as one material stay welded and ring.
 """
 
 from __future__ import annotations
@@ -47,17 +50,21 @@ def _material(adiabatic: bool, plastic: bool = True) -> dict:
     return item
 
 
-def _run(deck: dict, x: np.ndarray, v: np.ndarray, workdir: Path):
-    """Run the executable on the deck and particles (equal masses rho0 dx^D); its out.h5, opened."""
+def _run(deck: dict, x: np.ndarray, v: np.ndarray, workdir: Path, material=None):
+    """Run the executable on the deck and particles (equal masses rho0 dx^D; `material`: each particle's index
+    into the deck's materials); its out.h5, opened."""
     import h5py
 
     if not EXECUTABLE.exists():
         pytest.skip(f"{EXECUTABLE} is not built")
+    workdir.mkdir(parents=True, exist_ok=True)
     with h5py.File(workdir / "particles.h5", "w") as f:
         f["positions"], f["velocities"] = x, v
         f["masses"] = np.full(len(x), RHO0 * DX ** x.shape[1])
         f["densities"] = np.full(len(x), RHO0)
         f["kind"] = np.zeros(len(x), dtype=np.int8)
+        if material is not None:
+            f["material"] = np.asarray(material, dtype=np.int32)
     base = {"dimension": x.shape[1], "particles_file": "particles.h5", "h": 1.3 * DX, "dx": DX, "threads": 1}
     (workdir / "deck.json").write_text(json.dumps({**base, **deck}))
     done = subprocess.run([str(EXECUTABLE), "deck.json"], cwd=workdir, capture_output=True, text=True, timeout=300)
@@ -155,3 +162,49 @@ def test_longitudinal_wave_speed_of_uniaxial_strain(tmp_path):
     print(f"\nwave speed {measured:.2f} m/s, sqrt((K + 4G/3) / rho) = {wave:.2f} m/s "
           f"({measured / wave - 1.0:+.2e}); amplitude after {t[-1] / period:.2f} periods {amplitude[-1]:.4f} m/s")
     assert measured == pytest.approx(wave, rel=0.02)
+
+
+def slabs_in_contact(dimension: int, bodies: int, workdir: Path) -> dict:
+    """Slab A (x < L) at 1 m/s onto slab B at rest, periodic across, as `bodies` solid materials (2: eq. SC1, 1:
+    one welded body): per frame t / (2 L / c) and the mean v_x of each slab (m/s), the gap at the end (m) and the
+    total momentum of every frame (kg m/s per unit depth^(3 - D))."""
+    nx, across = 20, 3
+    length, wave = nx * DX, math.sqrt((BULK + 4.0 / 3.0 * SHEAR) / RHO0)
+    contact = 2.0 * length / wave
+    grid = np.meshgrid(np.arange(2 * nx), *[np.arange(across)] * (dimension - 1), indexing="ij")
+    x = (np.stack([g.ravel() for g in grid], axis=1) + 0.5) * DX
+    slab = (x[:, 0] > length).astype(np.int32)
+    v = np.zeros_like(x)
+    v[slab == 0, 0] = 1.0
+    materials = [{**_material(False, plastic=False), "name": name} for name in ("a", "b")[:bodies]]
+    deck = {"physics": [], "materials": materials, "v_max": 10.0, "dimension": dimension,
+            "periodic": {"axes": list(range(1, dimension)), "lo": [0.0] * (dimension - 1),
+                         "hi": [across * DX] * (dimension - 1)}, "t_end": 2.0 * contact,
+            "output": {"file": "out.h5", "frame_interval": contact / 20, "progress_interval": 1000}}
+    with _run(deck, x, v, workdir, material=slab if bodies == 2 else None) as h5:
+        frames = [h5["frames"][key] for key in sorted(h5["frames"], key=int)]
+        mass = RHO0 * DX ** dimension
+        out = {"t": np.array([f.attrs["time"] / contact for f in frames]), "a": [], "b": [], "momentum": []}
+        for f in frames:
+            velocity, which = f["velocities"][()][:, 0], slab[f["ids"][()]]
+            out["a"].append(velocity[which == 0].mean()), out["b"].append(velocity[which == 1].mean())
+            out["momentum"].append(mass * velocity.sum())
+        positions, which = frames[-1]["positions"][()][:, 0], slab[frames[-1]["ids"][()]]
+        out["gap"] = positions[which == 1].min() - positions[which == 0].max()
+    return {key: np.asarray(value) for key, value in out.items()}
+
+
+@pytest.mark.parametrize("dimension", [2, 3])
+def test_two_bodies_exchange_momentum_in_compression_and_part(dimension, tmp_path):
+    two = slabs_in_contact(dimension, 2, tmp_path / "two")
+    half = np.interp(0.5, two["b"], two["t"])  # B's mean speed passes V/2 half-way through the contact
+    print(f"\n{dimension}D: after the contact A {two['a'][-1]:+.4f} m/s, B {two['b'][-1]:+.4f} m/s; B at V/2 at "
+          f"{half:.3f} of 2L/c; gap at the end {two['gap'] / DX:.4f} dx; momentum drift "
+          f"{np.ptp(two['momentum']) / two['momentum'][0]:.1e}")
+    after = two["t"] >= 1.25
+    assert np.abs(two["a"][after]).max() < 0.01 and np.abs(two["b"][after] - 1.0).max() < 0.01
+    assert half == pytest.approx(0.5, abs=0.05)
+    assert two["gap"] > 1.003 * DX  # parted: the contact took no tension
+    np.testing.assert_allclose(two["momentum"], two["momentum"][0], rtol=1e-10)
+    welded = slabs_in_contact(dimension, 1, tmp_path / "welded")  # one body: the same slabs ring together
+    assert np.abs(welded["b"][welded["t"] >= 1.25] - 1.0).max() > 0.3
