@@ -84,6 +84,19 @@ ParticleInput read_particles(const std::string& path, int dimension) {
     if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
       fail("dataset 'ids' in '" + path + "' holds an id twice");
   }
+  // Optional: a resumed run's integrated fields beyond velocity and density, as its frame wrote them.
+  for (const char* name : {"stress", "mode_stress", "solid_state"}) {
+    if (H5Lexists(f, name, H5P_DEFAULT) <= 0) continue;
+    H5Handle ds(H5Dopen2(f, name, H5P_DEFAULT), H5Dclose);
+    H5Handle space(H5Dget_space(ds), H5Sclose);
+    hsize_t dims[2] = {0, 0};
+    if (!ds.valid() || H5Sget_simple_extent_ndims(space) != 2 || (H5Sget_simple_extent_dims(space, dims, nullptr), dims[1] == 0))
+      fail("dataset '" + std::string(name) + "' in '" + path + "' must have shape (n, columns)");
+    SavedField field{name, static_cast<int>(dims[1]), {}};
+    field.values = read<double>(f, path, name, H5T_NATIVE_DOUBLE, n, field.cols);
+    all_finite(field.values, path, name);
+    p.saved.push_back(std::move(field));
+  }
   p.n = n;
   all_finite(p.positions, path, "positions");
   all_finite(p.velocities, path, "velocities");

@@ -19,6 +19,7 @@
 #include <utility>
 #include <vector>
 
+#include "input_h5.h"
 #include "materials/solid_state.h"
 #include "parallel.h"
 #include "physics_terms.h"
@@ -97,6 +98,7 @@ struct Particles {
   int modes = 0;                      // stress modes of the run (0: none)
   Field<SolidState> solid_state{"solid_state"};  // a solid's scalars (materials/solid_state.h); only when solid
   bool solid = false;                 // the run's materials are solids
+  std::vector<SavedField> saved;      // a resumed run's fields from the particle file, until restore_fields.h sets them
   // -- carried (reordered, compacted, never integrated)
   std::vector<double> mass;             // kg
   std::vector<Kind> kind;
@@ -311,7 +313,7 @@ struct Particles {
     const std::size_t cap = std::max(o.reserved_, o.x.capacity());
     SPH_TAKE(x), SPH_TAKE(x0), SPH_TAKE(next_x), SPH_TAKE(next_x0), SPH_TAKE(vel), SPH_TAKE(dens), SPH_TAKE(stress);
     SPH_TAKE(has_stress), SPH_TAKE(eddy), SPH_TAKE(nu_t), SPH_TAKE(next_nu_t), SPH_TAKE(mode_stress), SPH_TAKE(modes), SPH_TAKE(tau_solvent), SPH_TAKE(next_tau_solvent);
-    SPH_TAKE(solid_state), SPH_TAKE(solid), SPH_TAKE(art_stress), SPH_TAKE(diffuses), SPH_TAKE(mode_laplacian);
+    SPH_TAKE(solid_state), SPH_TAKE(solid), SPH_TAKE(saved), SPH_TAKE(art_stress), SPH_TAKE(diffuses), SPH_TAKE(mode_laplacian);
     SPH_TAKE(has_wall_points), SPH_TAKE(wall_offset), SPH_TAKE(next_wall_offset), SPH_TAKE(wall_frame),
     SPH_TAKE(next_wall_frame), SPH_TAKE(x_noslip), SPH_TAKE(wall_fit);
     SPH_TAKE(grains), SPH_TAKE(grain), SPH_TAKE(next_grain), SPH_TAKE(grain_offset), SPH_TAKE(next_grain_offset),

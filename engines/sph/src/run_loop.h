@@ -14,6 +14,7 @@
 #include "open_boundaries.h"
 #include "output_h5.h"
 #include "recorder.h"
+#include "restore_fields.h"
 #include "setup.h"
 #include "simulation.h"
 #include "time_loop.h"
@@ -23,11 +24,13 @@ namespace sph {
 // Run the deck's particles, walls and open boundaries with the solver of one configuration (Terms, Models).
 template <int D, unsigned Terms, class Models>
 int run_simulation(const RunParameters& deck, Particles<D> particles, WallPenalty<D> walls, OpenBoundaries<D> open) {
+  const std::vector<std::int64_t> input_ids = particles.id;  // in the particle file's row order
   using Sim = Simulation<D, Terms, Models>;
   const auto started = TimeLoop<D, Sim>::Clock::now();
   std::int64_t next_id = 0;
   for (auto id : particles.id) next_id = std::max(next_id, id + 1);
   Sim sim(deck, std::move(particles), std::move(walls));
+  restore_fields(sim.particles(), input_ids);  // a resumed run's stresses and solid scalars (restore_fields.h)
   OutputFile out(deck.output_file);
   Recorder<D, Sim> rec(deck, sim, open, out);
   std::signal(SIGTERM, request_stop);

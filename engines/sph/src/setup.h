@@ -17,6 +17,7 @@ template <int D>
 Particles<D> make_particles(const RunParameters& deck, const ParticleInput& in, std::size_t extra = 0) {
   Particles<D> P;
   P.has_wall_points = !in.wall_point.empty();
+  P.saved = in.saved;
   P.grains = !deck.grains.empty();
   P.reserve(in.n + extra);
   P.resize(in.n);

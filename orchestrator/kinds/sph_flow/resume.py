@@ -1,7 +1,9 @@
 """Resuming a stopped sph run from its last frame (`orchestrator run --resume RUN_DIR`), and merging its parts.
 
 A run stopped by --timeout or a signal writes a last frame at its stop time that holds every particle: ids, kind
-(the inlet and outlet buffers too), positions, velocities and densities. write_resume_input moves the run's
+(the inlet and outlet buffers too), positions, velocities and densities, and the integrated fields of its
+materials (a solid's deviatoric stress and scalars: energy, plastic strain, temperature, damage; a PTT fluid's
+per-mode stresses), which the resumed run reads back (engine: restore_fields.h). write_resume_input moves the run's
 out.h5 to out.<k>.h5 (the first free k), writes particles_resume.h5 from that frame (each particle's mass,
 material and wall point from its input row in particles.h5, or from the inlet for particles the inlets made) and
 deck_resume.json (deck.json from t_start = the frame's time, step_start = its step). The engine then continues
@@ -11,8 +13,9 @@ into a new out.h5; merge_parts joins the parts' series and frames at each part's
 Not restored, so a resumed run is close to, not bitwise equal to, an uninterrupted one: the rates of the last half
 step (recomputed from the frame's state before the first step), the Verlet list and the order of the particles
 in memory (sums run in another order), and a column outlet's chamber (eq. OB5), which starts again from its
-buffer's particles as at t = 0 (in a steady state their density and speed are the chamber's). Runs whose state holds more than the frame does are refused: PTT
-materials (their extra stresses) and Lees-Edwards cells (the cell's strain).
+buffer's particles as at t = 0 (in a steady state their density and speed are the chamber's), and a solid's
+kernel correction of eq. KC1 (recomputed from the state). Runs whose state holds more than the frame does are
+refused: Lees-Edwards cells (the cell's strain), rigid grains and impactors (a body's orientation and spin).
 """
 
 from __future__ import annotations
@@ -29,6 +32,8 @@ from orchestrator.errors import OrchestratorError
 RESUME_DECK = "deck_resume.json"
 RESUME_PARTICLES = "particles_resume.h5"
 FRAME_ARRAYS = ("ids", "kind", "positions", "velocities", "densities", "pressures")
+#: The materials' integrated fields a frame holds and the engine reads back from the particle file.
+STATE_ARRAYS = ("stress", "mode_stress", "solid_state")
 
 
 def part_files(workdir: Path, output: str = "out.h5") -> list[Path]:
@@ -71,7 +76,7 @@ def write_resume_input(workdir: Path, deck_name: str = "deck.json", output: str 
     after moving its output to out.<k>.h5 (a resume whose engine failed before it wrote out.h5: from the last
     out.<k>.h5); returns the deck's name. t_end (s): the end time of the continued run;
     later than the deck's, it also runs a finished run on (default: the deck's). Raises OrchestratorError naming why
-    a run cannot be resumed (no output, finished, unstable, PTT or Lees-Edwards state, an unknown particle id, an
+    a run cannot be resumed (no output, finished, unstable, Lees-Edwards, grains or impactors, an unknown particle id, an
     end time not after the last frame)."""
     import h5py
 
@@ -87,6 +92,10 @@ def write_resume_input(workdir: Path, deck_name: str = "deck.json", output: str 
     deck = json.loads(deck_path.read_text())
     if "lees_edwards" in deck:
         raise OrchestratorError("--resume: a Lees-Edwards cell's strain is not in its frames; start the run again")
+    for key, what in (("grains", "rigid grains"), ("impactors", "rigid impactors")):
+        if deck.get(key):
+            raise OrchestratorError(f"--resume: the run has {what}, whose orientation and spin are not in its frames; "
+                                    "start the run again")
     with h5py.File(out, "r") as h5:
         status = str(h5.attrs.get("status", "running"))
         if status == "unstable":
@@ -96,13 +105,7 @@ def write_resume_input(workdir: Path, deck_name: str = "deck.json", output: str 
         if status == "ok" and (t_end is None or t_end <= time * (1.0 + 1e-12)):
             raise OrchestratorError(f"--resume {workdir}: the run finished (t = {h5.attrs.get('t_final', time):.6g} "
                                     "s); there is nothing left to run (--until T runs it on to a later time T, s)")
-        if "solid_state" in group:
-            raise OrchestratorError("--resume: a solid's stresses, plastic strain, temperature and damage are not "
-                                    "restored from a frame; start the run again")
-        if "mode_stress" in group:
-            raise OrchestratorError("--resume: PTT materials' extra stresses are not restored from a frame; start the "
-                                    "run again")
-        frame = {name: np.asarray(group[name][()]) for name in FRAME_ARRAYS}
+        frame = {name: np.asarray(group[name][()]) for name in (*FRAME_ARRAYS, *STATE_ARRAYS) if name in group}
     end = t_end if t_end is not None else float(deck["t_end"])
     if time >= end * (1.0 - 1e-12):
         raise OrchestratorError(f"--resume {workdir}: its last frame is at {time:.6g} s, not before the end time "
@@ -138,6 +141,9 @@ def write_resume_input(workdir: Path, deck_name: str = "deck.json", output: str 
             h5["material"] = np.where(known, material[row], inlet_material).astype(np.int32)
         if wall_point is not None:
             h5["wall_point"] = np.where(known[:, None], wall_point[row], np.nan)
+        for name in STATE_ARRAYS:
+            if name in frame:
+                h5[name] = frame[name].astype(np.float64).reshape(len(ids), -1)
     deck.update(particles_file=RESUME_PARTICLES, t_start=time, step_start=step, t_end=end)
     (workdir / RESUME_DECK).write_text(json.dumps(deck, indent=1))
     return RESUME_DECK

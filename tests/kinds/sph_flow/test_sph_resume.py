@@ -166,15 +166,53 @@ def test_resume_input_refuses_finished_and_unstable_runs(tmp_path, status, words
     assert (run / "out.h5").is_file()  # nothing moved
 
 
-def test_resume_input_refuses_a_solid_run(tmp_path):
-    """A solid's stresses, plastic strain, temperature and damage are not in the engine's particle file: a resumed
-    solid would restart as a virgin material, so --resume refuses it and moves nothing."""
+def test_resume_input_carries_the_materials_state(tmp_path):
+    """A solid's deviatoric stress and scalars and a PTT fluid's mode stresses reach the particle file as the frame
+    holds them (rows in the frame's order, which the ids name); the engine reads them back (restore_fields.h)."""
     run = _stopped_run(tmp_path)
+    stress, state, modes = np.arange(16.0).reshape(4, 4), np.arange(24.0).reshape(4, 6), np.arange(32.0).reshape(4, 8)
     with h5py.File(run / "out.h5", "a") as h5:
-        h5["frames/0/solid_state"] = np.zeros((4, 6))
-    with pytest.raises(OrchestratorError, match="a solid's stresses, plastic strain, temperature and damage"):
+        h5["frames/0/stress"], h5["frames/0/solid_state"], h5["frames/0/mode_stress"] = stress, state, modes
+    write_resume_input(run)
+    with h5py.File(run / RESUME_PARTICLES, "r") as h5:
+        for name, values in (("stress", stress), ("solid_state", state), ("mode_stress", modes)):
+            np.testing.assert_array_equal(h5[name][()], values)
+
+
+@pytest.mark.parametrize("key", ["grains", "impactors", "lees_edwards"])
+def test_resume_input_refuses_state_a_frame_does_not_hold(tmp_path, key):
+    """A rigid grain's or impactor's orientation and spin, a Lees-Edwards cell's strain: not in the frames, so
+    --resume refuses such a run and moves nothing."""
+    run = _stopped_run(tmp_path)
+    deck = json.loads((run / "deck.json").read_text())
+    deck[key] = [{"name": "g"}] if key != "lees_edwards" else {"shear_rate": 1.0}
+    (run / "deck.json").write_text(json.dumps(deck))
+    with pytest.raises(OrchestratorError, match="start the run again"):
         write_resume_input(run)
     assert (run / "out.h5").is_file() and not (run / "out.1.h5").exists()
+
+
+@pytest.mark.sph
+def test_a_stopped_solid_run_resumes_to_the_uninterrupted_result(tmp_path):
+    """The quick Taylor bar, stopped half-way through the impact and resumed, against the whole run: its stresses,
+    plastic strain, temperature and damage come back from the frame (before: the bar went on as a virgin material,
+    its face's plastic strain 0.004 instead of 1.95, the energy balance -99 %)."""
+    from orchestrator.case import load_case
+    from orchestrator.run import run_case
+    from paths import CASES
+
+    bar = CASES / "verification" / "taylor_bar_42crmo4.toml"
+    common = ["numerics.threads=1", "simulation.frames=4"]
+    whole = run_case(load_case(bar, preset="quick", overrides=[*common, "simulation.duration=3e-5"]), engine="sph",
+                     out_dir=tmp_path / "whole", progress=False).measured
+    half = load_case(bar, preset="quick", overrides=[*common, "simulation.duration=1.5e-5"])
+    run_case(half, engine="sph", out_dir=tmp_path / "half", progress=False)
+    assert _run("--resume", str(tmp_path / "half"), "--until", "3e-5") == 0
+    resumed = read_run(tmp_path / "half")["measured"]["attrs"]
+    assert whole["face_plastic_strain"] > 0.5  # the impact has yielded the face
+    for name in ("final_length", "face_diameter", "face_plastic_strain", "face_temperature", "rebound_speed"):
+        assert resumed[name] == pytest.approx(whole[name], rel=5e-3), name
+    assert resumed["energy_balance"] == pytest.approx(whole["energy_balance"], abs=5e-4)  # the same balance
 
 
 def test_resume_input_refuses_a_run_without_output(tmp_path):
