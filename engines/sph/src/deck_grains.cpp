@@ -14,8 +14,9 @@ using namespace deck_json;
 void parse_grains(const json& j, RunParameters& d) {
   if (!j.is_array()) fail("'grains' must be a list");
   if (!j.empty() && d.dimension != 3) fail("'grains' act in 3D only (dimension = " + std::to_string(d.dimension) + ")");
-  if (!j.empty() && (d.t_start > 0.0 || d.step_start > 0))
-    fail("'grains' cannot resume a run (t_start, step_start): a grain's orientation is not in the particle file");
+  // A resumed run (t_start, step_start) builds each grain from its particles' positions as any run does (its body
+  // frame, the principal one of those positions, is where its orientation starts again); the deck gives its
+  // velocity and angular velocity at that time (the Python layer's resume.grain_motion).
   std::set<std::string> seen;
   for (std::size_t i = 0; i < j.size(); ++i) {
     const json& e = j[i];

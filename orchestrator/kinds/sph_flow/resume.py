@@ -15,7 +15,9 @@ step (recomputed from the frame's state before the first step), the Verlet list 
 in memory (sums run in another order), and a column outlet's chamber (eq. OB5), which starts again from its
 buffer's particles as at t = 0 (in a steady state their density and speed are the chamber's), and a solid's
 kernel correction of eq. KC1 (recomputed from the state). Runs whose state holds more than the frame does are
-refused: Lees-Edwards cells (the cell's strain), rigid grains and impactors (a body's orientation and spin).
+refused: Lees-Edwards cells (the cell's strain) and rigid impactors (their pose is not particles). A rigid grain is
+its particles: the engine builds its body frame from their positions at any start, and its velocity and angular
+velocity are those of its particles' rigid motion in the frame (grain_motion), which the resumed deck gives it.
 """
 
 from __future__ import annotations
@@ -76,7 +78,7 @@ def write_resume_input(workdir: Path, deck_name: str = "deck.json", output: str 
     after moving its output to out.<k>.h5 (a resume whose engine failed before it wrote out.h5: from the last
     out.<k>.h5); returns the deck's name. t_end (s): the end time of the continued run;
     later than the deck's, it also runs a finished run on (default: the deck's). Raises OrchestratorError naming why
-    a run cannot be resumed (no output, finished, unstable, Lees-Edwards, grains or impactors, an unknown particle id, an
+    a run cannot be resumed (no output, finished, unstable, Lees-Edwards or impactors, an unknown particle id, an
     end time not after the last frame)."""
     import h5py
 
@@ -92,10 +94,9 @@ def write_resume_input(workdir: Path, deck_name: str = "deck.json", output: str 
     deck = json.loads(deck_path.read_text())
     if "lees_edwards" in deck:
         raise OrchestratorError("--resume: a Lees-Edwards cell's strain is not in its frames; start the run again")
-    for key, what in (("grains", "rigid grains"), ("impactors", "rigid impactors")):
-        if deck.get(key):
-            raise OrchestratorError(f"--resume: the run has {what}, whose orientation and spin are not in its frames; "
-                                    "start the run again")
+    if deck.get("impactors"):
+        raise OrchestratorError("--resume: the run has rigid impactors, whose pose and spin are not in its frames; "
+                                "start the run again")
     with h5py.File(out, "r") as h5:
         status = str(h5.attrs.get("status", "running"))
         if status == "unstable":
@@ -115,6 +116,7 @@ def write_resume_input(workdir: Path, deck_name: str = "deck.json", output: str 
         material = np.asarray(h5["material"][()]) if "material" in h5 else None
         wall_point = np.asarray(h5["wall_point"][()]) if "wall_point" in h5 else None
         densities = np.asarray(h5["densities"][()]) if "densities" in h5 else None
+        grain = np.asarray(h5["grain"][()]) if "grain" in h5 else None
     ids = frame["ids"].astype(np.int64)
     known = ids < len(masses)
     if (ids < 0).any():
@@ -131,7 +133,28 @@ def write_resume_input(workdir: Path, deck_name: str = "deck.json", output: str 
         # engines integrated it and their frames may hold it drifted (below 0, which the engine refuses)
         walled = known & (frame["kind"] == 1) & np.isfinite(wall_point[row]).all(axis=1)
         frame["densities"] = np.where(walled, densities[row], frame["densities"])
-    with h5py.File(workdir / RESUME_PARTICLES, "w") as h5:
+    _write_particles(workdir / RESUME_PARTICLES, deck, frame, ids, row, known,
+                     {"masses": masses, "material": material, "wall_point": wall_point, "grain": grain},
+                     inlet_mass, inlet_material)
+    deck.update(particles_file=RESUME_PARTICLES, t_start=time, step_start=step, t_end=end)
+    (workdir / RESUME_DECK).write_text(json.dumps(deck, indent=1))
+    return RESUME_DECK
+
+
+def _write_particles(path: Path, deck: dict, frame: dict, ids, row, known, rows: dict, inlet_mass: float,
+                     inlet_material: int) -> None:
+    """The resumed run's particle file from the frame's arrays (rows: its input rows' masses, material, wall_point
+    and grain, each None when the input had none; a particle an inlet made takes the inlet's mass and material);
+    each grain's particles made whole and its motion into the deck's grains."""
+    import h5py
+
+    masses, material, wall_point, grain = rows["masses"], rows["material"], rows["wall_point"], rows["grain"]
+    if deck.get("grains") and grain is not None:
+        for g, spec in enumerate(deck["grains"]):
+            mine = known & (frame["kind"] == 4) & (np.where(known, grain[row], -1) == g)
+            frame["positions"][mine], spec["velocity"], spec["angular_velocity"] = grain_motion(
+                frame["positions"][mine], frame["velocities"][mine], deck.get("periodic"))
+    with h5py.File(path, "w") as h5:
         for name in ("positions", "velocities", "densities"):
             h5[name] = frame[name].astype(np.float64)
         h5["kind"] = frame["kind"].astype(np.int8)
@@ -141,12 +164,27 @@ def write_resume_input(workdir: Path, deck_name: str = "deck.json", output: str 
             h5["material"] = np.where(known, material[row], inlet_material).astype(np.int32)
         if wall_point is not None:
             h5["wall_point"] = np.where(known[:, None], wall_point[row], np.nan)
+        if grain is not None:
+            h5["grain"] = np.where(known, grain[row], -1).astype(np.int32)
         for name in STATE_ARRAYS:
             if name in frame:
                 h5[name] = frame[name].astype(np.float64).reshape(len(ids), -1)
-    deck.update(particles_file=RESUME_PARTICLES, t_start=time, step_start=step, t_end=end)
-    (workdir / RESUME_DECK).write_text(json.dumps(deck, indent=1))
-    return RESUME_DECK
+
+
+def grain_motion(positions, velocities, periodic=None) -> tuple[np.ndarray, list[float], list[float]]:
+    """A grain's particles (equal masses) in a frame: their positions made whole across the periodic box (each
+    within half a box length of the first's; the engine builds a grain from unwrapped particles), the velocity of
+    their centre and their angular velocity, omega = I^-1 sum r x v about the centre (exact for a rigid motion
+    v = V + omega x r), m/s and rad/s."""
+    x, v = np.array(positions, dtype=float), np.asarray(velocities, dtype=float)
+    if periodic:
+        for axis, lo, hi in zip(periodic["axes"], periodic["lo"], periodic["hi"]):
+            length = float(hi) - float(lo)
+            x[:, axis] -= length * np.round((x[:, axis] - x[0, axis]) / length)
+    r, velocity = x - x.mean(axis=0), v.mean(axis=0)
+    inertia = np.eye(3) * np.sum(r * r) - r.T @ r
+    omega = np.linalg.solve(inertia, np.cross(r, v - velocity).sum(axis=0))
+    return x, velocity.tolist(), omega.tolist()
 
 
 def merge_parts(parts: list[tuple[Result, dict]]) -> Result:
