@@ -160,7 +160,7 @@ class Grains {
   void configure(const RunParameters& deck, const PeriodicBox<D>& box, int axis, double margin, const Particles<D>& P) {
     box_ = box, stiffness_ = deck.grain_contact.stiffness, walls_ = deck.grain_contact.walls;
     solid_stiffness_ = deck.grain_contact.solid_stiffness, particle_radius_ = 0.5 * deck.dx;
-    check_solid_contact(P);
+    check_solid_contact(P, deck.t_start > 0.0 || deck.step_start > 0);
     const bool sheared = deck.lees_edwards.on;
     const double log_e = std::log(deck.grain_contact.restitution);
     zeta_ = -log_e / std::sqrt(M_PI * M_PI + log_e * log_e);
@@ -267,8 +267,9 @@ class Grains {
     return d;
   }
   // InputError when a solid's moving particle lies beside grains without eq. G8 (no solid_stiffness, or a grain
-  // without contact radius), or inside a grain's contact sphere at the start.
-  void check_solid_contact(const Particles<D>& P) const {
+  // without contact radius), or inside a grain's contact sphere at the start of a new run (a resumed one may
+  // start in the contact it was stopped in).
+  void check_solid_contact(const Particles<D>& P, bool resumed) const {
     for (std::size_t i = 0; i < P.size(); ++i) {
       if (grains_.empty() || !P.moves(i) || !P.solid_material[P.material[i]]) continue;
       if (!(solid_stiffness_ > 0.0)) throw InputError("grains beside a solid need 'grain_contact.solid_stiffness'");
@@ -276,7 +277,7 @@ class Grains {
         if (!(b.contact_radius > 0.0))
           throw InputError("grain '" + b.name + "' beside a solid needs a 'contact_radius' (eq. G8)");
         if constexpr (D == 3)
-          if (nearest(P.x[i] - b.state.position).norm() < b.contact_radius + particle_radius_)
+          if (!resumed && nearest(P.x[i] - b.state.position).norm() < b.contact_radius + particle_radius_)
             throw InputError("grain '" + b.name + "' starts touching solid particle " + std::to_string(P.id[i]) +
                              ": it must start clear of the solid (the particles' extent dx/2 included)");
       }
