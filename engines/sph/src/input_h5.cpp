@@ -47,6 +47,18 @@ std::vector<T> read(hid_t loc, const std::string& file, const std::string& name,
   return out;
 }
 
+// The column count of 2-D dataset `name` (its shape then checked by read).
+int columns(hid_t loc, const std::string& file, const std::string& name) {
+  H5Handle ds(H5Dopen2(loc, name.c_str(), H5P_DEFAULT), H5Dclose);
+  if (!ds.valid()) fail("cannot open dataset '" + name + "' in '" + file + "'");
+  H5Handle space(H5Dget_space(ds), H5Sclose);
+  hsize_t dims[2] = {0, 0};
+  if (H5Sget_simple_extent_ndims(space) != 2) fail("dataset '" + name + "' in '" + file + "' must have shape (n, columns)");
+  H5Sget_simple_extent_dims(space, dims, nullptr);
+  if (dims[1] == 0) fail("dataset '" + name + "' in '" + file + "' has no columns");
+  return static_cast<int>(dims[1]);
+}
+
 void all_finite(const std::vector<double>& v, const std::string& file, const std::string& name) {
   for (double x : v)
     if (!std::isfinite(x)) fail("dataset '" + name + "' in '" + file + "' holds a non-finite value");
@@ -87,12 +99,7 @@ ParticleInput read_particles(const std::string& path, int dimension) {
   // Optional: a resumed run's integrated fields beyond velocity and density, as its frame wrote them.
   for (const char* name : {"stress", "mode_stress", "solid_state"}) {
     if (H5Lexists(f, name, H5P_DEFAULT) <= 0) continue;
-    H5Handle ds(H5Dopen2(f, name, H5P_DEFAULT), H5Dclose);
-    H5Handle space(H5Dget_space(ds), H5Sclose);
-    hsize_t dims[2] = {0, 0};
-    if (!ds.valid() || H5Sget_simple_extent_ndims(space) != 2 || (H5Sget_simple_extent_dims(space, dims, nullptr), dims[1] == 0))
-      fail("dataset '" + std::string(name) + "' in '" + path + "' must have shape (n, columns)");
-    SavedField field{name, static_cast<int>(dims[1]), {}};
+    SavedField field{name, columns(f, path, name), {}};
     field.values = read<double>(f, path, name, H5T_NATIVE_DOUBLE, n, field.cols);
     all_finite(field.values, path, name);
     p.saved.push_back(std::move(field));

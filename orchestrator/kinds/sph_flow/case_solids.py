@@ -199,9 +199,10 @@ def check_solid(case, i: int, m) -> None:
         if getattr(m, key) not in (None, ()):
             raise ValueError(f"{where}.{key} ({m.name}) is not a key of a johnson_cook material (its pressure and "
                              "wave speed come from [materials.solid]); remove it")
-    for key in m.given(("gamma", "background_pressure", "eos"))[:1]:
-        raise ValueError(f"{where}.{key} ({m.name}) is a key of the fluids' equation of state; a johnson_cook "
-                         f"material's is [materials.solid].eos: remove it")
+    fluid_keys = m.given(("gamma", "background_pressure", "eos"))
+    if fluid_keys:
+        raise ValueError(f"{where}.{fluid_keys[0]} ({m.name}) is a key of the fluids' equation of state; a "
+                         "johnson_cook material's is [materials.solid].eos: remove it")
     check_solid_table(where, s)
     if s.yield_stress is not None:
         limit = s.yield_stress / (2.0 * s.shear_modulus)

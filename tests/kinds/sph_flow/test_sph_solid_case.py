@@ -40,6 +40,7 @@ BAD = [
     (["materials.0.solid.heat_fraction=0.0"], "materials[0].solid.heat_capacity = 896 J/(kg K) is given but "
                                               "heat_fraction is 0"),
     (["physics.terms=['artificial_viscosity', 'morris_viscosity']"], "a solid takes artificial_viscosity only"),
+    (["materials.0.gamma=5.0"], "materials[0].gamma (al6061) is a key of the fluids' equation of state"),
 ]
 
 
