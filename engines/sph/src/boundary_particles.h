@@ -292,10 +292,12 @@ void no_slip_velocity(Particles<D>& P, const std::vector<double>& shepard, std::
 // particle with no fluid in its support keeps zero extra stress. Its pressure
 // is unchanged (eq. 6 of its own density). The sums are taken with the
 // no-slip sums (PairLoop::no_slip_sums_of_block), over the same weights.
-// Set the sums of boundary particle b to zero (start of the gather stage).
+// A grain's particle (Kind::body) is a moving wall and takes eq. W1 the same
+// way (a PTT medium's stress at a grain's surface).
+// Set the sums of boundary or grain particle b to zero (start of the gather stage).
 template <class Models, int D>
 void clear_wall_stress(Particles<D>& P, std::ptrdiff_t b) {
-  if (P.kind[b] != Kind::boundary) return;
+  if (!P.wall(b)) return;
   if constexpr (Models::any_single_stress) P.tau[b].setZero();
   if constexpr (Models::any_modes) P.mode_stress.value[b].setZero(), P.tau_solvent[b].setZero();
 }
@@ -308,10 +310,10 @@ inline void add_wall_stress(Particles<D>& P, int b, int f, double w) {
     P.tau_solvent[b].noalias() += w * P.tau_solvent[f];
   }
 }
-// Divide the sums of boundary particle b by its Shepard weight (eq. W1).
+// Divide the sums of boundary or grain particle b by its Shepard weight (eq. W1).
 template <class Models, int D>
 void wall_stress(Particles<D>& P, const std::vector<double>& shepard, std::ptrdiff_t b) {
-  if (P.kind[b] != Kind::boundary || !(shepard[b] > 0.0)) return;
+  if (!P.wall(b) || !(shepard[b] > 0.0)) return;
   const double inv = 1.0 / shepard[b];
   if constexpr (Models::any_single_stress) P.tau[b] *= inv;
   if constexpr (Models::any_modes) P.mode_stress.value[b] *= inv, P.tau_solvent[b] *= inv;

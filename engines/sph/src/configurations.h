@@ -21,8 +21,6 @@ namespace sph {
 
 template <class Models, unsigned Terms>
 struct Configuration {
-  static_assert(!Models::any_solid || Models::all_solid || !Models::any_modes,
-                "solids stand alone or beside a Newtonian fluid (the tensor path, eq. T1, with sigma = -p I there)");
   using models = Models;
   static constexpr unsigned terms = Terms;
 };
@@ -32,6 +30,7 @@ using N = ModelList<Newtonian>;
 using P = ModelList<Ptt>;
 using J = ModelList<JohnsonCook>;
 using NJ = ModelList<Newtonian, JohnsonCook>;  // a Newtonian fluid beside Johnson-Cook solids
+using PJ = ModelList<Ptt, JohnsonCook>;        // a PTT medium beside Johnson-Cook solids (eq. FS1 with its stress)
 constexpr unsigned morris = term::morris_viscosity, av = term::artificial_viscosity, several = term::several_materials;
 constexpr unsigned sheared = term::sheared;  // Lees-Edwards boundaries (the deck's `lees_edwards`)
 constexpr unsigned corrected = term::viscosity_correction;  // the deck's `viscosity_correction`
@@ -70,6 +69,9 @@ using Configurations = std::tuple<                           //
     Configuration<config::NJ, config::morris | config::several>,               // a viscous fluid on a solid
     Configuration<config::NJ, config::morris | config::av | config::several>,   //   (the abrasive-flow workpiece)
     Configuration<config::NJ, config::morris | config::several | config::grains>,  //   with grains (Fig. 5's channel)
-    Configuration<config::NJ, config::morris | config::av | config::several | config::grains>>;  //
+    Configuration<config::NJ, config::morris | config::av | config::several | config::grains>,  //
+    Configuration<config::PJ, config::morris | config::several>,               // a PTT medium on a solid
+    Configuration<config::PJ, config::morris | config::several | config::grains>,  //   with grains (the MF20 channel)
+    Configuration<config::PJ, config::morris | config::av | config::several | config::grains>>;  //
 
 }  // namespace sph

@@ -12,6 +12,11 @@
 // first row slide against each other grew at about 10 /s in 3D (a layer under oil at rest left 1e-13 m/s and
 // reached 3e-2 m/s in 3 s). Eq. FS1 with the solid's smoothing (eq. SS1, which the solid then needs: without it
 // the layer's own row mode grows) keeps both at rest.
+// A PTT medium (configurations with stress modes) carries its whole stress across, not its pressure alone: its
+// extra stress tau_f (modes, plateau, a Cross solvent; eq. 3 of materials/ptt.h) joins the pressure,
+//   dv_a/dt += m_b 2 (tau_f - p~ I) / (rho_a rho_b) grad_a W_ab                                        (FS1')
+// still antisymmetric in a and b; the solid's surface takes the medium's normal stresses (N1 along its
+// streamlines) and shear. A Newtonian medium's Morris term already carries its shear (material.h).
 #pragma once
 #include <utility>
 
@@ -22,11 +27,17 @@ namespace sph {
 
 // Eq. FS1 for the pair a, b (one of them a solid material's): the factor of m_b in dv_a/dt; grad_a W = F r with
 // r = x_a - x_b to the listed periodic image (m).
-template <int D>
+// Eq. FS1' with Polymer (a medium with stress modes), from the fluid's sigma / rho^2 of this evaluation.
+template <bool Polymer, int D>
 inline __attribute__((always_inline)) Vec<D> interface_force(const Particles<D>& P, const Vec<D>& gravity, int a,
                                                              int b, double F, const Vec<D>& r) {
   const bool a_fluid = !P.solid_material[P.material[a]];
   const int f = a_fluid ? a : b;
+  if constexpr (Polymer) {  // 2 (tau_f - p_f I) / (rho_f rho_s) g, and the hydrostatic step to the midpoint
+    const double step = 0.5 * P.rho[f] * gravity.dot(a_fluid ? Vec<D>(-r) : r);
+    return (2.0 * P.rho[f] / P.rho[a_fluid ? b : a]) * (P.sigma_rho2[f] * Vec<D>(F * r)) -
+           (2.0 * step * F / (P.rho[a] * P.rho[b])) * r;
+  }
   const double p = P.p[f] + 0.5 * P.rho[f] * gravity.dot(a_fluid ? Vec<D>(-r) : r);  // x_s - x_f = -r or r
   return (-2.0 * p * F / (P.rho[a] * P.rho[b])) * r;
 }

@@ -377,7 +377,7 @@ class PairLoop {
     if constexpr (Models::any_solid) {
       if constexpr (!Models::all_solid)  // eq. FS1 between a fluid's particle and a solid's
         if (P_.solid_material[P_.material[a]] != P_.solid_material[P_.material[b]])
-          return interface_force(P_, model_.gravity, a, b, F, r);
+          return interface_force<Models::any_modes>(P_, model_.gravity, a, b, F, r);
       if (!artificial_stress_.on) return sum_times(S_a, P_.sigma_rho2[b], g);  // the same sum without adding zeros
       return sum_times(S_a, P_.sigma_rho2[b], artificial_stress_(t, q), P_.art_stress[a], P_.art_stress[b], g);
     } else

@@ -242,7 +242,7 @@ class Simulation {
     const TaitEos& eos = materials_.eos(P_.material[b]);
     no_slip_velocity(P_, shepard_, b, eos.pressure(eos.rho0), eos.rho0);  // a wall's floor: its rest state
     if constexpr (tensor)
-      if (P_.kind[b] == Kind::boundary) wall_stress<Models>(P_, shepard_, b), equation_of_state_at(b);
+      if (P_.wall(b)) wall_stress<Models>(P_, shepard_, b), equation_of_state_at(b);  // a grain's too
   }
   // A particle of mass m appears (sign +1) or disappears (-1) at x (boundary_particles.h).
   void boundary_density_event(Vec<D> x, double m, double sign) {

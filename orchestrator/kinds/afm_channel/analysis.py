@@ -24,6 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
+from orchestrator.kinds.afm_channel.medium import flow_rate
 from orchestrator.kinds.afm_channel.pictures import plot_panels, plot_series
 from orchestrator.kinds.afm_channel.scene import GRAIN, SECTION, workpiece_mask
 from orchestrator.kinds.sph_flow.removal import REMOVAL_QUANTITIES, removed
@@ -51,7 +52,8 @@ QUANTITIES: dict[str, tuple[str, str]] = {
     "edge_drop": ("m", "the most a surface column of the two front columns came down"),
     "lowered_volume": ("m^3", "the sum of the surface columns' descents times dx^2"),
     "flow_rate": ("m^3/s", "the medium's flow rate through the plane upstream, mean over the second half"),
-    "flow_rate_empty": ("m^3/s", "the empty channel's plane Poiseuille rate f H^3 W / (12 nu)"),
+    "flow_rate_empty": ("m^3/s", "the empty channel's plane Poiseuille rate f H^3 W / (12 nu) (a PTT medium: its "
+                        "developed flow's, medium.py)"),
     "flow_rate_lubrication": ("m^3/s", "lubrication theory's rate past the workpiece (analysis.lubrication_rate)"),
 }
 
@@ -136,8 +138,11 @@ def lubrication_rate(case) -> float:
     """The medium's flow rate by lubrication theory, m^3/s: the cell as two plane channels in series, the gap H
     over the free length and H - h over the workpiece and its support (l), each of resistance 12 eta l / (W H^3),
     driven by the pressure difference rho f L the body force makes over the cell; without the grain, the step's
-    entrance and exit losses or the flow's turning (they lower the rate)."""
+    entrance and exit losses or the flow's turning (they lower the rate). A PTT medium: the same two channels with
+    its steady shear law (medium.cell_flow)."""
     m, c, w = case.medium, case.channel, case.workpiece
+    if m.modes:
+        return case.cell().flow_rate * c.width
     blocked = case.support_end() - w.front
     resistance = (c.length - blocked) / c.gap**3 + blocked / (c.gap - w.height)**3
     return m.density * m.body_force * c.length * c.width / (12.0 * m.viscosity * resistance)
@@ -146,8 +151,10 @@ def lubrication_rate(case) -> float:
 def flow_quantities(case, result) -> dict[str, float]:
     """The medium's mean flow rate over the run's second half, the empty channel's and the lubrication estimate."""
     m, c = case.medium, case.channel
-    out = {"flow_rate_empty": m.body_force * m.density * c.gap**3 * c.width / (12.0 * m.viscosity),
-           "flow_rate_lubrication": lubrication_rate(case)}
+    empty = m.body_force * m.density * c.gap**3 * c.width / (12.0 * m.viscosity)
+    if m.modes:
+        empty = flow_rate(m.law(), c.gap, m.density * m.body_force) * c.width
+    out = {"flow_rate_empty": empty, "flow_rate_lubrication": lubrication_rate(case)}
     q = _series(result, f"flow_rate_{SECTION}")
     if q is not None and len(q) >= 4:
         out["flow_rate"] = float(np.mean(q[len(q) // 2:]))

@@ -14,16 +14,23 @@ bottom wall below z = 0, the top wall above z = channel.gap). SI units (m, kg, s
 from __future__ import annotations
 
 import math
+from typing import Literal
 
+import numpy as np
 from pydantic import Field, model_validator
 
-from orchestrator.case.common import CaseMeta, Frozen, Name, Positive
+from orchestrator.case.common import CaseMeta, Frozen, Name, NonNegative, Positive
+from orchestrator.kinds.afm_channel.medium import CellFlow, MediumLaw, cell_flow, developed_velocity
 from orchestrator.kinds.sph_flow.case_impact import ImpactSimulation
+from orchestrator.kinds.sph_flow.case_materials import MAX_MODES, PttMode
 from orchestrator.kinds.sph_flow.case_solids import SMOOTHING_BESIDE_FLUID, ImpactViscosity, SolidBody, check_solid_table
+from orchestrator.reference.maxwell import Mode
 
 
 #: The medium's largest density variation the sound speed is chosen for (AfmChannelCase.sound_speed), -.
 DENSITY_VARIATION = 0.01
+#: The largest Reynolds number of the grain that numerics.inertia_scaling may give the run (creeping flow), -.
+MAX_SCALED_REYNOLDS = 0.1
 
 
 class Channel(Frozen):
@@ -36,12 +43,43 @@ class Channel(Frozen):
 
 
 class Medium(Frozen):
-    """The Newtonian medium and what drives it."""
+    """The medium and what drives it: Newtonian, or a multi-mode linear PTT medium (the modes of `calibrate
+    maxwell` or Table III, with `viscosity` its Newtonian solvent), at rest or in its steady flow at the start."""
 
     density: Positive = Field(description="density rho, kg/m^3")
-    viscosity: Positive = Field(description="dynamic viscosity eta, Pa s")
+    viscosity: Positive = Field(description="dynamic viscosity eta of a Newtonian medium, or the solvent's eta_s "
+                                "beside modes (the Morris term), Pa s")
     body_force: Positive = Field(description="body force per unit mass along +x on the fluid only (a pressure "
                                  "gradient rho f; the grain and the workpiece take none), m/s^2")
+    modes: tuple[PttMode, ...] = Field((), description="a PTT medium's Maxwell modes, [[medium.modes]] tables "
+                                       "(relaxation_time s, viscosity Pa s); none: a Newtonian medium")
+    epsilon: NonNegative | None = Field(None, description="the PTT extensibility epsilon of every mode, - (needed "
+                                        "with modes)")
+    start: Literal["rest", "steady"] | None = Field(
+        None, description="the medium at the start: at rest, or in the cell's steady flow (medium.py: each part's "
+                          "developed profile and mode stresses at one flow rate; the grain at its centre's speed); "
+                          "default steady with modes (they relax over seconds), rest without")
+
+    @model_validator(mode="after")
+    def _ptt(self):
+        if self.modes and self.epsilon is None:
+            raise ValueError("medium.epsilon is missing: a PTT medium (medium.modes) needs its extensibility "
+                             "(0.1 for MF20 in cases/rheometry/mf20_table3.toml)")
+        if not self.modes and self.epsilon is not None:
+            raise ValueError("medium.epsilon is a key of a PTT medium: give medium.modes or remove it")
+        if len(self.modes) > MAX_MODES:
+            raise ValueError(f"medium.modes has {len(self.modes)} modes; allowed: 1 to {MAX_MODES}")
+        return self
+
+    @property
+    def steady_start(self) -> bool:
+        """Whether the medium starts in its steady flow."""
+        return (self.start or ("steady" if self.modes else "rest")) == "steady"
+
+    def law(self) -> MediumLaw:
+        """The medium's steady shear law (medium.py)."""
+        modes = tuple(Mode(m.relaxation_time, m.viscosity) for m in self.modes)
+        return MediumLaw(self.viscosity, modes, self.epsilon or 0.0)
 
     def centreline_speed(self, gap: float) -> float:
         """The plane Poiseuille flow's centreline speed f H^2 / (8 nu) in the empty channel of gap H (m), m/s."""
@@ -79,6 +117,10 @@ class ChannelNumerics(Frozen):
                                      "particle (eq. G8) over rho0 c_L^2 dx of the workpiece, -")
     max_density_deviation: float = Field(0.4, gt=0.0, lt=1.0, description="the run stops as unstable when a "
                                          "particle has |rho/rho0 - 1| above this, -")
+    inertia_scaling: float = Field(1.0, ge=1.0, le=1.0e6, description="s: the medium and the grain run with s "
+                                   "times their densities at the same pressure gradient (the body force over s); "
+                                   "creeping flow (Reynolds number x s well below 1) does not see it, and the step "
+                                   "grows by sqrt(s) (docs/afm_channel.md), -")
     threads: int = Field(2, ge=1, le=256, description="OpenMP threads of the engine")
 
 
@@ -93,17 +135,72 @@ class AfmChannelCase(Frozen):
     numerics: ChannelNumerics
     simulation: ImpactSimulation
 
+    def cell(self) -> CellFlow:
+        """The cell's steady flow under the body force (medium.py): the wide part (channel.gap) and the passage
+        over the workpiece and its support at one flow rate."""
+        c, w, m = self.channel, self.workpiece, self.medium
+        narrow = self.support_end() - w.front
+        return cell_flow(m.law(), m.density * m.body_force, (c.gap, c.gap - w.height), (c.length - narrow, narrow))
+
+    def steady_speed(self) -> float:
+        """The steady cell flow's largest speed, at the middle of the wide part or of the passage, m/s."""
+        flow, law = self.cell(), self.medium.law()
+        return max(float(developed_velocity(law, 0.5 * gap, gap, gradient))
+                   for gap, gradient in ((flow.wide_gap, flow.wide_gradient), (flow.narrow_gap, flow.narrow_gradient)))
+
+    def steady_stress(self) -> float:
+        """The steady cell flow's largest stress, the shear stress or the modes' first normal stress difference at
+        the walls of the wide part or the passage, Pa."""
+        flow, law = self.cell(), self.medium.law()
+        out = 0.0
+        for gap, gradient in ((flow.wide_gap, flow.wide_gradient), (flow.narrow_gap, flow.narrow_gradient)):
+            shear = 0.5 * gap * gradient
+            normal = float(law.mode_stresses(law.rate(np.array([shear])))[0, :, 1].sum()) if law.modes else 0.0
+            out = max(out, shear, normal)
+        return out
+
     def max_speed(self) -> float:
-        """The speed the run allows for (the medium's sound speed is 10 times it): 1.2 x the empty channel's
-        centreline speed, m/s."""
+        """The speed the run allows for (the medium's sound speed is 10 times it), m/s: 1.2 x the empty channel's
+        centreline speed for a Newtonian medium at rest, else 1.2 x the steady cell flow's largest speed."""
+        if self.medium.steady_start or self.medium.modes:
+            return 1.2 * self.steady_speed()
         return 1.2 * self.medium.centreline_speed(self.channel.gap)
+
+    def scaled_density(self) -> float:
+        """The medium's density in the run, rho s (numerics.inertia_scaling), kg/m^3."""
+        return self.medium.density * self.numerics.inertia_scaling
 
     def sound_speed(self) -> float:
         """The medium's sound speed c0, m/s: 10 x max_speed (Mach 0.1), and enough that the whole cell's drive rho
         f L standing on the workpiece and the grain compresses the medium by at most DENSITY_VARIATION (c0^2 >= f L
-        / delta; Morris et al. 1997's body-force criterion)."""
-        drive = self.medium.body_force * self.channel.length / DENSITY_VARIATION
-        return max(10.0 * self.max_speed(), math.sqrt(drive))
+        / delta; Morris et al. 1997's body-force criterion), and with modes that the steady flow's largest stress
+        sigma does (rho s c0^2 delta >= sigma): the pressure must carry the normal stresses' differences."""
+        s = self.numerics.inertia_scaling
+        c2 = self.medium.body_force * self.channel.length / (s * DENSITY_VARIATION)
+        if self.medium.modes:
+            c2 = max(c2, self.steady_stress() / (self.scaled_density() * DENSITY_VARIATION))
+        return max(10.0 * self.max_speed(), math.sqrt(c2))
+
+    def timestep(self) -> float:
+        """The fixed step of a PTT medium's run (the engine's adaptive step does not know the modes), s: 0.25 h over
+        the fastest wave (the medium's c0, the workpiece's scaled c_L), 0.125 h^2 over the solvent's kinematic
+        viscosity, 0.25 sqrt(h / f) of the run's body force; the same bounds as the adaptive step at rest."""
+        n, w = self.numerics, self.workpiece
+        h = n.h_over_dx * n.dx
+        wave = max(self.sound_speed(), w.solid.wave_speed(w.density) / math.sqrt(w.mass_scaling))
+        nu = self.medium.viscosity / self.scaled_density()
+        force = self.medium.body_force / n.inertia_scaling
+        return min(0.25 * h / wave, 0.125 * h * h / nu, 0.25 * math.sqrt(h / force))
+
+    def reynolds_number(self) -> float:
+        """rho s U d / eta of the grain in the run: U the largest speed of the flow, eta the medium's lowest
+        viscosity (at the walls of the steady cell flow, or the Newtonian one), -."""
+        m, flow = self.medium, self.cell()
+        eta = m.viscosity
+        if m.modes:
+            shear = 0.5 * flow.narrow_gap * flow.narrow_gradient
+            eta = shear / float(m.law().rate(shear))
+        return self.scaled_density() * self.max_speed() / 1.2 * self.grain.diameter / eta
 
     def height(self) -> float:
         """The domain's height: the gap and both walls, m."""
@@ -133,6 +230,10 @@ class AfmChannelCase(Frozen):
                              "cannot pass over the workpiece")
         self.workpiece.check_impact_speed(self.max_speed(), "1.2 x the centreline speed of medium.body_force",
                                           "workpiece")
+        if self.numerics.inertia_scaling > 1.0 and self.reynolds_number() > MAX_SCALED_REYNOLDS:
+            raise ValueError(f"numerics.inertia_scaling = {self.numerics.inertia_scaling:g} gives the grain a "
+                             f"Reynolds number of {self.reynolds_number():.3g} in the run, above "
+                             f"{MAX_SCALED_REYNOLDS:g}: the scaled inertia would change the flow; lower it")
         return self
 
     def _check_lattice(self) -> None:

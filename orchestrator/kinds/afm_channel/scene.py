@@ -7,9 +7,12 @@ the whole gap upstream of the grain's start records the medium's flow rate. SI u
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from orchestrator.kinds.afm_channel.case import AfmChannelCase
+from orchestrator.kinds.afm_channel.medium import developed_rate, developed_velocity
 from orchestrator.kinds.sph_flow.case import SphFlowCase
 from orchestrator.kinds.sph_flow.scene import SphScene, build_sph_flow
 
@@ -46,7 +49,7 @@ def blocks(case: AfmChannelCase) -> list[dict]:
 def flow_case(case: AfmChannelCase) -> SphFlowCase:
     """The sph_flow case of the channel, its workpiece and the grain (z shifted by the bottom wall's thickness)."""
     c, m, g, dx = case.channel, case.medium, case.grain, case.numerics.dx
-    wall = c.wall_layers * dx
+    wall, s = c.wall_layers * dx, case.numerics.inertia_scaling
     av = case.numerics.artificial_viscosity
     frame = case.simulation.duration / case.simulation.frames
     data = {
@@ -55,17 +58,17 @@ def flow_case(case: AfmChannelCase) -> SphFlowCase:
         "domain": {"dimension": 3, "lo": [0.0, 0.0, 0.0], "hi": [c.length, c.width, case.height()],
                    "periodic": [0, 1]},
         "fluid": {"max_speed": case.max_speed()},
-        "materials": [{"name": MEDIUM, "model": "newtonian", "density": m.density,
-                       "viscosity": m.viscosity / m.density, "sound_speed": case.sound_speed()}, case.workpiece.case_material()],
+        "materials": [medium_material(case), case.workpiece.case_material()],
         "physics": {"terms": ["morris_viscosity", "artificial_viscosity", "body_force"],
-                    "body_force": [m.body_force, 0.0, 0.0], "body_force_on": "fluids",
+                    "body_force": [m.body_force / s, 0.0, 0.0], "body_force_on": "fluids",
                     "artificial_viscosity": {"alpha": av.alpha, "beta": av.beta}},
         "blocks": blocks(case),
-        "grains": [{"name": GRAIN, "radius": 0.5 * g.diameter, "density": g.density,
-                    "centre": [g.start, 0.5 * c.width, wall + g.height]}],
+        "grains": [{"name": GRAIN, "radius": 0.5 * g.diameter, "density": g.density * s,
+                    "centre": [g.start, 0.5 * c.width, wall + g.height], "velocity": [grain_speed(case), 0.0, 0.0]}],
         "grain_contact": {"solid_stiffness_factor": case.numerics.contact_stiffness},
         "numerics": {"dx": dx, "h_over_dx": case.numerics.h_over_dx, "threads": case.numerics.threads,
-                     "max_density_deviation": case.numerics.max_density_deviation},
+                     "max_density_deviation": case.numerics.max_density_deviation}
+                    | ({"dt": case.timestep()} if m.modes else {}),
         "simulation": {"duration": case.simulation.duration},
         "output": {"frame_interval": frame, "series_interval": frame / case.simulation.series_per_frame,
                    "flow_planes": [{"name": SECTION, "center": [section_x(case), 0.5 * c.width, wall + 0.5 * c.gap],
@@ -73,6 +76,56 @@ def flow_case(case: AfmChannelCase) -> SphFlowCase:
                                     "u": [0.0, 1.0, 0.0]}]},
     }
     return SphFlowCase.model_validate(data)
+
+
+def medium_material(case: AfmChannelCase) -> dict:
+    """The medium's [[materials]] table: Newtonian, or PTT with its solvent as the Morris term and a background
+    pressure of the steady flow's largest stress (the first normal stress difference: tension along the streamlines
+    beyond the pressure is SPH's tensile instability; a periodic PTT channel without it went unstable within 10
+    relaxation times even at Wi 0.8, and held with it); its density times numerics.inertia_scaling."""
+    m, rho = case.medium, case.scaled_density()
+    if not m.modes:
+        return {"name": MEDIUM, "model": "newtonian", "density": rho, "viscosity": m.viscosity / rho,
+                "sound_speed": case.sound_speed()}
+    return {"name": MEDIUM, "model": "ptt", "density": rho, "sound_speed": case.sound_speed(), "epsilon": m.epsilon,
+            "solvent_viscosity": m.viscosity, "background_pressure": case.steady_stress(),
+            "modes": [{"relaxation_time": k.relaxation_time, "viscosity": k.viscosity} for k in m.modes]}
+
+
+def grain_speed(case: AfmChannelCase) -> float:
+    """The grain's starting speed along x, m/s: 0 in a medium at rest, else the steady flow's at its centre."""
+    if not case.medium.steady_start:
+        return 0.0
+    flow = case.cell()
+    return float(developed_velocity(case.medium.law(), case.grain.height, flow.wide_gap, flow.wide_gradient))
+
+
+def steady_start(case: AfmChannelCase, scene: SphScene) -> SphScene:
+    """The scene with the medium in the cell's steady flow (medium.py): each medium particle at the developed
+    profile of its part (the passage over the workpiece and its support, or the wide part) and, with modes, each
+    mode's steady stresses (tau_xz, tau_xx) at its shear rate (the grain's speed is set in flow_case). The pressure is left
+    at rest: it settles within a sound crossing of the cell."""
+    c, w, dx = case.channel, case.workpiece, case.numerics.dx
+    wall, flow, law = c.wall_layers * dx, case.cell(), case.medium.law()
+    x = np.asarray(scene.positions)
+    medium = (np.asarray(scene.material) == 0) & (np.asarray(scene.kind) == 0)  # the grain moves as set in flow_case
+    over = (x[:, 0] > w.front) & (x[:, 0] < case.support_end())
+    velocities = np.array(scene.velocities, dtype=float)
+    rate = np.zeros(len(x))
+    for part, gap, gradient, floor in ((over, flow.narrow_gap, flow.narrow_gradient, wall + w.height),
+                                       (~over, flow.wide_gap, flow.wide_gradient, wall)):
+        rows = medium & part
+        z = x[rows, 2] - floor
+        velocities[rows, 0] = developed_velocity(law, z, gap, gradient)
+        rate[rows] = developed_rate(law, np.clip(z, 0.0, gap), gap, gradient)
+    state = None
+    if law.modes:
+        stresses = np.zeros((len(x), len(law.modes), 3, 3))
+        modes = law.mode_stresses(rate[medium])
+        stresses[medium, :, 0, 2] = stresses[medium, :, 2, 0] = modes[:, :, 0]
+        stresses[medium, :, 0, 0] = modes[:, :, 1]
+        state = {"mode_stress": stresses.reshape(len(x), -1)}
+    return replace(scene, velocities=velocities, state=state)
 
 
 def section_x(case: AfmChannelCase) -> float:
@@ -94,4 +147,5 @@ def workpiece_mask(case, first: dict) -> np.ndarray:
 
 def build_afm_channel(case: AfmChannelCase) -> SphScene:
     """The channel's particles, the grain and the deck's settings (an sph_flow scene)."""
-    return build_sph_flow(flow_case(case))
+    scene = build_sph_flow(flow_case(case))
+    return steady_start(case, scene) if case.medium.steady_start else scene

@@ -330,14 +330,21 @@ def _check_ptt(case, i: int, m: Material) -> None:
         if not (m.solvent_viscosity or 0.0) > 0.0:
             raise ValueError(f"{where}.solvent_viscosity ({m.name}) must be > 0 with 'morris_viscosity' in "
                              "physics.terms: the Morris term carries a ptt material's solvent viscosity")
-        if len(case.materials) > 1:
+        fluids = [o.name for o in case.materials if o.model != "johnson_cook"]
+        if len(fluids) > 1:
             raise ValueError(f"{where} ({m.name}): 'morris_viscosity' with a ptt material needs it to be the only "
-                             "[[materials]] table; the sph executable compiles PTT with the Morris term for one "
-                             "material")
-    others = [o.name for o in case.materials if o.model != "ptt"]
+                             f"fluid [[materials]] table (here also {[f for f in fluids if f != m.name][0]!r}); the "
+                             "sph executable compiles PTT with the Morris term for one fluid, alone or beside "
+                             "johnson_cook solids")
+    others = [o.name for o in case.materials if o.model not in ("ptt", "johnson_cook")]
     if others:
         raise ValueError(f"{where} ({m.name}) is a ptt material beside the {others[0]!r} material of another "
-                         "model; the sph executable runs PTT materials only with each other")
+                         "model; the sph executable runs PTT materials with each other or beside johnson_cook solids")
+    solids = [o.name for o in case.materials if o.model == "johnson_cook"]
+    if solids and "morris_viscosity" not in case.physics.terms:
+        raise ValueError(f"{where} ({m.name}) is a ptt medium beside the johnson_cook material {solids[0]!r}: "
+                         "physics.terms needs 'morris_viscosity' (its solvent, the no-slip on the solid; the "
+                         "compiled configurations of a PTT medium on a solid carry it)")
     if m.eos == "quadratic" and m.given(("gamma",)):
         raise ValueError(f"{where}.gamma ({m.name}) is the Tait exponent; the quadratic eos does not use it: "
                          "remove it")

@@ -212,10 +212,11 @@ def check_solid(case, i: int, m) -> None:
                              f"state's range carries: yielding in uniaxial strain needs a density change A / (2 G) = "
                              f"{limit:.3g}, beyond numerics.max_density_deviation = {deviation:g}")
     others = [o for o in case.materials if o.model != "johnson_cook"]
-    unlike = [o.name for o in others if o.model != "newtonian"]
-    if unlike:
-        raise ValueError(f"{where} ({m.name}) is a johnson_cook material beside the {unlike[0]!r} material of "
-                         "another model; the sph executable runs solids alone or beside a newtonian fluid")
+    models = {o.model for o in others}
+    if len(models) > 1:
+        raise ValueError(f"{where} ({m.name}) is a johnson_cook material beside fluids of two models "
+                         f"({', '.join(sorted(models))}); the sph executable runs solids alone or beside newtonian "
+                         "fluids or one ptt medium")
     terms = set(case.physics.terms)
     if others:
         fluid = others[0].name

@@ -53,6 +53,7 @@ class SphScene:
     grain: np.ndarray | None = None  # (n,) int32: a grain particle's (kind 4) index into case.grains, else -1
     grains: tuple[dict, ...] = ()  # the deck's grain objects (case_grains.grain_decks)
     body_force: tuple[float, ...] | None = None  # the fluid's body force when it is not physics.body_force, m/s^2
+    state: dict[str, np.ndarray] | None = None  # starting stresses the engine restores by row (mode_stress (n, modes D^2) Pa)
 
     @property
     def dimension(self) -> int:

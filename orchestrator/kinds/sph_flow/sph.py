@@ -132,7 +132,8 @@ def write_particles(scene, path: Path) -> None:
     """The particle input file: positions (n,D) m, velocities (n,D) m/s, masses (n) kg, densities (n)
     kg/m^3, kind (n) int8 (0 fluid, 1 fixed boundary, 4 a grain's particle; then grain (n) int32, its grain), with [[materials]] material (n) int32 (index into the
     deck's materials) and, when a block names a cylinder wall, wall_point (n,D) m (a boundary particle's nearest
-    point of the true wall; NaN rows: none)."""
+    point of the true wall; NaN rows: none), and the scene's starting state (mode_stress (n, modes D^2) Pa, each
+    mode's tensor row by row)."""
     import h5py
 
     with h5py.File(path, "w") as h5:
@@ -147,6 +148,8 @@ def write_particles(scene, path: Path) -> None:
             h5["wall_point"] = np.asarray(scene.wall_point, dtype=np.float64)
         if scene.grain is not None:
             h5["grain"] = np.asarray(scene.grain, dtype=np.int32)
+        for name, values in (scene.state or {}).items():  # restored by the engine as a resumed run's (resume.py)
+            h5[name] = np.asarray(values, dtype=np.float64).reshape(len(scene.masses), -1)
 
 
 def write_meshes(scene, path: Path) -> None:
