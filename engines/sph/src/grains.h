@@ -47,6 +47,12 @@ class Grains {
     Vec<3> contact = Vec<3>::Zero();  // the other grains' contact force of the last evaluation (G6), N
     double contact_radius = 0.0;      // m (0: no contact)
     std::size_t particles = 0;
+    // Since the last series record (the recorder closes them): the contact's impulse (the kicks' sum of contact dt,
+    // N s), its largest magnitude over the steps (N) and the time it acted (s). A record of the contact force is one
+    // step's; these see every step.
+    mutable Vec<3> contact_impulse = Vec<3>::Zero();
+    mutable double contact_peak = 0.0, contact_time = 0.0;
+    void close_interval() const { contact_impulse.setZero(), contact_peak = contact_time = 0.0; }
   };
 
   bool empty() const { return grains_.empty(); }
@@ -143,6 +149,8 @@ class Grains {
       solid_contacts(P);
       if (!(dt > 0.0)) return;
       for (auto& b : grains_) {
+        b.contact_impulse += dt * b.contact, b.contact_peak = std::max(b.contact_peak, b.contact.norm());
+        if (b.contact.squaredNorm() > 0.0) b.contact_time += dt;
         rigid::kick(b.body, b.state, b.wrench.force + b.contact + b.body.mass * b.body_force, b.wrench.torque, dt);
         rigid::drift(b.body, b.state, 0.5 * dt);
         b.rotation = b.state.orientation.toRotationMatrix();

@@ -26,11 +26,13 @@ inline constexpr std::tuple<const char*, int, const char*> impactor_series[] = {
 inline constexpr int impactor_columns = 18;
 // Each grain's series (grains.h): its centre of mass, velocity, angular velocity, orientation, the fluid's force
 // and torque about its centre on it (eq. G2), and its contacts' force (eqs. G6-G8), of the last evaluation (mid-step
-// during a run; its body force apart).
+// during a run; its body force apart); then over every step since the previous record the contacts' impulse, their
+// largest force and the time they acted.
 inline constexpr std::tuple<const char*, int, const char*> grain_series[] = {
     {"position", 3, "m"}, {"velocity", 3, "m/s"}, {"angular_velocity", 3, "rad/s"}, {"orientation", 4, "1"},
-    {"force", 3, "N"}, {"torque", 3, "N m"}, {"contact", 3, "N"}};
-inline constexpr int grain_columns = 22;
+    {"force", 3, "N"}, {"torque", 3, "N m"}, {"contact", 3, "N"}, {"contact_impulse", 3, "N s"},
+    {"contact_peak", 0, "N"}, {"contact_time", 0, "s"}};
+inline constexpr int grain_columns = 27;
 
 template <int D, class Sim>
 class Recorder {
@@ -92,7 +94,7 @@ class Recorder {
     for (std::size_t b = 0; b < bodies; ++b)
       for (const auto& series : impactor_series) rows_.push_back(&values_[j]), j += std::max(1, std::get<1>(series));
     for (std::size_t g = 0; g < grains; ++g)
-      for (const auto& series : grain_series) rows_.push_back(&values_[j]), j += std::get<1>(series);
+      for (const auto& series : grain_series) rows_.push_back(&values_[j]), j += std::max(1, std::get<1>(series));
     ids_.reserve(n), kind_.reserve(n), x_.reserve(n * D), v_.reserve(n * D), rho_.reserve(n), p_.reserve(n);
     order_.reserve(n);
     if (sim.particles().has_stress) field_.reserve(n * D * D);
@@ -158,8 +160,10 @@ class Recorder {
           s.position.x(), s.position.y(), s.position.z(), s.velocity.x(), s.velocity.y(), s.velocity.z(),
           s.angular_velocity.x(), s.angular_velocity.y(), s.angular_velocity.z(), q.w(), q.x(), q.y(), q.z(),
           g.wrench.force.x(), g.wrench.force.y(), g.wrench.force.z(), g.wrench.torque.x(), g.wrench.torque.y(),
-          g.wrench.torque.z(), g.contact.x(), g.contact.y(), g.contact.z()};
+          g.wrench.torque.z(), g.contact.x(), g.contact.y(), g.contact.z(), g.contact_impulse.x(),
+          g.contact_impulse.y(), g.contact_impulse.z(), g.contact_peak, g.contact_time};
       std::copy(row, row + grain_columns, values_.begin() + k), k += grain_columns;
+      g.close_interval();
     }
     out_.record(t, rows_);
     last_series_ = t;

@@ -252,12 +252,15 @@ TEST(two_grains_collide_at_the_set_restitution_keeping_momentum) {
       if (Q.moves(i)) p += Q.mass[i] * Q.v[i], l += Q.mass[i] * Q.x[i].cross(Q.v[i]), scale += Q.mass[i] * Q.v[i].norm();
   };
   const double before = relative_speed();
+  const Vec<3> v_start = sim.grains().grains()[1].state.velocity;
+  Vec<3> fluid_impulse = Vec<3>::Zero();  // the fluid's on the right grain, as its kicks apply it
   double worst_p = 0.0, worst_l = 0.0, closest = 1.0;
   for (int s = 0; s < 200; ++s) {
     Vec<3> p0, l0, p1, l1;
     double scale;
     totals_of(p0, l0, scale);
     CHECK(sim.step(dt, NoCrossings{}));
+    fluid_impulse += dt * sim.grains().grains()[1].wrench.force;
     totals_of(p1, l1, scale);
     worst_p = std::max(worst_p, (p1 - p0).norm() / scale);
     worst_l = std::max(worst_l, (l1 - l0).norm() / (scale * nx * dx));
@@ -271,6 +274,21 @@ TEST(two_grains_collide_at_the_set_restitution_keeping_momentum) {
   CHECK(std::abs(-after / before - e) < 0.02 * e);
   CHECK(closest < 5.8 * dx && closest > 4.0 * dx);  // they touched and did not pass through
   CHECK(worst_p < 1e-13 && worst_l < 1e-12);
+  // The contact's record over every step (no recorder closed it here): equal and opposite impulses that, with the
+  // fluid's, are the grain's momentum change; about (1 + e) m V along the line (the fluid's drag on the way in and
+  // out apart); acting for less than the undamped contact time, its peak above the mean force and below twice it.
+  const auto& G = sim.grains().grains();
+  const double mass = G[1].body.mass, impulse = G[1].contact_impulse.dot(line);
+  const Vec<3> change = mass * (G[1].state.velocity - v_start);
+  std::fprintf(stderr, "  contact impulse %.5e N s against (1 + e) m V = %.5e; with the fluid's, the momentum change to "
+               "%.1e; peak %.4e N; acted %.1f steps\n", impulse, (1.0 + e) * mass * 0.1,
+               (G[1].contact_impulse + fluid_impulse - change).norm() / change.norm(), G[1].contact_peak,
+               G[1].contact_time / dt);
+  CHECK((G[0].contact_impulse + G[1].contact_impulse).norm() < 1e-14 * std::abs(impulse));
+  CHECK((G[1].contact_impulse + fluid_impulse - change).norm() < 1e-12 * change.norm());
+  CHECK(std::abs(impulse / ((1.0 + e) * mass * 0.1) - 1.0) < 0.03);
+  CHECK(G[1].contact_time > 30 * dt && G[1].contact_time <= contact_time);
+  CHECK(G[1].contact_peak > impulse / G[1].contact_time && G[1].contact_peak < 2.0 * impulse / G[1].contact_time);
 }
 
 TEST(grain_bounces_off_a_wall_plane_at_the_set_restitution) {

@@ -42,8 +42,8 @@ QUANTITIES: dict[str, tuple[str, str]] = {
     "grain_speed_mean": ("m/s", "grain_travel over the run's duration"),
     "grain_turn": ("rad", "the grain's rotation about y over the run (the time integral of omega_y)"),
     "edge_penetration": ("m", "the most the grain's sphere reached past the edge line (negative: clear of it)"),
-    "contact_force_max": ("N", "the largest magnitude of the contact force on the grain"),
-    "contact_impulse": ("N s", "the time integral of the contact force's magnitude"),
+    "contact_force_max": ("N", "the largest magnitude of the contact force on the grain over every step"),
+    "contact_impulse": ("N s", "the magnitude of the contact force's time integral (the momentum it gave the grain)"),
     "contact_time": ("s", "how long the contact force is non-zero"),
     "max_plastic_strain": ("-", "the largest equivalent plastic strain in the workpiece at the end"),
     "plastic_volume": ("m^3", f"the workpiece's volume with plastic strain above {PLASTIC} at the end"),
@@ -81,7 +81,14 @@ def grain_quantities(case, result) -> dict[str, float]:
 
 
 def contact_quantities(result) -> dict[str, float]:
-    """The contact force's peak, impulse and duration."""
+    """The contact force's peak, impulse (magnitude of its time integral) and duration: over every step from the
+    engine's interval series (contact_peak, contact_impulse, contact_time); from the sampled force where a run has
+    none."""
+    peak = _series(result, f"grain_{GRAIN}_contact_peak")
+    if peak is not None and len(peak):
+        impulse = np.sum(_series(result, f"grain_{GRAIN}_contact_impulse"), axis=0)
+        return {"contact_force_max": float(np.max(peak)), "contact_impulse": float(np.linalg.norm(impulse)),
+                "contact_time": float(np.sum(_series(result, f"grain_{GRAIN}_contact_time")))}
     f = _series(result, f"grain_{GRAIN}_contact")
     t = np.asarray(result.time, dtype=float)
     if f is None or len(t) < 2:

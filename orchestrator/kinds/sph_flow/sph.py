@@ -181,7 +181,9 @@ SERIES_DESCRIPTIONS = {
     "impactor_": "a rigid impactor's centre, velocity, angular velocity, orientation (quaternion w, x, y, z), the "
                  "particles' contact force on it, its kinetic and contact energy (engines/sph/README.md)",
     "grain_": "a rigid grain's centre of mass, velocity, angular velocity, orientation (quaternion w, x, y, z), the "
-              "fluid's force and torque on it (eq. G2) and its contacts' force (eqs. G6-G8, engines/sph/README.md)",
+              "fluid's force and torque on it (eq. G2) and its contacts' force (eqs. G6-G8, engines/sph/README.md); "
+              "_contact_impulse, _contact_peak, _contact_time: over every step since the previous record, the "
+              "contacts' impulse, largest force and the time they acted",
 }
 #: Root attributes of out.h5 copied into run.h5 (engine name -> run.h5 name).
 ENGINE_ATTRS = {"n_steps": "n_steps", "dt_mean": "dt", "t_final": "simulated_time", "wall_time_s": "engine_wall_time_s",
