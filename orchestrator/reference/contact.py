@@ -177,3 +177,20 @@ def tangential_force_update(elastic_force, tangential_velocity, dt, tangential_s
     elastic = np.where(sliding[..., None], checked * scale, elastic)
     total = np.where(sliding[..., None], elastic, elastic + viscous)
     return elastic, total, sliding
+
+
+def bonded_layer_factor(chi, poisson_ratio):
+    """F / F_Hertz (-) of a rigid sphere pressed into an elastic layer of thickness h bonded to a rigid base and
+    unbounded sideways (Dimitriadis et al. 2002): 1 - 2 a0 chi / pi + 4 a0^2 chi^2 / pi^2 - 8 (a0^3 + 4 pi^2 b0 / 15)
+    chi^3 / pi^3 - 16 a0 (a0^3 + 3 pi^2 b0 / 5) chi^4 / pi^4 with chi = sqrt(R delta) / h (the Hertz contact radius
+    over the thickness, -, scalar or array; the series holds for chi up to about 1) and a0 = -(1.2876 - 1.4678 nu +
+    1.3442 nu^2) / (1 - nu), b0 = (0.6387 - 1.0277 nu + 1.5164 nu^2) / (1 - nu). At nu = 1/2 it is their
+    1 + 1.133 chi + 1.283 chi^2 + 0.769 chi^3 + 0.0975 chi^4."""
+    nu = poisson_ratio
+    a0 = -(1.2876 - 1.4678 * nu + 1.3442 * nu * nu) / (1.0 - nu)
+    b0 = (0.6387 - 1.0277 * nu + 1.5164 * nu * nu) / (1.0 - nu)
+    chi = np.asarray(chi, dtype=float)
+    pi = math.pi
+    return (1.0 - 2.0 * a0 / pi * chi + 4.0 * a0**2 / pi**2 * chi**2
+            - 8.0 / pi**3 * (a0**3 + 4.0 * pi**2 / 15.0 * b0) * chi**3
+            - 16.0 * a0 / pi**4 * (a0**3 + 3.0 * pi**2 / 5.0 * b0) * chi**4)

@@ -18,7 +18,9 @@ Definitions (the top face is z = 0; r the sphere's radius):
 - hertz_modulus (an indenter, sphere.kinematic): Hertz's F = 4/3 E* sqrt(r) delta^(3/2) for a rigid sphere on an
   elastic half-space, so F^(2/3) is linear in delta; the least-squares line through (delta, F^(2/3)) of the
   records with F above HERTZ_FROM of the last force gives E* = 3/4 slope^(3/2) / sqrt(r) (its intercept takes up
-  where the surface is, within a particle's extent).
+  where the surface is, within a particle's extent). The block is a layer glued to its held support, which
+  stiffens it by a factor that grows with the contact radius over its depth: F is divided by the bonded-layer
+  factor of Dimitriadis et al. (2002) before the fit (hertz_modulus_half_space: without it).
 """
 
 from __future__ import annotations
@@ -30,6 +32,7 @@ import numpy as np
 
 from orchestrator.kinds.crater.pictures import plot_crater
 from orchestrator.kinds.base import print_run_measures
+from orchestrator.reference.contact import bonded_layer_factor
 
 #: The equivalent plastic strain that marks the plastic zone's rim at the surface, -.
 PLASTIC_RIM = 0.01
@@ -49,7 +52,9 @@ QUANTITIES: dict[str, tuple[str, str]] = {
     "peak_force": ("N", "largest contact force"),
     "hutchings_diameter": ("m", "eq. 20 with the measured mean_pressure and the sphere's density"),
     "rebound_speed": ("m/s", "the sphere's speed along +z at the end"),
-    "hertz_modulus": ("Pa", "an indenter's contact modulus E* fitted to Hertz's F = 4/3 E* sqrt(r) delta^(3/2)"),
+    "hertz_modulus": ("Pa", "an indenter's contact modulus E* fitted to Hertz's F = 4/3 E* sqrt(r) delta^(3/2) "
+                      "times the bonded-layer factor of the block's depth (Dimitriadis et al. 2002)"),
+    "hertz_modulus_half_space": ("Pa", "the same fit without the layer factor (Hertz's half-space)"),
     "hertz_fit_residual": ("-", "largest |F - Hertz's fit| over the last force in the fitted records"),
     "elastic_modulus": ("Pa", "E / (1 - nu^2) of the target from its G and K (Hertz's E* for a rigid sphere)"),
     "restitution": ("-", "rebound speed over impact speed"),
@@ -169,18 +174,34 @@ def rim_radius(r: np.ndarray, value: np.ndarray, ring: float, level: float) -> f
     return float(centres[above] + (m0 - level) / (m0 - m1) * (centres[above + 1] - centres[above]))
 
 
-def hertz_fit(radius: float, delta: np.ndarray, force: np.ndarray) -> dict[str, float]:
+def hertz_fit(radius: float, delta: np.ndarray, force: np.ndarray, layer=None) -> dict[str, float]:
     """Hertz's contact modulus E* (Pa) from the force F (N) against the penetration delta (m) of a rigid sphere of
-    `radius` (m): the line through (delta, F^(2/3)) where F > HERTZ_FROM max F, and its largest residual in F."""
+    `radius` (m): the line through (delta, F^(2/3)) where F > HERTZ_FROM max F, and its largest residual in F.
+    `layer` = (thickness h m, Poisson's ratio): the block is a layer bonded to its support, so F is first divided
+    by its factor over Hertz's half-space (reference.contact.bonded_layer_factor at sqrt(r delta) / h); then also
+    the half-space's fit as hertz_modulus_half_space."""
     use = force > HERTZ_FROM * force.max()
     if use.sum() < 3:
         return {}
-    slope, intercept = np.polyfit(delta[use], force[use] ** (2.0 / 3.0), 1)
+    d = delta[use]
+    factor = np.ones_like(d) if layer is None else bonded_layer_factor(np.sqrt(radius * np.clip(d, 0.0, None))
+                                                                       / layer[0], layer[1])
+    slope, intercept = np.polyfit(d, (force[use] / factor) ** (2.0 / 3.0), 1)
     if not slope > 0.0:
         return {}
-    fitted = np.clip(slope * delta[use] + intercept, 0.0, None) ** 1.5
-    return {"hertz_modulus": 0.75 * slope**1.5 / math.sqrt(radius),
-            "hertz_fit_residual": float(np.max(np.abs(force[use] - fitted)) / force.max())}
+    fitted = factor * np.clip(slope * d + intercept, 0.0, None) ** 1.5
+    out = {"hertz_modulus": 0.75 * slope**1.5 / math.sqrt(radius),
+           "hertz_fit_residual": float(np.max(np.abs(force[use] - fitted)) / force.max())}
+    if layer is not None:
+        out["hertz_modulus_half_space"] = hertz_fit(radius, delta, force)["hertz_modulus"]
+    return out
+
+
+def poisson_ratio(case) -> float:
+    """nu of the target, from its shear modulus G and bulk modulus K, -."""
+    solid, density = case.material.solid, case.material.density
+    g, k = solid.shear_modulus, solid.bulk(density)
+    return (3.0 * k - 2.0 * g) / (2.0 * (3.0 * k + g))
 
 
 def contact_modulus(case) -> float:
@@ -198,8 +219,8 @@ def measure_crater(case, result) -> dict[str, float]:
     h = sphere_history(case, result)
     radius, speed = 0.5 * case.sphere.diameter, case.sphere.speed
     measured = loading(case, h)
-    if case.sphere.kinematic:
-        measured.update(hertz_fit(radius, h["delta"], h["force"]))
+    if case.sphere.kinematic:  # the block is a layer on its held support
+        measured.update(hertz_fit(radius, h["delta"], h["force"], (case.target.size[2], poisson_ratio(case))))
         measured["elastic_modulus"] = contact_modulus(case)
     measured["rebound_speed"] = float(h["v"][-1])
     measured["restitution"] = float(h["v"][-1] / speed)

@@ -59,7 +59,8 @@ class CraterExpected(Frozen):
 
     quantity: Literal[CHECKED] = Field(description="hutchings_diameter: the crater's rim crest against eq. 20 "
                                        "with the measured mean contact pressure; energy_balance: against 0; "
-                                       "hertz_modulus: the contact modulus E* fitted to the force against "
+                                       "hertz_modulus: the contact modulus E* fitted to the force (over the glued "
+                                       "block's bonded-layer factor, Dimitriadis et al. 2002) against "
                                        "penetration, against E / (1 - nu^2) of the target; speed_exponent: the "
                                        "slope of log crater_diameter against log speed over the [sweep], against "
                                        "eq. 20's 1/2 (a hardness that does not change with speed), when the sweep has two "

@@ -44,7 +44,8 @@ def check_run(case, engine: str, run: dict) -> tuple[list[dict], dict]:
             rows.append(check_row(name, "hertz_modulus", value if known else None, expected,
                                   abs(value / expected - 1.0) if known else None, row.tolerance,
                                   passed=None if known else False, source="Hertz: E / (1 - nu^2) of the target",
-                                  note="hertz_modulus: E* of the line through (delta, F^(2/3))"))
+                                  note="hertz_modulus: E* of the line through (delta, (F / f)^(2/3)), f the "
+                                       "bonded-layer factor of the block's depth (Dimitriadis et al. 2002)"))
             continue
         value, expected = measured.get("crater_diameter"), measured.get("hutchings_diameter")
         if value is None or expected is None:

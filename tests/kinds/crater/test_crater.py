@@ -19,6 +19,7 @@ from orchestrator.kinds.crater.analysis import (contact_modulus, crest_radius, h
 from orchestrator.kinds.crater.checks import check_run, speed_slope, sweep_runs
 from orchestrator.kinds.sph_flow.case_impactors import check_clear, mass_properties
 from orchestrator.kinds.sph_flow.sph import deck_context
+from orchestrator.reference.contact import bonded_layer_factor
 from paths import VERIFICATION
 
 CRATER = VERIFICATION / "crater_hutchings_100cr6.toml"
@@ -138,6 +139,20 @@ def test_the_quick_crater_follows_hutchings(tmp_path, capsys):
     assert "H = 0.3375 GPa with the sphere's density" in out and (tmp_path / "c" / "crater.png").is_file()
 
 
+def test_the_bonded_layer_factor_of_dimitriadis_et_al():
+    # nu = 1/2: their 1 + 1.133 chi + 1.283 chi^2 + 0.769 chi^3 + 0.0975 chi^4; 1 for a half-space
+    chi = np.linspace(0.0, 1.0, 11)
+    published = 1 + 1.133 * chi + 1.283 * chi**2 + 0.769 * chi**3 + 0.0975 * chi**4
+    np.testing.assert_allclose(bonded_layer_factor(chi, 0.5), published, rtol=2e-4)
+    assert bonded_layer_factor(0.0, 0.3) == 1.0 and 1.08 < bonded_layer_factor(0.0884, 0.3) < 1.09
+    # a force of Hertz's times the factor fits E* exactly; without the factor the fit is stiffer
+    r, e_star, depth = 4e-3, 2.857e6, 8e-3
+    delta = np.linspace(0.0, 1.5e-4, 60)
+    force = 4.0 / 3.0 * e_star * np.sqrt(r) * delta**1.5 * bonded_layer_factor(np.sqrt(r * delta) / depth, 0.3)
+    fit = hertz_fit(r, delta, force, (depth, 0.3))
+    assert fit["hertz_modulus"] == pytest.approx(e_star, rel=1e-9) and fit["hertz_modulus_half_space"] > 1.08 * e_star
+
+
 def test_hertz_fit_recovers_the_contact_modulus():
     """Hertz's F = 4/3 E* sqrt(r) (delta - delta0)^(3/2) with the surface 0.3 dx off: the fit gives E* back; the
     target's E / (1 - nu^2) from G and K (G 1 MPa, K 2.16667 MPa: E 2.6 MPa, nu 0.3)."""
@@ -158,11 +173,15 @@ def test_a_hertz_row_needs_an_elastic_indenter():
 
 @pytest.mark.sph
 def test_the_quick_indenter_follows_hertz(tmp_path):
-    """0.2 mm spacing (the contact radius reaches 3.9 dx): E* fitted to F(delta) within 10 % of E / (1 - nu^2)
-    (measured +4.1 %, the fit's largest residual 2 % of F; +8.3 % at the case's 0.1 mm, which fails its 3 %)."""
+    """A 10 x 10 x 8 mm block at 0.25 mm (the contact radius reaches 2.6 dx): E* fitted to F(delta) over Hertz's
+    bonded-layer factor within 15 % of E / (1 - nu^2) (measured -10.9 %: the SPH block is soft at this resolution,
+    -7.6 % in the case's 15 x 15 x 8 mm block at 0.2 mm, which fails its 3 %); the half-space fit within 5 % (-3.0 %:
+    the glued support's stiffening and the block's softness cancel)."""
     assert main(["run", str(HERTZ), "--preset", "quick", "--out", str(tmp_path / "h")]) == 0
     from orchestrator.runh5 import read_run
 
     m = read_run(tmp_path / "h")["measured"]["attrs"]
-    assert m["hertz_modulus"] == pytest.approx(m["elastic_modulus"], rel=0.10)
-    assert m["max_penetration"] == pytest.approx(1.25e-4, rel=0.02) and m["hertz_fit_residual"] < 0.05
+    assert m["hertz_modulus"] == pytest.approx(m["elastic_modulus"], rel=0.15)
+    assert m["hertz_modulus"] < m["hertz_modulus_half_space"] < 1.05 * m["elastic_modulus"]
+    assert m["hertz_modulus_half_space"] == pytest.approx(m["elastic_modulus"], rel=0.05)
+    assert m["max_penetration"] == pytest.approx(1.125e-4, rel=0.02) and m["hertz_fit_residual"] < 0.06
