@@ -88,6 +88,20 @@ def developed_velocity(law: MediumLaw, z, gap: float, gradient: float) -> np.nda
     return np.interp(np.clip(np.asarray(z, dtype=float), 0.0, gap), grid, u)
 
 
+def developed_state(law: MediumLaw, z, gap: float, gradient: float, dimension: int) -> tuple[np.ndarray, np.ndarray]:
+    """The developed flow at heights z (m above the lower wall, shape (n,)) with the flow along the first axis and
+    the gradient along the last: the speed u (m/s, (n,)) and each mode's stress tensor (Pa, (n, modes, D, D): tau_xz
+    = tau_zx the shear, tau_xx the first normal stress difference, the rest 0)."""
+    z = np.asarray(z, dtype=float)
+    rate = developed_rate(law, np.clip(z, 0.0, gap), gap, gradient)
+    stresses = np.zeros((len(z), len(law.modes), dimension, dimension))
+    if law.modes:
+        modes = law.mode_stresses(rate)
+        stresses[:, :, 0, -1] = stresses[:, :, -1, 0] = modes[:, :, 0]
+        stresses[:, :, 0, 0] = modes[:, :, 1]
+    return developed_velocity(law, z, gap, gradient), stresses
+
+
 def flow_rate(law: MediumLaw, gap: float, gradient: float) -> float:
     """Q = integral of u over the gap (m^2/s, per unit width) of the developed flow."""
     grid = np.linspace(0.0, gap, _POINTS)

@@ -12,7 +12,7 @@ from dataclasses import replace
 import numpy as np
 
 from orchestrator.kinds.afm_channel.case import AfmChannelCase
-from orchestrator.kinds.afm_channel.medium import developed_rate, developed_velocity
+from orchestrator.kinds.afm_channel.medium import developed_state, developed_velocity
 from orchestrator.kinds.sph_flow.case import SphFlowCase
 from orchestrator.kinds.sph_flow.scene import SphScene, build_sph_flow
 
@@ -111,20 +111,12 @@ def steady_start(case: AfmChannelCase, scene: SphScene) -> SphScene:
     medium = (np.asarray(scene.material) == 0) & (np.asarray(scene.kind) == 0)  # the grain moves as set in flow_case
     over = (x[:, 0] > w.front) & (x[:, 0] < case.support_end())
     velocities = np.array(scene.velocities, dtype=float)
-    rate = np.zeros(len(x))
+    stresses = np.zeros((len(x), len(law.modes), 3, 3))
     for part, gap, gradient, floor in ((over, flow.narrow_gap, flow.narrow_gradient, wall + w.height),
                                        (~over, flow.wide_gap, flow.wide_gradient, wall)):
         rows = medium & part
-        z = x[rows, 2] - floor
-        velocities[rows, 0] = developed_velocity(law, z, gap, gradient)
-        rate[rows] = developed_rate(law, np.clip(z, 0.0, gap), gap, gradient)
-    state = None
-    if law.modes:
-        stresses = np.zeros((len(x), len(law.modes), 3, 3))
-        modes = law.mode_stresses(rate[medium])
-        stresses[medium, :, 0, 2] = stresses[medium, :, 2, 0] = modes[:, :, 0]
-        stresses[medium, :, 0, 0] = modes[:, :, 1]
-        state = {"mode_stress": stresses.reshape(len(x), -1)}
+        velocities[rows, 0], stresses[rows] = developed_state(law, x[rows, 2] - floor, gap, gradient, 3)
+    state = {"mode_stress": stresses.reshape(len(x), -1)} if law.modes else None
     return replace(scene, velocities=velocities, state=state)
 
 
