@@ -6,7 +6,7 @@ A developed plane channel flow u(z) of gap H under the driving gradient G (Pa/m:
 pressure's own gradient) has the shear stress tau(z) = G (H/2 - z), and at each height the steady simple shear of
 the medium at the rate gamma_dot(z) = du/dz that carries it: tau = eta_s gamma_dot + sum_i eta_i gamma_dot / f_i
 (reference.viscoelastic_flows.ptt_multimode_steady_shear; f_i from its cubic), which rises with gamma_dot for
-epsilon > 0 and is inverted by bisection. Each mode then holds tau_i,xz = eta_i gamma_dot / f_i and tau_i,xx =
+epsilon >= 0 and is inverted by interpolation on a log-spaced table. Each mode then holds tau_i,xz = eta_i gamma_dot / f_i and tau_i,xx =
 2 eta_i lambda_i gamma_dot^2 / f_i^2 (the first normal stress difference along the flow), the other components 0.
 
 In the periodic cell the workpiece narrows the passage to H - height over its length and its support; the medium
@@ -22,7 +22,7 @@ from functools import lru_cache
 import numpy as np
 
 from orchestrator.reference.maxwell import Mode
-from orchestrator.reference.viscoelastic_flows import ptt_multimode_steady_shear
+from orchestrator.reference.viscoelastic_flows import ptt_multimode_steady_shear, ptt_steady_shear
 
 #: Heights across the gap of the profile's quadrature (trapezoid rule), -.
 _POINTS = 1001
@@ -48,8 +48,8 @@ class MediumLaw:
 
     def rate(self, stress) -> np.ndarray:
         """gamma_dot (1/s) of steady simple shear carrying the shear stress tau (Pa, any shape): the inverse of
-        shear_stress, interpolated in log-log on _TABLE rates between the zero-shear viscosity's and the
-        solvent's rates for the largest |tau| (a relative error below 1e-6; tau rises with gamma_dot)."""
+        shear_stress, interpolated in log-log on _TABLE rates from 1e-12 of the zero-shear viscosity's rate to the
+        solvent's rate for the largest |tau| (a relative error below 1e-6; tau rises with gamma_dot)."""
         stress = np.asarray(stress, dtype=float)
         size = np.abs(stress)
         if not self.modes:
@@ -67,7 +67,7 @@ class MediumLaw:
         rate = np.asarray(rate, dtype=float)
         out = np.zeros((len(rate), len(self.modes), 2))
         for k, mode in enumerate(self.modes):
-            shear = ptt_multimode_steady_shear(np.abs(rate), (mode,), self.epsilon)
+            shear = ptt_steady_shear(np.abs(rate), mode.relaxation_time, mode.viscosity, self.epsilon)
             out[:, k, 0] = np.sign(rate) * shear.shear_stress
             out[:, k, 1] = shear.first_normal_stress_difference
         return out

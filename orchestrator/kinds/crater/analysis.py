@@ -205,11 +205,9 @@ def poisson_ratio(case) -> float:
 
 
 def contact_modulus(case) -> float:
-    """E / (1 - nu^2) of the target, Pa, from its shear modulus G and bulk modulus K (E = 9 K G / (3 K + G))."""
-    solid, density = case.material.solid, case.material.density
-    g, k = solid.shear_modulus, solid.bulk(density)
-    e, nu = 9.0 * k * g / (3.0 * k + g), (3.0 * k - 2.0 * g) / (2.0 * (3.0 * k + g))
-    return e / (1.0 - nu * nu)
+    """E / (1 - nu^2) of the target, Pa, from its shear modulus G and bulk modulus K (E = 2 G (1 + nu))."""
+    nu = poisson_ratio(case)
+    return 2.0 * case.material.solid.shear_modulus * (1.0 + nu) / (1.0 - nu * nu)
 
 
 def measure_crater(case, result) -> dict[str, float]:
