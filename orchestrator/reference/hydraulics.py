@@ -179,6 +179,33 @@ def orifice_flow(dp, area, cd, rho):
     return math.copysign(cd * area * math.sqrt(2.0 * abs(dp) / rho), dp)
 
 
+def slot_contraction_coefficient(beta):
+    """Contraction coefficient Cc (jet width at the vena contracta over the slot's width b) of the plane jet that
+    leaves a sharp-edged slot centred across a plane channel of width B, beta = b / B in [0, 1): the root of
+    Cc [1 + 2/pi (1/(Cc beta) - Cc beta) arctan(Cc beta)] = 1 (inviscid free-streamline theory, von Mises 1917;
+    beta -> 0 gives Kirchhoff's pi / (pi + 2) = 0.611). Dimensionless."""
+    from scipy.optimize import brentq
+
+    if not 0.0 <= beta < 1.0:
+        raise ValueError(f"beta = b / B must lie in [0, 1), got {beta}")
+    if beta == 0.0:
+        return math.pi / (math.pi + 2.0)
+
+    def residual(cc):
+        k = cc * beta
+        return cc * (1.0 + 2.0 / math.pi * (1.0 / k - k) * math.atan(k)) - 1.0
+
+    return brentq(residual, 0.5, 1.0, xtol=1e-14)
+
+
+def slot_discharge_coefficient(beta):
+    """Q / (b sqrt(2 dp / rho)) of that slot (per unit depth), dp the pressure upstream minus the pressure in the
+    still water beside the jet behind the plate (the vena contracta's, as corner taps read it): Bernoulli from the
+    approach flow Q / B to the jet's Q / (Cc b) gives Cc / sqrt(1 - (Cc beta)^2). Dimensionless."""
+    cc = slot_contraction_coefficient(beta)
+    return cc / math.sqrt(1.0 - (cc * beta) ** 2)
+
+
 def sudden_expansion_k(d_small, d_large):
     """Loss coefficient of a sudden expansion from d_small to d_large (m), referred to the velocity in
     the small section: (1 - (d_small/d_large)^2)^2 (Borda-Carnot; fluids.fittings.diffuser_sharp)."""

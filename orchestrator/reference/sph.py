@@ -89,6 +89,7 @@ class SphModel:
     eddy_viscosity: float | None = None  # Smagorinsky's cs (engine eqs. SM1-SM2), -
     dx: float = 0.0  # lattice spacing, m: the eddy viscosity's length cs dx
     eddy_walls: bool = True  # nu_t also on fluid-boundary pairs; False: fluid-fluid pairs only
+    density_diffusion: float | None = None  # delta of engine eq. DD1 (fluid-fluid pairs), -
 
     def material_list(self) -> tuple[SphMaterial, ...]:
         """The materials, or the one material of rho0, c0, gamma, background_pressure and viscosity."""
@@ -190,6 +191,8 @@ def rates(state: SphState, model: SphModel) -> tuple[np.ndarray, np.ndarray]:
     if grain.any():  # eq. G1: each fluid-grain pair's reaction on the grain's particle (sph_grains.py)
         react = moving & grain[b]
         acc += _sum_to(b[react], -(state.mass[a] / state.mass[b])[react][:, None] * acc_pairs[react], n)
+    if model.density_diffusion is not None:
+        drho = drho + _density_diffusion(state, model, a, b, r_ab, r2, fluid)
     drho_sum = _sum_to(a, drho, n)
     if model.body_force is not None:
         acc[fluid] += np.asarray(model.body_force, dtype=float)
@@ -197,6 +200,17 @@ def rates(state: SphState, model: SphModel) -> tuple[np.ndarray, np.ndarray]:
         acc[fluid] += model.walls.forces(state.x[fluid]) / state.mass[fluid][:, None]
     acc[~(fluid | grain)] = 0.0
     return acc, drho_sum
+
+
+def _density_diffusion(state: SphState, model: SphModel, a, b, r_ab, r2, fluid) -> np.ndarray:
+    """Engine eq. DD1 per pair (a, b), kg/m^3/s: between two fluid particles 2 delta h c0 V_b (rho_a - rho_b -
+    rho0/c0^2 g . r_ab) F r^2 / (r^2 + 0.01 h^2) (Molteni & Colagrossi 2009; Fourtakas et al. 2019), else 0."""
+    F = kernel_gradient_factor(np.sqrt(r2), model.h, state.x.shape[1])
+    g = np.zeros(state.x.shape[1]) if model.body_force is None else np.asarray(model.body_force, dtype=float)
+    hydrostatic = model.rho0 / model.c0 ** 2 * (r_ab @ g)
+    w = 2.0 * model.density_diffusion * model.h * model.c0 * F * r2 / (r2 + model.eta2)
+    vol_b = state.mass[b] / state.rho[b]
+    return np.where(fluid[a] & fluid[b], w * vol_b * (state.rho[a] - state.rho[b] - hydrostatic), 0.0)
 
 
 def _morris_factors(state: SphState, model: SphModel, a, b, r_ab, r2, grad_w) -> np.ndarray:
@@ -374,7 +388,7 @@ def from_scene(scene) -> tuple[SphState, SphModel]:
         body_force=physics.body_force if scene.body_force is None else scene.body_force, walls=walls, periodic_axes=axes,
         periodic_lo=tuple(case.domain.lo[a] for a in axes), periodic_hi=tuple(case.domain.hi[a] for a in axes),
         viscosity_correction=physics.viscosity_correction, eddy_viscosity=physics.eddy_viscosity,
-        eddy_walls=physics.eddy_viscosity_walls, dx=case.numerics.dx,
+        eddy_walls=physics.eddy_viscosity_walls, dx=case.numerics.dx, density_diffusion=physics.density_diffusion,
     )
     state = SphState(x=np.array(scene.positions, dtype=float), v=np.array(scene.velocities, dtype=float),
                      rho=np.array(scene.densities, dtype=float), mass=np.array(scene.masses, dtype=float),

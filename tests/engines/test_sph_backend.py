@@ -115,6 +115,19 @@ def test_eddy_viscosity_reaches_the_deck(overrides, expected, tmp_path):
                                            "physics.terms=['artificial_viscosity', 'body_force']"])
 
 
+def test_density_diffusion_reaches_the_deck(tmp_path):
+    """physics.density_diffusion = delta writes the deck's "density_diffusion" (engine eq. DD1); the default writes
+    nothing; a delta outside (0, 1] or a scene of several fluids is refused, naming the key."""
+    for overrides, expected in (([], None), (["physics.density_diffusion=0.1"], 0.1)):
+        scene = build_scene(load_case(REFERENCE_2D, overrides=overrides).model)
+        _bound_adapter().write_input(scene, tmp_path)
+        assert json.loads((tmp_path / "deck.json").read_text()).get("density_diffusion") == expected
+    with pytest.raises(CaseError, match="density_diffusion"):
+        load_case(REFERENCE_2D, overrides=["physics.density_diffusion=0"])
+    with pytest.raises(CaseError, match="physics.density_diffusion acts in a scene of one Newtonian fluid"):
+        load_case(DATA / "sph_reference_two_materials.toml", overrides=["physics.density_diffusion=0.1"])
+
+
 def test_input_files_hold_the_scene(tmp_path):
     scene = build_scene(load_case(CHANNEL).model)
     _bound_adapter().write_input(scene, tmp_path)

@@ -224,3 +224,21 @@ def test_cavitation_is_flagged():
 def test_bad_flow_is_refused():
     with pytest.raises(dn.OrchestratorError):
         dn.solve(dn.DrillNetwork(), 0.0)
+
+
+def test_slot_contraction_follows_von_mises_table():
+    """Cc of a slot in a channel (von Mises 1917) at the b/B of his table (0.611, 0.612, 0.616, 0.622, 0.644, 0.662,
+    0.687, 0.722, 0.781, rounded to 3 digits); Kirchhoff's pi / (pi + 2) at b/B = 0; C_d adds the approach speed."""
+    from orchestrator.reference.hydraulics import slot_contraction_coefficient, slot_discharge_coefficient
+
+    table = {0.0: 0.611, 0.1: 0.612, 0.2: 0.616, 0.3: 0.622, 0.5: 0.644, 0.6: 0.662, 0.7: 0.687, 0.8: 0.722,
+             0.9: 0.781}
+    for beta, cc in table.items():
+        assert slot_contraction_coefficient(beta) == pytest.approx(cc, abs=6e-4)
+    assert slot_contraction_coefficient(0.0) == pytest.approx(math.pi / (math.pi + 2.0), rel=1e-15)
+    assert slot_contraction_coefficient(1e-9) == pytest.approx(math.pi / (math.pi + 2.0), rel=1e-8)
+    cc = slot_contraction_coefficient(0.25)
+    assert slot_discharge_coefficient(0.25) == pytest.approx(cc / math.sqrt(1.0 - (0.25 * cc) ** 2), rel=1e-15)
+    assert slot_discharge_coefficient(0.25) == pytest.approx(0.62615, abs=1e-5)
+    with pytest.raises(ValueError, match="beta"):
+        slot_contraction_coefficient(1.0)

@@ -58,6 +58,9 @@ def _engine_frames(scene, workdir: Path) -> list[dict]:
     ("sph_reference_2d", ["physics.viscosity_correction=true"]),  # the renormalised Morris sum (eq. VC1)
     ("sph_reference_2d", ["physics.eddy_viscosity=0.5"]),  # Smagorinsky's eddy viscosity (eqs. SM1-SM2)
     ("sph_reference_2d", ["physics.eddy_viscosity=0.5", "physics.eddy_viscosity_walls=false"]),  # fluid pairs only
+    ("sph_reference_2d", ["physics.density_diffusion=0.5"]),  # eq. DD1 (lanes path; with the body force)
+    ("sph_reference_3d", ["physics.density_diffusion=0.5"]),  # eq. DD1 (lanes path; periodic)
+    ("sph_reference_2d", ["physics.density_diffusion=0.5", "physics.eddy_viscosity=0.5"]),  # eq. DD1, chunk path
 ])
 def test_executable_and_reference_agree_step_by_step(name, overrides, tmp_path):
     case = load_case(DATA / f"{name}.toml", overrides=["output.frame_interval=2e-4", *overrides])  # a frame a step
@@ -85,7 +88,8 @@ def test_executable_and_reference_agree_step_by_step(name, overrides, tmp_path):
     ("sph_reference_2d", "body_force"),
     ("sph_reference_3d", "walls"), ("sph_reference_3d", "periodic_axes"),
     ("sph_reference_two_materials", "materials"), ("sph_reference_2d", "viscosity_correction"),
-    ("sph_reference_2d", "eddy_viscosity"),
+    ("sph_reference_2d", "eddy_viscosity"), ("sph_reference_2d", "density_diffusion"),
+    ("sph_reference_3d", "density_diffusion"),
 ])
 def test_every_term_changes_the_tiny_scenes(name, term):
     """Each term matters in its scene far beyond the tolerance (so the comparison above can fail)."""
@@ -95,6 +99,8 @@ def test_every_term_changes_the_tiny_scenes(name, term):
         model = replace(model, viscosity_correction=True)
     if term == "eddy_viscosity":  # off in the scene: cs = 0.5 against off
         model = replace(model, eddy_viscosity=0.5)
+    if term == "density_diffusion":  # off in the scene: delta = 0.5 against off
+        model = replace(model, density_diffusion=0.5)
     dt = scene.case.numerics.dt
     full, _ = ref.simulate(state, model, dt, 5)
     without = {"periodic_axes": {"periodic_axes": (), "periodic_lo": (), "periodic_hi": ()},

@@ -204,6 +204,7 @@ void parse_viscosities(const json& j, RunParameters& d) {
       d.av_walls = av["walls"].get<bool>();
     }
   }
+  if (j.contains("density_diffusion")) d.density_diffusion = non_negative(j, "", "density_diffusion", 0.0);  // eq. DD1
 }
 
 // `body_force` and the wall penalty's `meshes` and `wall`.
@@ -307,7 +308,7 @@ RunParameters parse_deck(const json& j, const std::string& deck_dir) {
                      "viscosity", "alpha", "beta", "artificial_viscosity", "h", "dx", "body_force", "body_force_solids", "meshes", "wall", "periodic", "inlets",
                      "outlets", "dt", "time_step", "t_end", "t_start", "step_start", "max_steps", "stability", "output", "threads",
                      "materials", "lees_edwards", "neighbour_skin", "viscosity_correction", "eddy_viscosity", "open_boundary_list",
-                     "min_pressure", "impactors", "grains", "grain_contact"});
+                     "min_pressure", "impactors", "grains", "grain_contact", "density_diffusion"});
   RunParameters d;
   parse_basics(j, deck_dir, d);
   parse_fluid(j, d);
@@ -323,6 +324,8 @@ RunParameters parse_deck(const json& j, const std::string& deck_dir) {
   if (j.contains("grain_contact")) parse_grain_contact(j["grain_contact"], d);
   parse_output(need(j, "", "output"), deck_dir, d);
   parse_run_options(j, d);
+  if (d.density_diffusion > 0.0 && (d.materials.size() > 1 || (d.materials.size() == 1 && d.materials[0].model != "newtonian")))
+    fail("'density_diffusion' (eq. DD1) acts in runs of one Newtonian fluid only");
   return d;
 }
 

@@ -38,6 +38,14 @@ inline __attribute__((always_inline)) void pair_coefficients(PairChunk<D>& k, in
     // Eq. 7 for fluid (drho_a = rho_a sum m_b/rho_b v_ab . grad W), the summation rate otherwise.
     k.drho_a[j] = (AMoves ? o.rho * k.vol[j] : k.m[j]) * Fvr;
     k.drho_b[j] = (BMoves ? k.rho[j] * o.vol : o.m) * Fvr;
+    if constexpr (AMoves && BMoves) {  // eq. DD1 between two fluid particles (physics_terms.h)
+      if (model.diffusion.on()) {
+        Vec<D> r_ab;
+        for (int d = 0; d < D; ++d) r_ab[d] = k.r[d][j];
+        const double w = model.diffusion.rate(F, k.r2[j], o.rho, k.rho[j], r_ab);
+        k.drho_a[j] += w * k.vol[j], k.drho_b[j] -= w * o.vol;
+      }
+    }
     if constexpr (AMoves || BMoves) {
       double radial = -(o.p_rho2 + k.p_rho2[j]) * F;  // eq. 9, along r_ab
       if constexpr (Loop::has(term::artificial_viscosity)) {  // eqs. 11-12 (times 0 or 1 against a fixed particle)

@@ -78,15 +78,23 @@ class PairLanes {
   // eq. 10. Model: the loop's FluidModel; grad_factor, inv_h: the kernel's (eq. 8). The terms are those of
   // pair_chunk.h, with the constants gathered: Pi_ab = -alpha h (c_a + c_b) min(v_ab . r_ab, 0) / ((r^2 + eta^2)
   // (rho_a + rho_b)) (+ the beta term), dv_a/dt -= m_b (p_a/rho_a^2 + p_b/rho_b^2 + Pi_ab) F r_ab.
+  // With the model's density diffusion on, eq. DD1 (physics_terms.h) as well.
   template <bool AV, bool Morris, class Model>
   inline __attribute__((always_inline)) void row(int a, const std::uint32_t* e, const std::uint32_t* end,
                                                  const Model& model, double inv_h, double grad_factor) {
+    if (model.diffusion.on()) row<AV, Morris, true>(a, e, end, model, inv_h, grad_factor);
+    else row<AV, Morris, false>(a, e, end, model, inv_h, grad_factor);
+  }
+  template <bool AV, bool Morris, bool Diffusion, class Model>
+  inline __attribute__((always_inline)) void row(int a, const std::uint32_t* e, const std::uint32_t* end,
+                                                 const Model& model, double inv_h, double grad_factor) {
     const Record& A = records_[a];
-    const Owner o{A.xr * Lanes{1, 1, 1, 0}, A.vp * Lanes{1, 1, 1, 0}, A.xr[3], A.vp[3], A.vm[0], A.vm[1], A.vm[2],
+    const Owner o{A.xr * Lanes{1, 1, 1, 0}, A.vp * Lanes{1, 1, 1, 0}, lanes_of(model.diffusion.g_rho, 0.0),
+                  A.xr[3], A.vp[3], A.vm[0], A.vm[1], A.vm[2],
                   A.vm[3], 0.5 * inv_h, 4.0 / (inv_h * inv_h) * (1.0 + 1e-9), grad_factor};
     Sums acc{};
-    for (; end - e >= 4; e += 4) group<AV, Morris, false>(o, e, 4, model, acc);
-    if (e < end) group<AV, Morris, true>(o, e, end - e, model, acc);
+    for (; end - e >= 4; e += 4) group<AV, Morris, Diffusion, false>(o, e, 4, model, acc);
+    if (e < end) group<AV, Morris, Diffusion, true>(o, e, end - e, model, acc);
     sums_[a].s += Lanes{lane_sum(acc.x), lane_sum(acc.y), lane_sum(acc.z), lane_sum(acc.rho)};
   }
 
@@ -94,14 +102,14 @@ class PairLanes {
   // Owner a's values (x, v with 0 in the fourth lane) and the kernel's constants; beyond2: (2h)^2 (1 + 1e-9),
   // beyond which q > 2 whatever the rounding.
   struct Owner {
-    Lanes x, v;
+    Lanes x, v, g_rho;  // g_rho: eq. DD1's rho0/c0^2 g, [g_x g_y g_z 0]
     double rho, p_rho2, vol, c, m, inv_rho, half_inv_h, beyond2, grad_factor;
   };
   struct Sums {
     Lanes x, y, z, rho;  // a's sums per lane
   };
   // Four entries of a's row, [e, e + 4) (Tail: the row's last `left` < 4, the rest padded with the far record).
-  template <bool AV, bool Morris, bool Tail, class Model>
+  template <bool AV, bool Morris, bool Diffusion, bool Tail, class Model>
   inline __attribute__((always_inline)) void group(const Owner& o, const std::uint32_t* e, std::ptrdiff_t left,
                                                    const Model& model, Sums& acc) {
     using List = NeighbourList<D>;
@@ -133,7 +141,13 @@ class PairLanes {
     const Lanes t = u > 0.0 ? u : Lanes{};
     const Lanes F = (t * t) * (t * o.grad_factor), Fvr = F * vr;  // eq. 8; v_ab . grad_a W_ab
     acc.rho += (o.rho * M[0]) * Fvr;                               // eq. 7 for a and for b
-    const Lanes drho_b = (R[3] * o.vol) * -Fvr;
+    Lanes drho_b = (R[3] * o.vol) * -Fvr;
+    if constexpr (Diffusion) {  // eq. DD1: w (rho_a - rho_b - rho0/c0^2 g . r_ab), times V_b for a, -V_a for b
+      const Lanes g_r = (o.g_rho[0] * rx + o.g_rho[1] * ry) + o.g_rho[2] * rz;
+      const Lanes w = model.diffusion.kappa2 * (F * r2) / (r2 + model.diffusion.eta2) * ((o.rho + R[3]) - g_r);
+      acc.rho += w * M[0];
+      drho_b -= w * o.vol;
+    }
     Lanes P = o.p_rho2 - V[3];  // p_a/rho_a^2 + p_b/rho_b^2
     if constexpr (AV) P += artificial_pi(model.artificial, r2, vr, o.rho - R[3], o.c + M[1]);
     const Lanes PF = P * F, ga = M[2] * PF, gb = o.m * PF;

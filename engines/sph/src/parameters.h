@@ -158,6 +158,7 @@ struct RunParameters {
   double viscosity = 0;                                         // kinematic, m^2/s
   double alpha = 0, beta = 0;                                   // artificial viscosity
   bool av_walls = true;  // artificial viscosity also on pairs with a fixed particle
+  double density_diffusion = 0;  // delta of eq. DD1 (physics_terms.h): density diffusion between fluid particles
   bool viscosity_correction = false;  // Morris sum renormalised per particle (viscosity_correction.h, eq. VC1)
   double smagorinsky_cs = 0;  // > 0: Smagorinsky's eddy viscosity nu_t = (cs dx)^2 |S| (eddy_viscosity.h, eq. SM1)
   bool eddy_walls = true;     // nu_t also on pairs with a fixed particle (false: fluid-fluid pairs only, eq. SM2)

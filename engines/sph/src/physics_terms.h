@@ -170,6 +170,23 @@ struct ArtificialViscosity {
   }
 };
 
+// Eq. DD1, the density diffusion of Molteni & Colagrossi (2009) between two fluid particles, with the hydrostatic
+// part taken out (Fourtakas et al. 2019, linearised: rho_a^H - rho_b^H = rho0/c0^2 g . r_ab):
+//   drho_a/dt += 2 delta h c0 sum_b V_b (rho_a - rho_b - rho0/c0^2 g . r_ab) F r_ab^2 / (r_ab^2 + 0.01 h^2)
+// (F < 0: a Laplacian of the Morris form, eq. 10). It damps the density's particle-scale noise that a weakly
+// compressible flow with little artificial viscosity accumulates; a uniform or hydrostatic density gives zero.
+template <int D>
+struct DensityDiffusion {
+  double kappa2 = 0.0;              // 2 delta h c0, m^2/s (0: off)
+  double eta2 = 0.0;                // 0.01 h^2, m^2
+  Vec<D> g_rho = Vec<D>::Zero();    // rho0 / c0^2 g, kg s^2/m^5 . m/s^2
+  bool on() const { return kappa2 > 0.0; }
+  // The pair's weight w = kappa2 F r^2 / (r^2 + eta2) times the density difference: a's rate per V_b.
+  double rate(double F, double r2, double rho_a, double rho_b, const Vec<D>& r) const {
+    return kappa2 * (F * r2) / (r2 + eta2) * (rho_a - rho_b - g_rho.dot(r));
+  }
+};
+
 // Per-particle body force per unit mass (gravity), m/s^2.
 template <int D>
 struct BodyForce {
@@ -186,6 +203,7 @@ struct FluidModel {
   PressureGradient pressure;
   MorrisViscosity morris;
   ArtificialViscosity artificial;
+  DensityDiffusion<D> diffusion;  // eq. DD1 (fluid-fluid pairs)
   Vec<D> gravity = Vec<D>::Zero();  // the body force, m/s^2 (eq. FS1 of pair_loop.h)
 
   // Pair terms acting on a moving (fluid) particle a.
@@ -202,9 +220,10 @@ struct FluidModel {
 };
 
 // The pair terms of a run: its first material's dynamic viscosity mu (Pa s) and density rho0 (kg/m^3), and the
-// deck's smoothing length, artificial viscosity, eddy viscosity's wall factor and body force.
+// deck's smoothing length, artificial viscosity, eddy viscosity's wall factor, body force and density diffusion
+// (with the material's c0, m/s).
 template <int D, unsigned Terms>
-FluidModel<D, Terms> fluid_model(const RunParameters& deck, double mu, double rho0) {
+FluidModel<D, Terms> fluid_model(const RunParameters& deck, double mu, double rho0, double c0) {
   FluidModel<D, Terms> model;
   const double eta2 = 0.01 * deck.h * deck.h;
   model.morris.mu = mu;
@@ -214,6 +233,9 @@ FluidModel<D, Terms> fluid_model(const RunParameters& deck, double mu, double rh
   model.artificial = {deck.alpha, deck.beta, deck.h, eta2, deck.av_walls ? 1.0 : 0.0};
   if ((deck.terms & term::body_force) && !deck.body_force.empty())
     for (int d = 0; d < D; ++d) model.gravity[d] = deck.body_force[d];
+  model.diffusion.kappa2 = 2.0 * deck.density_diffusion * deck.h * c0;
+  model.diffusion.eta2 = eta2;
+  model.diffusion.g_rho = rho0 / (c0 * c0) * model.gravity;
   return model;
 }
 

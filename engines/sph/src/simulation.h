@@ -53,7 +53,7 @@ class Simulation {
         external_(deck, std::move(walls)) {
     const int modes = add_materials<Models>(deck, materials_);
     for (int m = 0; m < materials_.size(); ++m) P_.corrected_momentum |= materials_[m].solid.corrected_momentum;
-    model_ = fluid_model<D, Terms>(deck, materials_[0].mu, materials_[0].eos.rho0);
+    model_ = fluid_model<D, Terms>(deck, materials_[0].mu, materials_[0].eos.rho0, materials_[0].eos.c0);
     smagorinsky_.length2 = deck.smagorinsky_cs * deck.smagorinsky_cs * deck.dx * deck.dx;
     hold_inlets_ = deck.inlets_extrapolated(), grains_.start(deck.grains, P_, materials_, deck.dx);  // grains: unwrapped
     const PeriodicBox<D> box = periodic_box<D>(deck);

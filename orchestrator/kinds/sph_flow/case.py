@@ -131,6 +131,10 @@ class SphFlowCase(Frozen):
         if self.numerics.viscous_factor is not None and "morris_viscosity" not in terms:
             raise ValueError("numerics.viscous_factor limits the step by the viscosity, which needs "
                              "'morris_viscosity' in physics.terms")
+        if self.physics.density_diffusion is not None and (
+                len(self.materials) > 1 or any(getattr(m, "model", "newtonian") != "newtonian" for m in self.materials)):
+            raise ValueError("physics.density_diffusion acts in a scene of one Newtonian fluid; this case has "
+                             f"[[materials]] {[m.name for m in self.materials]}: remove the key")
         if "wall_penalty" in terms and not self.walls:
             raise ValueError("physics.terms has 'wall_penalty' but the case has no [[walls]]")
         if self.walls and "wall_penalty" not in terms:

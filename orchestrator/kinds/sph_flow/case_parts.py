@@ -175,6 +175,11 @@ class Physics(Frozen):
         "a box periodic along the body force g: the mean weight of fluid and grains is carried by a mean pressure "
         "gradient, so the fluid takes g (1 - rho_m / rho_f) and each grain g (1 - rho_m / rho_g), rho_m their mean "
         "density (case_grains.py); needs [[grains]] and body_force"))
+    density_diffusion: float | None = Field(None, gt=0.0, le=1.0, description=(
+        "delta of the density diffusion between fluid particles (Molteni & Colagrossi 2009, its hydrostatic part "
+        "taken out as Fourtakas et al. 2019; engine eq. DD1): it damps the particle-scale density noise that a "
+        "flow with little artificial viscosity accumulates, so alpha can be small; 0.1 is the usual value, -; "
+        "one Newtonian fluid only"))
     eddy_viscosity_walls: bool = Field(True, description=(
         "nu_t also on the pairs with a wall particle (the fluid's own); false: between fluid particles only, the "
         "wall friction the laminar Morris term's (walls the lattice does not resolve)"))

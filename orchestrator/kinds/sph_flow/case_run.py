@@ -88,6 +88,7 @@ CHECK_QUANTITIES = {
     "grain_collision": ("restitution", "momentum_change"),
     "grain_wall_bounce": ("restitution", "tangential_change"),
     "solid_under_water": ("layer_stress", "layer_rows", "water_pressure", "spurious_speed"),
+    "slot_orifice": ("discharge_coefficient",),
     "penalty_incline": ("eq14_wall_force", "min_distance_to_wall", "slide_distance", "distance_to_plane",
                         "plane_force"),
 }

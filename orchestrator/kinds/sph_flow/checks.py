@@ -37,6 +37,7 @@ from orchestrator.kinds.sph_flow.checks_grains import (
 )
 from orchestrator.kinds.sph_flow.checks_layers import check_two_layer_couette, check_two_layer_poiseuille
 from orchestrator.kinds.sph_flow.checks_open import check_annulus_laminar, check_hagen_poiseuille
+from orchestrator.kinds.sph_flow.checks_orifice import check_slot_orifice
 from orchestrator.kinds.sph_flow.checks_solids import check_solid_under_water
 from orchestrator.kinds.sph_flow.checks_viscoelastic import check_oldroyd_b_startup
 from orchestrator.kinds.sph_flow.checks_walls import check_penalty_column, check_penalty_incline
@@ -248,6 +249,7 @@ CHECKS = {
     "grain_collision": check_grain_collision,
     "grain_wall_bounce": check_grain_wall_bounce,
     "solid_under_water": check_solid_under_water,
+    "slot_orifice": check_slot_orifice,
 }
 
 

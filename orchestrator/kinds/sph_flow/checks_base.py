@@ -33,7 +33,7 @@ UNITS = {"u_profile": "m/s", "pressure_profile": "Pa", "particle_pressure": "Pa"
          "pressure_gradient": "Pa/m", "mass_balance": "-", "density_drift": "-",
          "centreline_velocity": "m/s", "terminal_speed": "m/s", "rotation_rate": "rad/s", "centre_velocity": "m/s",
          "restitution": "-", "momentum_change": "-", "tangential_change": "-", "layer_stress": "Pa",
-         "layer_rows": "Pa", "water_pressure": "Pa"}
+         "layer_rows": "Pa", "water_pressure": "Pa", "discharge_coefficient": "-"}
 
 
 def tolerance_of(case, quantity: str) -> float | None:

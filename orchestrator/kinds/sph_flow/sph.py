@@ -89,6 +89,7 @@ def deck_context(scene, threads: int = 1) -> dict:
         "viscosity_correction": physics.viscosity_correction,
         "eddy_viscosity_cs": None if physics.eddy_viscosity is None else num(physics.eddy_viscosity),
         "eddy_viscosity_walls": "true" if physics.eddy_viscosity_walls else "false",
+        "density_diffusion": None if physics.density_diffusion is None else num(physics.density_diffusion),
         "body_force": None if physics.body_force is None else vec(scene.body_force or physics.body_force),
         "body_force_solids": physics.body_force_on == "all",
         "meshes": [{"name": json.dumps(name), "group": json.dumps("/" + name)} for name in scene.meshes],
