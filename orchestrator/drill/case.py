@@ -77,6 +77,9 @@ class DrillPhysics(Frozen):
     eddy_viscosity_walls: bool = Field(True, description=(
         "nu_t also against the wall particles; false: between fluid particles only (the quick scenes' one-layer "
         "annular gap does not resolve its walls)"))
+    density_diffusion: float | None = Field(None, gt=0.0, le=1.0, description=(
+        "delta of the density diffusion between fluid particles (sph_flow's physics.density_diffusion, engine eq. "
+        "DD1), -; none: off"))
     walls: Literal["particles", "penalty"] = Field(
         "particles", description="particles: fixed boundary particles on the fluid's lattice inside the solids, "
                                  "each with its nearest point of the wetted surface (no-slip there; drill/walls.py); "

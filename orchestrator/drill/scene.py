@@ -44,6 +44,7 @@ def drill_physics(case) -> Physics:
     return Physics(terms=tuple(terms), artificial_viscosity=case.physics.artificial_viscosity,
                    eddy_viscosity=case.physics.eddy_viscosity,
                    eddy_viscosity_walls=case.physics.eddy_viscosity_walls,
+                   density_diffusion=case.physics.density_diffusion,
                    wall_penalty=WallPenalty(range=pen.range_over_dx * dx, s=pen.s_over_dx * dx,
                                             psi=pen.pressure * dx * dx) if penalty else None)
 
