@@ -19,7 +19,7 @@ KIND = Kind(
         picture="orchestrator.kinds.sph_flow.pictures:plot_scenes", timeout_s=3600.0, default_engines=("sph",),
         description="the SPH flows (cases/verification/sph_*.toml: Poiseuille and Couette start-up against the "
         "series of Morris et al. 1997, a hydrostatic tank, the 2D dam break against Koshizuka & Oka 1996 and "
-        "Martin & Moyce 1952, penalty walls against eq. 14, and the rheometer's scenes) on the sph executable; "
-        "verify_sph.png: profiles, pressure, surge front, wall forces, stresses (the 3D annulus takes ~750 s on "
-        "one core)."),
+        "Martin & Moyce 1952, penalty walls against eq. 14, a jet through a slot against von Mises 1917, and the "
+        "rheometer's scenes) on the sph executable; verify_sph.png: profiles, pressure, surge front, wall forces, "
+        "stresses (the 3D annulus takes ~750 s on one core)."),
 )
