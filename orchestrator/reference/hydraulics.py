@@ -35,6 +35,7 @@ from dataclasses import dataclass
 from fluids.fittings import contraction_sharp, diffuser_sharp, entrance_sharp, exit_normal
 from fluids.friction import friction_factor
 from fluids.jet_pump import liquid_jet_pump_ancillary
+from scipy.optimize import brentq
 
 #: Below this Reynolds number (hydraulic diameter) the laminar exact solution holds.
 RE_LAMINAR = 2000.0
@@ -184,8 +185,6 @@ def slot_contraction_coefficient(beta):
     leaves a sharp-edged slot centred across a plane channel of width B, beta = b / B in [0, 1): the root of
     Cc [1 + 2/pi (1/(Cc beta) - Cc beta) arctan(Cc beta)] = 1 (inviscid free-streamline theory, von Mises 1917;
     beta -> 0 gives Kirchhoff's pi / (pi + 2) = 0.611). Dimensionless."""
-    from scipy.optimize import brentq
-
     if not 0.0 <= beta < 1.0:
         raise ValueError(f"beta = b / B must lie in [0, 1), got {beta}")
     if beta == 0.0:

@@ -165,7 +165,8 @@ def rates(state: SphState, model: SphModel) -> tuple[np.ndarray, np.ndarray]:
     p_rho2 = p / (state.rho * state.rho)
     a, b, r_ab = neighbour_pairs(state.x, model)
     r2 = np.einsum("ij,ij->i", r_ab, r_ab)
-    grad_w = kernel_gradient_factor(np.sqrt(r2), model.h, d)[:, None] * r_ab
+    F = kernel_gradient_factor(np.sqrt(r2), model.h, d)
+    grad_w = F[:, None] * r_ab
     v_ab = state.v[a] - state.v[b]
     v_dot_grad = np.einsum("ij,ij->i", v_ab, grad_w)
     moving = fluid[a]
@@ -192,7 +193,7 @@ def rates(state: SphState, model: SphModel) -> tuple[np.ndarray, np.ndarray]:
         react = moving & grain[b]
         acc += _sum_to(b[react], -(state.mass[a] / state.mass[b])[react][:, None] * acc_pairs[react], n)
     if model.density_diffusion is not None:
-        drho = drho + _density_diffusion(state, model, a, b, r_ab, r2, fluid)
+        drho = drho + _density_diffusion(state, model, a, b, r_ab, r2, F, fluid)
     drho_sum = _sum_to(a, drho, n)
     if model.body_force is not None:
         acc[fluid] += np.asarray(model.body_force, dtype=float)
@@ -202,10 +203,10 @@ def rates(state: SphState, model: SphModel) -> tuple[np.ndarray, np.ndarray]:
     return acc, drho_sum
 
 
-def _density_diffusion(state: SphState, model: SphModel, a, b, r_ab, r2, fluid) -> np.ndarray:
+def _density_diffusion(state: SphState, model: SphModel, a, b, r_ab, r2, F, fluid) -> np.ndarray:
     """Engine eq. DD1 per pair (a, b), kg/m^3/s: between two fluid particles 2 delta h c0 V_b (rho_a - rho_b -
-    rho0/c0^2 g . r_ab) F r^2 / (r^2 + 0.01 h^2) (Molteni & Colagrossi 2009; Fourtakas et al. 2019), else 0."""
-    F = kernel_gradient_factor(np.sqrt(r2), model.h, state.x.shape[1])
+    rho0/c0^2 g . r_ab) F r^2 / (r^2 + 0.01 h^2) (Molteni & Colagrossi 2009; Fourtakas et al. 2019), else 0;
+    F: the pairs' kernel gradient factors (grad_a W_ab = F r_ab)."""
     g = np.zeros(state.x.shape[1]) if model.body_force is None else np.asarray(model.body_force, dtype=float)
     hydrostatic = model.rho0 / model.c0 ** 2 * (r_ab @ g)
     w = 2.0 * model.density_diffusion * model.h * model.c0 * F * r2 / (r2 + model.eta2)
