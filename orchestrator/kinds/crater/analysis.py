@@ -11,6 +11,13 @@ Definitions (the top face is z = 0; r the sphere's radius):
 - plastic_zone_diameter: the rim of the plastically deformed zone at the surface, where the top layer's equivalent
   plastic strain (its mean in rings of dx/2) falls below PLASTIC_RIM;
 - permanent_depth: how far the top layer's centre (particles within dx of the axis) ended below its start;
+- crater_volume: the permanent crater's volume below the starting surface, from the top layer's final heights (their
+  ring means about the axis, by final radius, in rings of dx/2) out to where the surface rises back through its
+  starting height;
+- volume_diameter: the diameter of the spherical cap of the sphere's radius that holds crater_volume,
+  (64 r V / pi)^(1/4): the crater of eq. 20's energy balance, which takes the indentation work as H V;
+- dynamic_hardness: the sphere's kinetic energy over crater_volume, Hutchings' (1977) dynamic hardness; eq. 20 at
+  this H gives volume_diameter;
 - mean_pressure: the time average of F / (pi a^2), a^2 = 2 r delta - delta^2, while the sphere goes in (from the
   first contact force to delta_max): the mean contact pressure H of Hutchings' model;
 - hutchings_diameter: eq. 20, d = 2 r sqrt(2 v) (2 rho_s / 3 H)^(1/4) with H = mean_pressure and rho_s the sphere's
@@ -48,6 +55,9 @@ QUANTITIES: dict[str, tuple[str, str]] = {
     "contact_diameter": ("m", "the sphere's chord at the deepest penetration, 2 sqrt(2 r d - d^2)"),
     "max_penetration": ("m", "the sphere's deepest point below the top face"),
     "permanent_depth": ("m", "the top layer's centre below its start at the end"),
+    "crater_volume": ("m^3", "the permanent crater's volume below the starting surface"),
+    "volume_diameter": ("m", "the chord of the cap of the sphere's radius holding crater_volume, (64 r V / pi)^(1/4)"),
+    "dynamic_hardness": ("Pa", "the sphere's kinetic energy over crater_volume (Hutchings 1977)"),
     "mean_pressure": ("Pa", "time average of F / (pi a^2) while the sphere goes in"),
     "peak_force": ("N", "largest contact force"),
     "hutchings_diameter": ("m", "eq. 20 with the measured mean_pressure and the sphere's density"),
@@ -124,6 +134,11 @@ def surface(case, first: dict, last: dict) -> dict[str, float]:
     centre = r < dx
     if centre.any():
         out["permanent_depth"] = float(np.mean(sink[centre]))
+    volume = crater_volume(np.hypot(x[top, 0], x[top, 1]), sink, 0.5 * dx)
+    if volume > 0.0:
+        radius = 0.5 * case.sphere.diameter
+        out["crater_volume"] = volume
+        out["volume_diameter"] = (64.0 * radius * volume / math.pi) ** 0.25
     if "plastic_strain" in last:
         eps = np.asarray(last["plastic_strain"], dtype=float)[top]
         out["plastic_zone_diameter"] = 2.0 * rim_radius(r, eps, 0.5 * dx, PLASTIC_RIM)
@@ -141,6 +156,24 @@ def ring_means(r: np.ndarray, value: np.ndarray, ring: float) -> tuple[np.ndarra
     centres = 0.5 * (edges[:-1] + edges[1:])
     keep = np.isfinite(means)
     return centres[keep], means[keep]
+
+
+def crater_volume(r: np.ndarray, sink: np.ndarray, ring: float) -> float:
+    """The volume (m^3) below the starting surface of a crater whose surface points at radius `r` (m, about the
+    axis) ended `sink` (m) below their start: the ring means of `sink` (rings of width `ring`, m) times the ring
+    areas, summed outwards up to the first ring whose mean is not below the start."""
+    edges = np.arange(0.0, r.max() + ring, ring)
+    index = np.digitize(r, edges) - 1
+    volume = 0.0
+    for k in range(len(edges) - 1):
+        inside = index == k
+        if not inside.any():
+            continue
+        depth = float(np.mean(sink[inside]))
+        if depth <= 0.0:
+            break
+        volume += depth * math.pi * (edges[k + 1] ** 2 - edges[k] ** 2)
+    return volume
 
 
 def crest_radius(r: np.ndarray, height: np.ndarray, ring: float) -> float:
@@ -237,6 +270,8 @@ def measure_crater(case, result) -> dict[str, float]:
             final = 0.5 * mass * float(np.sum(v * v)) + internal + float(h["kinetic"][-1] + h["contact"][-1])
             measured["energy_balance"] = final / kinetic0 - 1.0
             measured["plastic_work_fraction"] = internal / kinetic0
+        if measured.get("crater_volume", 0.0) > 0.0 and kinetic0 > 0.0 and not case.sphere.kinematic:
+            measured["dynamic_hardness"] = kinetic0 / measured["crater_volume"]
     return {k: v for k, v in measured.items() if math.isfinite(v)}
 
 

@@ -62,9 +62,10 @@ class CraterExpected(Frozen):
                                        "hertz_modulus: the contact modulus E* fitted to the force (over the glued "
                                        "block's bonded-layer factor, Dimitriadis et al. 2002) against "
                                        "penetration, against E / (1 - nu^2) of the target; speed_exponent: the "
-                                       "slope of log crater_diameter against log speed over the [sweep], against "
-                                       "eq. 20's 1/2 (a hardness that does not change with speed), when the sweep has two "
-                                       "speeds or more")
+                                       "slope of log volume_diameter (the cap of the sphere's radius holding the "
+                                       "crater's volume) against log speed over the [sweep], against eq. 20's 1/2 "
+                                       "(a dynamic hardness that does not change with speed), when the sweep has "
+                                       "two speeds or more")
     tolerance: float = Field(gt=0, lt=1, description="largest relative error, - (speed_exponent: of the slope "
                                                      "against 1/2, so 0.1 is 0.5 +- 0.05)")
 

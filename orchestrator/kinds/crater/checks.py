@@ -5,10 +5,13 @@ balance."""
 from __future__ import annotations
 
 import math
+import os
+from pathlib import Path
 
 import numpy as np
 
 from orchestrator.kinds.crater.analysis import QUANTITIES, contact_modulus
+from orchestrator.kinds.crater.pictures import plot_speed_sweep
 from orchestrator.kinds.sph_flow.checks_base import check_row
 
 #: Units of the checked quantities in the table.
@@ -57,7 +60,10 @@ def check_run(case, engine: str, run: dict) -> tuple[list[dict], dict]:
                               note=f"mean contact pressure {measured.get('mean_pressure', math.nan) / 1e9:.3g} GPa"))
     picture = {"speed": case.sphere.speed, "diameter": measured.get("crater_diameter", math.nan),
                "contact": measured.get("contact_diameter", math.nan),
-               "hutchings": measured.get("hutchings_diameter", math.nan)}
+               "volume": measured.get("volume_diameter", math.nan),
+               "hutchings": measured.get("hutchings_diameter", math.nan),
+               "hardness": measured.get("dynamic_hardness", math.nan),
+               "pressure": measured.get("mean_pressure", math.nan)}
     return rows, picture
 
 
@@ -72,19 +78,26 @@ def speed_slope(speeds, diameters) -> float:
 
 def check_sweep(case, engine: str, runs) -> list[dict]:
     """The speed_exponent row over one sweep's runs (workflows.base.CheckedRun, their check_run pictures): the
-    slope of log crater_diameter against log speed against eq. 20's 1/2, its relative error against the row's
-    tolerance; the note gives the slopes of the contact chord and of eq. 20 at each run's own mean pressure."""
+    slope of log volume_diameter (the cap of the sphere's radius holding the crater's volume: the crater of eq.
+    20's energy balance) against log speed, against eq. 20's 1/2 at a constant dynamic hardness, its relative
+    error against the row's tolerance; the note gives the slopes of the rim crest (crater_diameter), the contact
+    chord and eq. 20 at each run's own mean contact pressure. A sweep of two speeds or more also draws its
+    diameters and hardness against speed (pictures.plot_speed_sweep) as crater_speeds.png in the folder that holds
+    its runs."""
+    if len(runs) >= 2:
+        plot_speed_sweep(runs, Path(os.path.commonpath([run.run_dir for run in runs])) / "crater_speeds.png")
     rows = []
     for row in (r for r in case.expected if r.quantity == "speed_exponent"):
         speeds = [run.picture.get("speed", math.nan) for run in runs]
         slopes = {key: speed_slope(speeds, [run.picture.get(key, math.nan) for run in runs])
-                  for key in ("diameter", "contact", "hutchings")}
-        value = slopes["diameter"]
-        known = math.isfinite(value) and all(math.isfinite(run.picture.get("diameter", math.nan)) for run in runs)
+                  for key in ("volume", "diameter", "contact", "hutchings")}
+        value = slopes["volume"]
+        known = math.isfinite(value) and all(math.isfinite(run.picture.get("volume", math.nan)) for run in runs)
         rows.append(check_row(f"{case.case.name} over {len(runs)} speeds", "speed_exponent",
                               value if known else None, 0.5, abs(value / 0.5 - 1.0) if known else None,
                               row.tolerance, passed=None if known else False,
-                              source="Hutchings eq. 20 at a constant hardness: d ~ v^(1/2)",
-                              note=f"speed_exponent: log crater_diameter on log v; contact chord "
-                                   f"{slopes['contact']:.3f}, eq. 20 at each run's own H {slopes['hutchings']:.3f}"))
+                              source="Hutchings eq. 20 at a constant dynamic hardness: d ~ v^(1/2)",
+                              note=f"speed_exponent: log volume_diameter on log v; rim crest "
+                                   f"{slopes['diameter']:.3f}, contact chord {slopes['contact']:.3f}, eq. 20 at "
+                                   f"each run's own mean contact pressure {slopes['hutchings']:.3f}"))
     return rows

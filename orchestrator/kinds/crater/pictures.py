@@ -48,3 +48,49 @@ def plot_crater(run: dict, case, path: Path) -> Path:
     right.set_ylabel("contact force, N")
     right.set_title("force against penetration", fontsize=9)
     return save_figure(fig, path, layout=False)
+
+
+#: The sweep picture's diameters: check_run's picture key -> legend.
+DIAMETERS = {"volume": "cap holding the crater's volume (checked)", "diameter": "rim crest",
+             "contact": "contact chord at the deepest", "hutchings": "eq. 20 at the mean contact pressure"}
+
+
+def plot_speed_sweep(runs, path: Path) -> Path:
+    """A crater sweep (runs with check_run's picture: speed m/s, diameters m, hardness and pressure Pa). Left: the
+    diameters against the impact speed on log axes with v^(1/2) through the checked one at the top speed (um).
+    Right: Hutchings' dynamic hardness (kinetic energy over crater volume) and the mean contact pressure (GPa)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    runs = sorted(runs, key=lambda run: run.picture.get("speed", 0.0))
+    v = np.array([run.picture.get("speed", np.nan) for run in runs], dtype=float)
+    fig = Figure(figsize=(10.0, 4.2), dpi=120, layout="constrained")
+    FigureCanvasAgg(fig)
+    left, right = fig.subplots(1, 2)
+    for (key, label), marker in zip(DIAMETERS.items(), "osD^"):
+        d = np.array([run.picture.get(key, np.nan) for run in runs], dtype=float) * 1e6
+        left.loglog(v, d, marker + "-", lw=1.0, ms=5, label=label)
+    d = np.array([run.picture.get("volume", np.nan) for run in runs], dtype=float) * 1e6
+    if len(v) and np.isfinite(d[-1]):
+        guide = d[-1] * np.sqrt(v / v[-1])
+        left.loglog(v, guide, "k:", lw=1.0, label="v^(1/2) through the checked one")
+    from matplotlib.ticker import FormatStrFormatter
+
+    left.set_xticks(v, [f"{s:g}" for s in v])
+    left.xaxis.set_minor_formatter(FormatStrFormatter(""))
+    for formatter in (left.yaxis.set_major_formatter, left.yaxis.set_minor_formatter):
+        formatter(FormatStrFormatter("%g"))
+    left.set_xlabel("impact speed, m/s")
+    left.set_ylabel("crater diameter, um")
+    left.legend(fontsize=7, loc="upper left")
+    left.set_title("diameters against speed", fontsize=9)
+    for key, label, marker in (("hardness", "dynamic hardness: kinetic energy / crater volume", "o"),
+                               ("pressure", "mean contact pressure while the sphere goes in", "s")):
+        right.plot(v, np.array([run.picture.get(key, np.nan) for run in runs], dtype=float) / 1e9, marker + "-",
+                   label=label)
+    right.set_xlabel("impact speed, m/s")
+    right.set_ylabel("GPa")
+    right.set_ylim(bottom=0.0)
+    right.legend(fontsize=7, loc="lower right")
+    right.set_title("hardness against speed", fontsize=9)
+    return save_figure(fig, path, layout=False)

@@ -14,8 +14,8 @@ from orchestrator.case import load_case
 from orchestrator.cli import main
 from orchestrator.errors import CaseError
 from orchestrator.kinds import build_scene
-from orchestrator.kinds.crater.analysis import (contact_modulus, crest_radius, hertz_fit, hutchings_diameter,
-                                                hutchings_pressure, rim_radius)
+from orchestrator.kinds.crater.analysis import (contact_modulus, crater_volume, crest_radius, hertz_fit,
+                                                hutchings_diameter, hutchings_pressure, rim_radius)
 from orchestrator.kinds.crater.checks import check_run, speed_slope, sweep_runs
 from orchestrator.kinds.sph_flow.case_impactors import check_clear, mass_properties
 from orchestrator.kinds.sph_flow.sph import deck_context
@@ -89,6 +89,21 @@ def test_the_rim_is_where_the_ring_means_cross_the_level():
     assert math.isnan(crest_radius(r, -r, 0.5))  # highest on the axis: no crest
 
 
+def test_the_crater_volume_of_a_spherical_cap():
+    """A cap of radius 300 and depth 20 on a disordered cloud of surface points, with a pile-up ring beyond it: the
+    ring sums give the cap's pi d^2 (R - d/3) within 1 % and stop where the surface rises back."""
+    rng = np.random.default_rng(3)
+    xy = rng.uniform(-250.0, 250.0, size=(40000, 2))
+    r = np.hypot(xy[:, 0], xy[:, 1])
+    radius, depth = 300.0, 20.0
+    a = math.sqrt(2.0 * radius * depth - depth**2)
+    sink = np.where(r < a, np.sqrt(np.clip(radius**2 - r**2, 0.0, None)) - (radius - depth), 0.0)
+    sink -= 3.0 * np.exp(-(((r - a - 15.0) / 10.0) ** 2))  # the rim stands above the start
+    expected = math.pi * depth**2 * (radius - depth / 3.0)
+    assert crater_volume(r, sink, 2.5) == pytest.approx(expected, rel=0.01)
+    assert crater_volume(r, -np.abs(sink), 2.5) == 0.0  # nothing below the start
+
+
 def test_the_sweep_runs_one_speed_each_and_the_rows():
     case = load_case(CRATER).model
     assert sweep_runs(case, "c") == [(f"c/v_{v:g}", (f"sphere.speed={v!r}",)) for v in (40.0, 60.0, 80.0, 100.0)]
@@ -134,6 +149,10 @@ def test_the_quick_crater_follows_hutchings(tmp_path, capsys):
     assert abs(m["energy_balance"]) < 0.02
     assert 2e9 < m["mean_pressure"] < 5e9 and 0.0 < m["restitution"] < 0.6
     assert m["plastic_zone_diameter"] > m["crater_diameter"] > m["indentation_diameter"] > 0.0
+    # eq. 20 at Hutchings' dynamic hardness (kinetic energy over the crater's volume) is the volume's cap
+    assert m["volume_diameter"] == pytest.approx(hutchings_diameter(3e-4, 100.0, 2500.0, m["dynamic_hardness"]),
+                                                 rel=1e-9)
+    assert 0.6 < m["volume_diameter"] / m["contact_diameter"] < 1.0
     assert main(["analyze", str(tmp_path / "c")]) == 0
     out = capsys.readouterr().out
     assert "H = 0.3375 GPa with the sphere's density" in out and (tmp_path / "c" / "crater.png").is_file()

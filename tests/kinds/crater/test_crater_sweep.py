@@ -1,5 +1,6 @@
-"""The crater's check over its sweep: the slope of log d against log v (eq. 20: 1/2 at a constant hardness), as
-one more run of the scene in verify's table."""
+"""The crater's check over its sweep: the slope of log d against log v (eq. 20: 1/2 at a constant dynamic
+hardness) with d the cap of the sphere's radius holding the crater's volume, as one more run of the scene in
+verify's table."""
 
 from __future__ import annotations
 
@@ -24,7 +25,9 @@ def _runs(tmp_path, exponent: float, case_file=CRATER) -> list[CheckedRun]:
         folder.mkdir()
         shutil.copy(case_file, folder / "case.toml")
         d = 2.4e-4 * (v / 100.0) ** exponent
-        picture = {"speed": v, "diameter": d, "contact": 0.9 * d * (v / 100.0) ** 0.02, "hutchings": 0.95 * d}
+        picture = {"speed": v, "volume": d, "diameter": 1.1 * d * (v / 100.0) ** -0.09,
+                   "contact": 0.9 * d * (v / 100.0) ** 0.02, "hutchings": 0.95 * d,
+                   "hardness": 4.5e9, "pressure": 3.4e9 * (v / 100.0) ** 0.28}
         runs.append(CheckedRun("crater_hutchings_100cr6", "sph", "ok", "", folder, [], 10.0, picture))
     return runs
 
@@ -37,11 +40,12 @@ def test_the_slope_of_log_d_on_log_v_against_one_half(tmp_path, exponent, passed
     assert row["rel_error"] == pytest.approx(abs(exponent / 0.5 - 1.0), rel=1e-9)
     assert row["passed"] is passed
     assert f"contact chord {exponent + 0.02:.3f}" in row["note"]
+    assert f"rim crest {exponent - 0.09:.3f}" in row["note"]
 
 
 def test_a_missing_diameter_fails_the_slope(tmp_path):
     runs = _runs(tmp_path, 0.5)
-    runs[2].picture["diameter"] = float("nan")
+    runs[2].picture["volume"] = float("nan")
     (row,) = check_sweep(load_case(CRATER).model, "sph", runs)
     assert row["value"] is None and not row["passed"]
 
@@ -55,3 +59,9 @@ def test_verify_adds_the_sweep_as_one_more_run(tmp_path):
     assert sweep.wall_time_s == pytest.approx(40.0) and sweep.status == "ok"
     assert [row["quantity"] for row in sweep.rows] == ["speed_exponent"] and sweep.rows[0]["passed"]
     assert with_sweep_checks(runs[:1]) == runs[:1]  # one run is no sweep
+
+
+
+def test_the_sweep_draws_its_picture_in_its_folder(tmp_path):
+    check_sweep(load_case(CRATER).model, "sph", _runs(tmp_path, 0.5))
+    assert (tmp_path / "crater_speeds.png").stat().st_size > 10_000
