@@ -162,18 +162,10 @@ def crater_volume(r: np.ndarray, sink: np.ndarray, ring: float) -> float:
     """The volume (m^3) below the starting surface of a crater whose surface points at radius `r` (m, about the
     axis) ended `sink` (m) below their start: the ring means of `sink` (rings of width `ring`, m) times the ring
     areas, summed outwards up to the first ring whose mean is not below the start."""
-    edges = np.arange(0.0, r.max() + ring, ring)
-    index = np.digitize(r, edges) - 1
-    volume = 0.0
-    for k in range(len(edges) - 1):
-        inside = index == k
-        if not inside.any():
-            continue
-        depth = float(np.mean(sink[inside]))
-        if depth <= 0.0:
-            break
-        volume += depth * math.pi * (edges[k + 1] ** 2 - edges[k] ** 2)
-    return volume
+    centres, means = ring_means(r, sink, ring)
+    below = np.flatnonzero(means <= 0.0)
+    inside = slice(0, below[0] if below.size else len(means))
+    return float(np.sum(means[inside] * 2.0 * math.pi * centres[inside] * ring))
 
 
 def crest_radius(r: np.ndarray, height: np.ndarray, ring: float) -> float:
