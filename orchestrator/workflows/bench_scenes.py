@@ -80,7 +80,8 @@ def run_bench_case(case_dict: dict, out_dir: Path, engine: str | None = None,
                    mpi_ranks: int | None = None) -> BenchRow:
     """Run one bench case (a case dict) on an engine (default its case.engine) through its adapter; its BenchRow.
 
-    Wall time: the engine's own loop timer (run.h5 engine_wall_time_s, s). CPU time: the engine's loop CPU
+    Wall time: the engine's own timer (run.h5 engine_wall_time_s, s: the sph executable's from before its set-up,
+    about 14 ms on 25 000 particles, to its end; LAMMPS's its run loop). CPU time: the engine's loop CPU
     time when its reader reports one (engine_cpu_time_s, s: LAMMPS's), else the CPU time of the child processes
     of the run (s). mpi_ranks: for engines that take them (LAMMPS).
     """
