@@ -14,8 +14,8 @@ def add_parser(sub) -> None:
     bench = sub.add_parser(
         "bench", help="speed of an engine: particle-steps per second on standard scenes",
         description="bench sph: particle-steps per second (particles x steps / wall s of the engine's run, "
-        "its set-up included, and per CPU second) of the sph executable on these scenes, each on 1 thread and on 2 threads "
-        "(idle threads spinning briefly, numerics.thread_wait = spin, and sleeping at once, passive): "
+        "its set-up included, and per CPU second) of the sph executable on these scenes, each on 1 thread and "
+        "on 2 threads (idle threads spinning briefly, numerics.thread_wait = spin, and sleeping at once, passive): "
         "a 2D dam break (PySPH's dam_break_2d: 2278 fluid particles in a walled tank, dx = 0.03 m, h = 1.3 dx, "
         "--steps-2d steps); a 3D dam break (a slab periodic across the flow, 25 360 particles, dx = 0.02 m, "
         "h = 1.3 dx, fixed dt = 0.25 h / c0, --steps-3d steps); a periodic 3D block without walls (40 x 40 x 16 "
